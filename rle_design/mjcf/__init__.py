@@ -1,0 +1,1 @@
+"""MJCF loading, composition, audits, meshes, printability and catalog matching."""

@@ -1,0 +1,190 @@
+"""Command line: ``rle tasks|show|verify|preview|dev|export|index|demo|audit-verifiers``.
+
+Exit codes: 0 a report or the requested output was produced; 2 usage error, unknown task, unreadable
+input; 1 an internal fault (our bug).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from rle_design.errors import RleError
+
+
+def _cmd_tasks(args: argparse.Namespace) -> int:
+    from rle_tasks.core.registry import all_tasks
+
+    rows = [t for t in all_tasks() if args.family is None or t.family == args.family]
+    print(f"{'task id':<30} {'family':<6} {'workflow':<22} {'implemented':<11} title")
+    for t in rows:
+        print(f"{t.id:<30} {t.family:02d}     {t.workflow:<22} {'yes' if t.implemented else 'no':<11} {t.title}")
+    n_impl = sum(t.implemented for t in rows)
+    print(f"{len(rows)} tasks, {n_impl} implemented")
+    return 0
+
+
+def _cmd_show(args: argparse.Namespace) -> int:
+    from rle_tasks.core.registry import get_task
+
+    t = get_task(args.task)
+    b = t.budget
+    print(f"# {t.id}: {t.title}\nfamily {t.family:02d}, workflow {t.workflow}, implemented: {t.implemented}\n")
+    print(t.instruction or "(instruction not written yet: the task is registered but not implemented)")
+    print("\n## Budget")
+    print(f"wall time {b.wall_time_s / 3600:.1f} h, {b.cpus} CPUs, {b.gpus} GPUs, {b.memory_mb} MiB memory")
+    if b.steps is not None:
+        print(f"{b.steps} charged interaction steps")
+    print("\n## Artifact contract")
+    print("required: " + (", ".join(t.contract.required) or "(none)"))
+    if t.contract.optional:
+        print("optional: " + ", ".join(t.contract.optional))
+    if t.contract.description:
+        print(t.contract.description)
+    return 0
+
+
+def _cmd_verify(args: argparse.Namespace) -> int:
+    from rle_tasks.core.registry import get_task
+    from rle_tasks.core.scorecard import print_scorecard
+    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.task import VerifyContext
+    from rle_tasks.core.verify import run_verify
+
+    task = get_task(args.task)
+    out_json = Path(args.json) if args.json else None
+    fig_dir = out_json.parent / (out_json.stem + "_figures") if out_json else None
+    ctx = VerifyContext(
+        secret=load_secret(args.secret_file),
+        out_dir=fig_dir,
+        jobs=args.jobs,
+        executor=args.executor,
+        ray_address=args.ray_address,
+        quick=args.quick,
+    )
+    report, internal = run_verify(task, args.dir, ctx)
+    print_scorecard(report)
+    if out_json:
+        report.write(out_json)
+        print(f"report written to {out_json}")
+    return 1 if internal else 0
+
+
+def _cmd_preview(args: argparse.Namespace) -> int:
+    from rle_design.viz.preview import preview
+
+    preview(args.file, arm=args.arm, png=args.png, payload=args.payload, port=args.port, block=not args.no_block)
+    return 0
+
+
+def _cmd_dev(args: argparse.Namespace) -> int:
+    from rle_tasks.core.devenv import make_workspace
+
+    make_workspace(args.task, Path(args.workspace), serve=not args.no_serve)
+    return 0
+
+
+def _cmd_export(args: argparse.Namespace) -> int:
+    from rle_tasks.core.harbor import export_harbor
+
+    written = export_harbor(Path(args.out), args.tasks or None)
+    print(f"wrote {len(written)} Harbor task directories under {args.out}")
+    return 0
+
+
+def _cmd_index(args: argparse.Namespace) -> int:
+    from rle_tasks.core.index import index_command
+
+    return index_command(args.reports, html=args.html, name=args.name)
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    from rle_tasks.demo import run_demo
+
+    return run_demo(Path(args.out), quick=args.quick, jobs=args.jobs)
+
+
+def _cmd_audit(args: argparse.Namespace) -> int:
+    from rle_tasks.audit import audit_command
+
+    return audit_command(args)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="rle", description="RLE-Bench: tasks, verifiers and design toolkit")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    s = sub.add_parser("tasks", help="list the 51 task ids")
+    s.add_argument("--family", type=int, default=None, help="only this family number (1..9)")
+    s.set_defaults(fn=_cmd_tasks)
+
+    s = sub.add_parser("show", help="instruction, budget and artifact contract of a task")
+    s.add_argument("task")
+    s.set_defaults(fn=_cmd_show)
+
+    s = sub.add_parser("verify", help="verify an artifact directory and write the report")
+    s.add_argument("task")
+    s.add_argument("dir")
+    s.add_argument("--json", help="write the report JSON here (figures go beside it)")
+    s.add_argument("--secret-file", help="file holding the verifier secret (default: $RLE_SECRET, else public key)")
+    s.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 2)), help="parallel workers")
+    s.add_argument("--executor", choices=["local", "ray"], default="local")
+    s.add_argument("--ray-address", default=None, help="Ray cluster address (default: a local Ray)")
+    s.add_argument("--quick", action="store_true", help="reduced batteries (marked in the report)")
+    s.set_defaults(fn=_cmd_verify)
+
+    s = sub.add_parser("preview", help="meshcat preview (prints the URL) or an offscreen PNG")
+    s.add_argument("file")
+    s.add_argument("--arm", choices=["panda", "ur5e", "xarm7"], default=None)
+    s.add_argument("--payload", choices=["payload_1kg", "payload_2kg"], default=None)
+    s.add_argument("--png", default=None, help="write an offscreen render here instead of serving meshcat")
+    s.add_argument("--port", type=int, default=None, help="meshcat web port (default: meshcat's choice)")
+    s.add_argument("--no-block", action="store_true", help="return after printing the URL")
+    s.set_defaults(fn=_cmd_preview)
+
+    s = sub.add_parser("dev", help="lay out an agent workspace and start the metered environment")
+    s.add_argument("task")
+    s.add_argument("--workspace", required=True)
+    s.add_argument("--no-serve", action="store_true", help="lay out files only")
+    s.set_defaults(fn=_cmd_dev)
+
+    s = sub.add_parser("export", help="export tasks")
+    s.add_argument("format", choices=["harbor"])
+    s.add_argument("out")
+    s.add_argument("--tasks", nargs="*", default=None)
+    s.set_defaults(fn=_cmd_export)
+
+    s = sub.add_parser("index", help="RLE Index from reports")
+    s.add_argument("reports", nargs="+")
+    s.add_argument("--html", default=None)
+    s.add_argument("--name", default="submission", help="system name shown on the leaderboard")
+    s.set_defaults(fn=_cmd_index)
+
+    s = sub.add_parser("demo", help="verify every shipped solution and write out/demo/")
+    s.add_argument("--out", default="out/demo")
+    s.add_argument("--quick", action="store_true")
+    s.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 2)))
+    s.set_defaults(fn=_cmd_demo)
+
+    s = sub.add_parser("audit-verifiers", help="run the adversarial artifact battery and print its table")
+    s.add_argument("--filter", default=None, help="only cases whose name contains this")
+    s.add_argument("--json", default=None)
+    s.set_defaults(fn=_cmd_audit)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.fn(args) or 0)
+    except RleError as exc:
+        print(f"rle {args.command}: error [{exc.code}]: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,123 @@
+"""The paper's task tuple (I, E_dev, B, A, E_eval, M) as a frozen dataclass."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from rle_tasks.core.report import VerifierReport
+    from rle_tasks.core.secrets import Secret
+
+WORKFLOWS: dict[int, str] = {
+    1: "interactive_control",
+    2: "interactive_control",
+    3: "interactive_control",
+    4: "policy_learning",
+    5: "policy_learning",
+    6: "perception_estimation",
+    7: "perception_estimation",
+    8: "mechanical_design",
+    9: "mechanical_design",
+}
+WORKFLOW_ORDER = ("interactive_control", "policy_learning", "perception_estimation", "mechanical_design")
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Development budget B and verifier limits.
+
+    Attributes:
+        wall_time_s: Agent development time [s].
+        cpus: CPU cores for the development environment.
+        gpus: GPUs for the development environment.
+        memory_mb: Memory for the development environment [MiB].
+        steps: Charged interaction steps (resets and executed actions), or None if unmetered.
+        verifier_timeout_s: Wall-clock limit of one verification [s].
+    """
+
+    wall_time_s: float
+    cpus: int = 4
+    gpus: int = 0
+    memory_mb: int = 16384
+    steps: int | None = None
+    verifier_timeout_s: float = 3600.0
+
+
+@dataclass(frozen=True)
+class ArtifactContract:
+    """What a submission directory must contain.
+
+    Attributes:
+        required: File names that must exist in the submission directory.
+        optional: File names or glob patterns that may exist.
+        description: One paragraph for the instruction and ``rle show``.
+        max_total_bytes: Size cap for the whole directory [B].
+    """
+
+    required: tuple[str, ...]
+    optional: tuple[str, ...] = ()
+    description: str = ""
+    max_total_bytes: int = 64 * 1024 * 1024
+
+
+@dataclass(frozen=True)
+class VerifyContext:
+    """Everything a verifier receives besides the artifact directory.
+
+    Attributes:
+        secret: Key for hidden-data derivation (never passed to submitted code).
+        out_dir: Directory for figures and renders that accompany the report.
+        jobs: Parallel worker processes.
+        executor: ``"local"`` (process pool) or ``"ray"``.
+        ray_address: Cluster address for ``executor="ray"``; None starts a local Ray.
+        quick: Reduced batteries (tests and CI); the report marks it in native metrics.
+    """
+
+    secret: Secret
+    out_dir: Path | None = None
+    jobs: int = 1
+    executor: str = "local"
+    ray_address: str | None = None
+    quick: bool = False
+
+
+VerifyFn = Callable[[Path, VerifyContext], "VerifierReport"]
+DevEnvFn = Callable[[Path], None]
+
+
+@dataclass(frozen=True)
+class TaskSpec:
+    """One benchmark task.
+
+    Attributes:
+        id: Stable lowercase id starting with the family number, e.g. ``"08-mobile-base"``.
+        family: Family number 1..9.
+        title: Short human title.
+        instruction: Instruction I given to the agent (markdown).
+        budget: Budget B.
+        contract: Artifact contract A.
+        make_dev_env: Lays out the development environment E_dev in a workspace, or None.
+        verify: Verifier M running the hidden evaluation E_eval, or None when not implemented.
+        solutions: Named shipped solution directories (``"reference"``, ``"baseline/..."``).
+    """
+
+    id: str
+    family: int
+    title: str
+    instruction: str = ""
+    budget: Budget = field(default_factory=lambda: Budget(wall_time_s=7200.0))
+    contract: ArtifactContract = field(default_factory=lambda: ArtifactContract(required=()))
+    make_dev_env: DevEnvFn | None = None
+    verify: VerifyFn | None = None
+    solutions: tuple[tuple[str, Path], ...] = ()
+
+    @property
+    def workflow(self) -> str:
+        return WORKFLOWS[self.family]
+
+    @property
+    def implemented(self) -> bool:
+        return self.verify is not None

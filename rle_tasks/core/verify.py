@@ -1,0 +1,66 @@
+"""Running a task's verifier on an artifact directory: the guard shared by every family.
+
+The guard fills the report's provenance fields (artifact digest, secret label, seed digest, timing),
+turns unreadable input into a participant fault, and turns our own bugs into an internal fault with
+the traceback in the report instead of an exception escaping to the user.
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from pathlib import Path
+
+from rle_design.errors import RleError
+from rle_tasks.core.report import VerifierReport, artifact_sha256
+from rle_tasks.core.secrets import seed_digest
+from rle_tasks.core.task import TaskSpec, VerifyContext
+
+
+class InternalVerifierFault(RleError):
+    """A bug of ours inside a verifier (exit code 1)."""
+
+    code = "verifier.internal"
+
+
+def empty_report(task: TaskSpec) -> VerifierReport:
+    return VerifierReport(task_id=task.id, family=f"{task.family:02d}", workflow=task.workflow)
+
+
+def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> tuple[VerifierReport, bool]:
+    """Verify ``artifact_dir`` for ``task``.
+
+    Returns:
+        The report and whether an internal fault (our bug) occurred.
+
+    Raises:
+        RleError: The task is not implemented (a usage error, exit code 2).
+    """
+    if task.verify is None:
+        raise RleError(
+            f"task '{task.id}' is registered but not implemented yet; implemented tasks are listed by "
+            "`rle tasks` with implemented = yes",
+            code="task.not_implemented",
+        )
+    t0 = time.perf_counter()
+    root = Path(artifact_dir)
+    internal = False
+    if not root.is_dir():
+        report = empty_report(task)
+        report.add_error("artifact.missing_dir", f"artifact directory '{root}' does not exist or is not a directory")
+    else:
+        try:
+            report = task.verify(root, ctx)
+        except Exception as exc:  # our bug: keep a report and say so
+            internal = True
+            report = empty_report(task)
+            report.add_error(
+                InternalVerifierFault.code,
+                f"internal verifier fault {type(exc).__name__}: {exc}\n{traceback.format_exc(limit=20)}",
+            )
+            report.score = 0.0
+        report.artifact_sha256 = artifact_sha256(root)
+    report.secret = ctx.secret.label
+    report.seed_digest = seed_digest(ctx.secret, task.id)
+    report.elapsed_s = time.perf_counter() - t0
+    return report, internal
