@@ -20,7 +20,9 @@ def _cmd_tasks(args: argparse.Namespace) -> int:
     rows = [t for t in all_tasks() if args.family is None or t.family == args.family]
     print(f"{'task id':<30} {'family':<6} {'workflow':<22} {'implemented':<11} title")
     for t in rows:
-        print(f"{t.id:<30} {t.family:02d}     {t.workflow:<22} {'yes' if t.implemented else 'no':<11} {t.title}")
+        print(
+            f"{t.id:<30} {t.family:02d}     {t.workflow:<22} {'yes' if t.implemented else 'no':<11} {t.title}"
+        )
     n_impl = sum(t.implemented for t in rows)
     print(f"{len(rows)} tasks, {n_impl} implemented")
     return 0
@@ -31,7 +33,9 @@ def _cmd_show(args: argparse.Namespace) -> int:
 
     t = get_task(args.task)
     b = t.budget
-    print(f"# {t.id}: {t.title}\nfamily {t.family:02d}, workflow {t.workflow}, implemented: {t.implemented}\n")
+    print(
+        f"# {t.id}: {t.title}\nfamily {t.family:02d}, workflow {t.workflow}, implemented: {t.implemented}\n"
+    )
     print(t.instruction or "(instruction not written yet: the task is registered but not implemented)")
     print("\n## Budget")
     print(f"wall time {b.wall_time_s / 3600:.1f} h, {b.cpus} CPUs, {b.gpus} GPUs, {b.memory_mb} MiB memory")
@@ -75,7 +79,9 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 def _cmd_preview(args: argparse.Namespace) -> int:
     from rle_design.viz.preview import preview
 
-    preview(args.file, arm=args.arm, png=args.png, payload=args.payload, port=args.port, block=not args.no_block)
+    preview(
+        args.file, arm=args.arm, png=args.png, payload=args.payload, port=args.port, block=not args.no_block
+    )
     return 0
 
 
@@ -128,7 +134,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("task")
     s.add_argument("dir")
     s.add_argument("--json", help="write the report JSON here (figures go beside it)")
-    s.add_argument("--secret-file", help="file holding the verifier secret (default: $RLE_SECRET, else public key)")
+    s.add_argument(
+        "--secret-file", help="file holding the verifier secret (default: $RLE_SECRET, else public key)"
+    )
     s.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 2)), help="parallel workers")
     s.add_argument("--executor", choices=["local", "ray"], default="local")
     s.add_argument("--ray-address", default=None, help="Ray cluster address (default: a local Ray)")

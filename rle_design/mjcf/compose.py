@@ -68,8 +68,9 @@ def arm_model_path(arm_id: str) -> Path:
 
 def load_arm_spec(arm_id: str) -> mujoco.MjSpec:
     """Fresh ``MjSpec`` of a canonical arm with a ``tool_site`` on its tool body."""
+    path = arm_model_path(arm_id)
     arm = load_catalog("arms").get(arm_id)
-    spec = mujoco.MjSpec.from_file(str(arm_model_path(arm_id)))
+    spec = mujoco.MjSpec.from_file(str(path))
     tool = find_body(spec, arm.tool_body)
     if spec.site(TOOL_SITE) is None:
         tool.add_site(name=TOOL_SITE, pos=[0, 0, 0], size=[0.005] * 3, group=5)
@@ -113,8 +114,23 @@ def add_floor(spec: mujoco.MjSpec, friction: float = 1.0, size: float = 20.0) ->
             friction=[friction, 0.005, 0.0001],
             rgba=[0.82, 0.84, 0.86, 1],
         )
+    if spec.texture("sky") is None:
+        spec.add_texture(
+            name="sky",
+            type=mujoco.mjtTexture.mjTEXTURE_SKYBOX,
+            builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT,
+            rgb1=[0.93, 0.95, 0.98],
+            rgb2=[0.62, 0.70, 0.80],
+            width=64,
+            height=64,
+        )
     if not spec.lights:
-        spec.worldbody.add_light(name="key", pos=[1.5, -1.5, 3.0], dir=[-0.4, 0.4, -1.0], type=int(mujoco.mjtLightType.mjLIGHT_DIRECTIONAL))
+        spec.worldbody.add_light(
+            name="key",
+            pos=[1.5, -1.5, 3.0],
+            dir=[-0.4, 0.4, -1.0],
+            type=int(mujoco.mjtLightType.mjLIGHT_DIRECTIONAL),
+        )
     spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
     spec.visual.headlight.diffuse = [0.5, 0.5, 0.5]
 

@@ -26,7 +26,9 @@ def _placeholders() -> list[TaskSpec]:
     specs: list[TaskSpec] = []
     for level in ("l1", "l2", "l3"):
         for key, title in _F01_TASKS:
-            specs.append(TaskSpec(f"01-{key}-{level}", 1, f"RoboCasa speed-run, {title} (harness {level.upper()})"))
+            specs.append(
+                TaskSpec(f"01-{key}-{level}", 1, f"RoboCasa speed-run, {title} (harness {level.upper()})")
+            )
     for i, level in enumerate(_F02_LEVELS, start=1):
         specs.append(TaskSpec(f"02-group-{i:02d}", 2, f"RoboCasa harness transfer, group {i} ({level})"))
     for key, title in (
@@ -38,7 +40,9 @@ def _placeholders() -> list[TaskSpec]:
     ):
         specs.append(TaskSpec(f"03-{key}", 3, f"Tabletop physical reasoning: {title}"))
     for key in ("dance", "fight", "fall-getup", "run", "sprint"):
-        specs.append(TaskSpec(f"04-{key}", 4, f"Whole-body motion tracking: G1 {key.replace('-', ' and ')} clip"))
+        specs.append(
+            TaskSpec(f"04-{key}", 4, f"Whole-body motion tracking: G1 {key.replace('-', ' and ')} clip")
+        )
     for env in ("libero", "robotwin"):
         for track in ("open", "robust"):
             specs.append(TaskSpec(f"05-{env}-{track}", 5, f"nanoVLA recipe engineering: {env} {track} track"))

@@ -41,7 +41,9 @@ def load_secret(secret_file: str | os.PathLike | None = None) -> Secret:
         try:
             key = Path(secret_file).read_bytes().strip()
         except OSError as exc:
-            raise RleError(f"cannot read secret file {secret_file}: {exc.strerror}", code="secret.unreadable") from None
+            raise RleError(
+                f"cannot read secret file {secret_file}: {exc.strerror}", code="secret.unreadable"
+            ) from None
         if not key:
             raise RleError(f"secret file {secret_file} is empty", code="secret.empty")
         return Secret(key, public=False)

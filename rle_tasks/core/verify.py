@@ -47,7 +47,9 @@ def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> 
     internal = False
     if not root.is_dir():
         report = empty_report(task)
-        report.add_error("artifact.missing_dir", f"artifact directory '{root}' does not exist or is not a directory")
+        report.add_error(
+            "artifact.missing_dir", f"artifact directory '{root}' does not exist or is not a directory"
+        )
     else:
         try:
             report = task.verify(root, ctx)

@@ -1,0 +1,1 @@
+"""Offscreen PNG renders and meshcat previews of MJCF designs."""

@@ -1,0 +1,112 @@
+"""``rle demo``: the main job. Verifies every shipped solution of every implemented task, computes the
+RLE Index of the reference solutions, renders the canonical arms, and writes ``out/demo/index.html``."""
+
+from __future__ import annotations
+
+import html
+import json
+import time
+from pathlib import Path
+
+from tqdm import tqdm
+
+from rle_tasks.core.registry import all_tasks
+from rle_tasks.core.report import VerifierReport
+from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.task import VerifyContext
+from rle_tasks.core.verify import run_verify
+
+TEST_BASE = Path(__file__).parent / "demo_assets" / "test_base.xml"
+
+
+def render_arms(out: Path) -> list[Path]:
+    """PNG of each canonical arm on the demo test base (front, side, iso views)."""
+    from rle_design.mjcf.compose import ARM_IDS
+    from rle_design.viz.preview import preview
+
+    return [Path(preview(TEST_BASE, arm=arm, png=out / "arms" / f"{arm}.png")) for arm in ARM_IDS]
+
+
+def _verify_all(out: Path, quick: bool, jobs: int) -> list[tuple[str, str, Path, VerifierReport]]:
+    runs = [(t, name, d) for t in all_tasks() if t.implemented for name, d in t.solutions]
+    secret = load_secret(None)
+    results = []
+    bar = tqdm(runs, desc="verifying shipped solutions", unit="artifact")
+    for task, name, directory in bar:
+        bar.set_postfix_str(f"{task.id}:{name}")
+        slug = name.replace("/", "_")
+        report_path = out / "reports" / task.id / f"{slug}.json"
+        ctx = VerifyContext(
+            secret=secret, out_dir=report_path.parent / f"{slug}_figures", jobs=jobs, quick=quick
+        )
+        report, _ = run_verify(task, directory, ctx)
+        report.write(report_path)
+        results.append((task.id, name, report_path, report))
+    return results
+
+
+def _figures(report_path: Path) -> list[Path]:
+    d = report_path.parent / f"{report_path.stem}_figures"
+    return sorted(d.glob("*.png")) if d.is_dir() else []
+
+
+def write_html(out: Path, results, arm_pngs: list[Path], index_html: Path | None, elapsed: float) -> Path:
+    rows = []
+    for task_id, name, path, rep in results:
+        reasons = "; ".join(f"{e.code}" for e in rep.errors[:4])
+        failed = ", ".join(c.id for c in rep.checkpoints if not c.passed)
+        rows.append(
+            f"<tr><td>{html.escape(task_id)}</td><td>{html.escape(name)}</td><td><b>{rep.score:.3f}</b></td>"
+            f"<td>{'' if rep.cap is None else rep.cap}</td><td>{html.escape(failed)}</td>"
+            f"<td>{html.escape(reasons)}</td><td><a href='{path.relative_to(out)}'>json</a></td></tr>"
+        )
+    figs = []
+    for task_id, name, path, _ in results:
+        for png in _figures(path):
+            figs.append(
+                f"<figure><img src='{png.relative_to(out)}' width='480'><figcaption>{html.escape(task_id)} "
+                f"{html.escape(name)}: {html.escape(png.stem)}</figcaption></figure>"
+            )
+    arms = "".join(
+        f"<figure><img src='{p.relative_to(out)}' width='720'><figcaption>{p.stem} on the demo base</figcaption></figure>"
+        for p in arm_pngs
+    )
+    index_link = (
+        f"<p><a href='{index_html.relative_to(out)}'>RLE Index of the reference solutions</a></p>"
+        if index_html
+        else ""
+    )
+    page = f"""<!doctype html><html><head><meta charset="utf-8"><title>RLE-Bench demo</title>
+<style>body{{font-family:sans-serif;margin:2em;max-width:1400px}}table{{border-collapse:collapse}}
+td,th{{border:1px solid #ccc;padding:4px 8px;font-size:14px}}figure{{display:inline-block;margin:6px}}</style></head>
+<body><h1>RLE-Bench demo</h1><p>Every shipped solution of every implemented task, verified with the public
+development key ({elapsed:.0f} s).</p>{index_link}
+<h2>Verifier reports</h2><table><tr><th>task</th><th>solution</th><th>score</th><th>cap</th>
+<th>failed checkpoints</th><th>errors</th><th>report</th></tr>{"".join(rows)}</table>
+<h2>Design renders</h2>{"".join(figs) or "<p>(no figures)</p>"}
+<h2>Canonical arms</h2>{arms}</body></html>"""
+    path = out / "index.html"
+    path.write_text(page)
+    return path
+
+
+def run_demo(out: Path, quick: bool = False, jobs: int = 1) -> int:
+    t0 = time.perf_counter()
+    out.mkdir(parents=True, exist_ok=True)
+    results = _verify_all(out, quick, jobs)
+    index_html = None
+    refs = [str(p) for _, name, p, _ in results if name == "reference"]
+    if refs:
+        from rle_tasks.core.index import index_command
+
+        index_html = out / "rle_index.html"
+        index_command(refs, html=str(index_html), name="reference solutions")
+    print("rendering the canonical arms ...")
+    arm_pngs = render_arms(out)
+    page = write_html(out, results, arm_pngs, index_html, time.perf_counter() - t0)
+    summary = {f"{t}:{n}": round(r.score, 4) for t, n, _, r in results}
+    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    for key, score in summary.items():
+        print(f"  {key:<50} {score:.3f}")
+    print(f"open {page}")
+    return 0
