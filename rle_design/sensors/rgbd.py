@@ -1,0 +1,204 @@
+"""RGB-D-segmentation camera rendered offscreen on CPU with MuJoCo's classic OpenGL renderer.
+
+One ``render`` draws the scene once and reads colour and depth together; segmentation costs a second
+draw with MuJoCo's segment/id-colour flags (disable it with ``segmentation=False`` when not needed).
+``fast=True`` turns shadows, reflections and the skybox off and renders without multisampling, which
+is what makes CPU rendering fast. Measured on 2 cores (Mesa llvmpipe, EGL), simple 128x128 scene
+(benchmarks/render_fps.py): ~1600 RGB-D frames/s, ~720 with segmentation, ~34 at default quality.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from rle_design.sensors.camera import CameraSpec, camera_id, camera_spec
+from rle_design.sensors.gl import RenderError, create_context
+
+BACKGROUND = -1
+"""Segmentation id of pixels that show no object."""
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One rendered image set; images are row-major ``(H, W, ...)`` with row 0 at the top.
+
+    Attributes:
+        rgb: ``(H, W, 3)`` uint8 colour image.
+        depth: ``(H, W)`` float32 planar depth along the optical axis [m]; background pixels hold the
+            far clipping distance.
+        segmentation: ``(H, W, 2)`` int32: ``[..., 0]`` object id, ``[..., 1]`` object type
+            (``mujoco.mjtObj``); ``-1`` for background. None when the sensor renders no segmentation.
+        valid: ``(H, W)`` bool: depth strictly inside (near, far), finite, and not background.
+        camera: Intrinsics and pose of the camera when the frame was rendered.
+    """
+
+    rgb: np.ndarray
+    depth: np.ndarray
+    segmentation: np.ndarray | None
+    valid: np.ndarray
+    camera: CameraSpec
+
+    def geom_ids(self) -> np.ndarray:
+        """``(H, W)`` int32 geom id per pixel, ``-1`` where the pixel shows no geom."""
+        if self.segmentation is None:
+            raise RenderError("this frame has no segmentation (sensor built with segmentation=False)")
+        ids = self.segmentation[..., 0]
+        is_geom = self.segmentation[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM)
+        return np.where(is_geom, ids, BACKGROUND).astype(np.int32)
+
+
+class RgbdSensor:
+    """Offscreen RGB-D camera bound to one MJCF camera.
+
+    Use as a context manager, or call ``close()``; a closed sensor raises ``RenderError``.
+
+    Args:
+        model: Compiled model (its ``<visual><global offwidth/offheight>`` must cover the image).
+        camera: Camera name or id.
+        width: Image width [px] (default: the camera's ``resolution``).
+        height: Image height [px] (default: the camera's ``resolution``).
+        fast: Shadows, reflections and skybox off, no multisampling.
+        segmentation: Also render per-pixel object ids (a second draw).
+        max_geom: Scene capacity.
+    """
+
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        camera: str | int,
+        width: int | None = None,
+        height: int | None = None,
+        *,
+        fast: bool = True,
+        segmentation: bool = True,
+        max_geom: int = 10000,
+    ) -> None:
+        self._ctx = None
+        self._con: mujoco.MjrContext | None = None
+        self.model = model
+        self.camera_id = camera_id(model, camera)
+        res = model.cam_resolution[self.camera_id]
+        self.width = int(width if width is not None else res[0])
+        self.height = int(height if height is not None else res[1])
+        self.fast = fast
+        self.segmentation = segmentation
+        off = (int(model.vis.global_.offwidth), int(model.vis.global_.offheight))
+        if self.width > off[0] or self.height > off[1]:
+            raise RenderError(
+                f"image {self.width}x{self.height} exceeds the offscreen framebuffer {off[0]}x{off[1]}; "
+                f'add <visual><global offwidth="{self.width}" offheight="{self.height}"/></visual>',
+                code="render.size",
+            )
+        self._ctx, self.backend = create_context(self.width, self.height)
+        samples = int(model.vis.quality.offsamples)
+        if fast:
+            model.vis.quality.offsamples = 0  # read once by MjrContext, restored right after
+        try:
+            self._con = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_100)
+        finally:
+            model.vis.quality.offsamples = samples
+        mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._con)
+        self._con.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
+        self._scene = mujoco.MjvScene(model, maxgeom=max_geom)
+        self._option = mujoco.MjvOption()
+        self._cam = mujoco.MjvCamera()
+        self._cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
+        self._cam.fixedcamid = self.camera_id
+        if fast:
+            for flag in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION):
+                self._scene.flags[flag] = False
+            self._scene.flags[mujoco.mjtRndFlag.mjRND_SKYBOX] = False
+        self._rect = mujoco.MjrRect(0, 0, self.width, self.height)
+        extent = float(model.stat.extent)
+        self.near = float(model.vis.map.znear) * extent
+        self.far = float(model.vis.map.zfar) * extent
+        # Reversed-Z depth map (mjDEPTH_ZEROFAR) to metric depth; same algebra as mujoco.Renderer.
+        zn, zf = np.float32(self.near), np.float32(self.far)
+        c = -(zf + zn) / (zf - zn)
+        d = -(np.float32(2) * zf * zn) / (zf - zn)
+        self._c = float(np.float32(-0.5) * c - np.float32(0.5))
+        self._d = float(np.float32(-0.5) * d)
+
+    # -- lifecycle -------------------------------------------------------------------------------
+    @property
+    def closed(self) -> bool:
+        return self._con is None
+
+    def close(self) -> None:
+        """Free the GL resources; safe to call twice."""
+        if self._con is not None and self._ctx is not None:
+            self._ctx.make_current()
+            self._con.free()
+        self._con = None
+        if self._ctx is not None:
+            self._ctx.free()
+        self._ctx = None
+
+    def __enter__(self) -> RgbdSensor:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def __del__(self) -> None:
+        with contextlib.suppress(Exception):  # interpreter shutdown: GL libraries may already be gone
+            self.close()
+
+    # -- rendering -------------------------------------------------------------------------------
+    def camera(self, data: mujoco.MjData) -> CameraSpec:
+        """Intrinsics and current pose of the sensor's camera."""
+        return camera_spec(self.model, data, self.camera_id, self.width, self.height)
+
+    def render(self, data: mujoco.MjData) -> Frame:
+        """Render the scene as seen by the camera in ``data`` (call ``mj_forward`` first).
+
+        Returns:
+            A ``Frame`` with RGB, metric planar depth, segmentation (if enabled) and validity mask.
+        """
+        if self._con is None or self._ctx is None:
+            raise RenderError("render() called on a closed RgbdSensor", code="render.closed")
+        self._ctx.make_current()
+        h, w = self.height, self.width
+        mujoco.mjv_updateScene(
+            self.model, data, self._option, None, self._cam, mujoco.mjtCatBit.mjCAT_ALL, self._scene
+        )
+        rgb = np.empty((h, w, 3), np.uint8)
+        raw = np.empty((h, w), np.float32)
+        mujoco.mjr_render(self._rect, self._scene, self._con)
+        mujoco.mjr_readPixels(rgb, raw, self._rect, self._con)
+        depth = (self._d / (raw.astype(np.float64) + self._c)).astype(np.float32)
+        seg = self._render_segmentation() if self.segmentation else None
+        rgb, depth = rgb[::-1].copy(), depth[::-1].copy()
+        valid = np.isfinite(depth) & (depth > self.near) & (depth < self.far * (1 - 1e-6))
+        if seg is not None:
+            valid &= seg[..., 0] != BACKGROUND
+        return Frame(rgb, depth, seg, valid, self.camera(data))
+
+    def _render_segmentation(self) -> np.ndarray:
+        h, w = self.height, self.width
+        flags = self._scene.flags
+        old = flags.copy()
+        flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = True
+        flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = True
+        try:
+            mujoco.mjr_render(self._rect, self._scene, self._con)
+        finally:
+            np.copyto(flags, old)
+        buf = np.empty((h, w, 3), np.uint8)
+        mujoco.mjr_readPixels(buf, None, self._rect, self._con)
+        segid = (
+            buf[..., 0].astype(np.int32)
+            | (buf[..., 1].astype(np.int32) << 8)
+            | (buf[..., 2].astype(np.int32) << 16)
+        )
+        ngeom = self._scene.ngeom
+        lut = np.full((ngeom + 2, 2), BACKGROUND, np.int32)
+        for g in self._scene.geoms[:ngeom]:
+            if g.segid != -1:
+                lut[g.segid + 1] = (g.objid, g.objtype)
+        segid = np.clip(segid, 0, ngeom + 1)
+        return lut[segid][::-1].copy()

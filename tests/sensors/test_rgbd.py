@@ -1,0 +1,144 @@
+"""Offscreen RGB-D rendering on CPU: metric depth, projection against rendered pixels, lifecycle."""
+
+import mujoco
+import numpy as np
+import pytest
+
+from rle_design.sensors import BACKGROUND, RenderError, RgbdSensor
+
+pytestmark = pytest.mark.render
+
+PLANE_XML = """
+<mujoco>
+  <visual><global offwidth="160" offheight="120"/></visual>
+  <worldbody>
+    <light pos="0 0 3"/>
+    <geom name="floor" type="plane" size="5 5 0.1" rgba="0.5 0.5 0.5 1"/>
+    <camera name="down" pos="0.1 -0.2 0.8375" fovy="55"/>
+    <camera name="oblique" pos="0.2 -0.9 0.9" xyaxes="1 0 0 0 0.7 0.7" fovy="60"/>
+  </worldbody>
+</mujoco>
+"""
+
+SPHERE_XML = """
+<mujoco>
+  <visual><global offwidth="320" offheight="240"/></visual>
+  <worldbody>
+    <light pos="0 0 3"/>
+    <geom name="floor" type="plane" size="5 5 0.1" rgba="0.5 0.5 0.5 1"/>
+    <geom name="ball" type="sphere" size="0.025" pos="0.13 -0.08 0.2" rgba="1 0 0 1"/>
+    <camera name="c" pos="0.05 0.02 1.5" euler="0.1 -0.15 0.3" fovy="50"/>
+    <camera name="side" pos="0.9 0.4 0.6" xyaxes="-0.4 0.9 0 -0.3 -0.1 0.9" fovy="40"/>
+  </worldbody>
+</mujoco>
+"""
+
+SKY_XML = """
+<mujoco>
+  <visual><global offwidth="64" offheight="64"/></visual>
+  <worldbody>
+    <light pos="0 0 3"/>
+    <geom name="box" type="box" size="0.05 0.05 0.05"/>
+    <camera name="c" pos="0 0 1" fovy="45"/>
+  </worldbody>
+</mujoco>
+"""
+
+
+def _setup(xml):
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    return m, d
+
+
+def test_plane_at_known_distance_gives_metric_depth():
+    m, d = _setup(PLANE_XML)
+    with RgbdSensor(m, "down", 160, 120) as sensor:
+        frame = sensor.render(d)
+    # Camera looking straight down from height h onto the z = 0 plane: planar depth = h everywhere.
+    h = 0.8375
+    assert frame.depth.dtype == np.float32 and frame.depth.shape == (120, 160)
+    assert np.abs(frame.depth - h).max() < 1e-3
+    assert frame.valid.all()
+    assert frame.rgb.shape == (120, 160, 3) and frame.rgb.dtype == np.uint8
+
+
+def test_oblique_view_backprojects_onto_the_plane():
+    m, d = _setup(PLANE_XML)
+    with RgbdSensor(m, "oblique", 160, 120) as sensor:
+        frame = sensor.render(d)
+    pts = frame.camera.backproject(frame.depth, mask=frame.valid)
+    assert len(pts) > 0.5 * frame.valid.size
+    # Every valid pixel sees the floor z = 0, so lifted points must lie on it (1 mm).
+    assert np.abs(pts[:, 2]).max() < 1e-3
+    # Planar depth varies with the view angle: z_cam = distance along the optical axis.
+    assert frame.depth[frame.valid].max() - frame.depth[frame.valid].min() > 0.3
+
+
+@pytest.mark.parametrize("camera", ["c", "side"])
+def test_projection_matches_rendered_sphere_centroid(camera):
+    m, d = _setup(SPHERE_XML)
+    gid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "ball")
+    with RgbdSensor(m, camera, 320, 240) as sensor:
+        frame = sensor.render(d)
+    mask = frame.geom_ids() == gid
+    assert mask.sum() > 50
+    v, u = np.nonzero(mask)
+    (uv,), (z,) = frame.camera.project(d.geom_xpos[gid])
+    assert abs(u.mean() - uv[0]) < 0.5
+    assert abs(v.mean() - uv[1]) < 0.5
+    # Nearest sphere point is on the ray through the centre: depth there ~ z - r (planar, 3 mm slack).
+    assert abs(frame.depth[mask].min() - (z - 0.025)) < 3e-3
+    # The floor (and, from the side, the sky) fills the rest; segmentation names each pixel's geom.
+    assert {0, gid} <= set(np.unique(frame.geom_ids()).tolist()) <= {BACKGROUND, 0, gid}
+
+
+def test_background_is_invalid_and_unsegmented():
+    m, d = _setup(SKY_XML)
+    with RgbdSensor(m, "c", 64, 64) as sensor:
+        frame = sensor.render(d)
+    seg = frame.segmentation
+    assert seg.shape == (64, 64, 2) and seg.dtype == np.int32
+    assert seg[0, 0, 0] == BACKGROUND and not frame.valid[0, 0]
+    assert frame.geom_ids()[32, 32] == 0 and frame.valid[32, 32]
+    # The box top is at z = 0.05, the camera at z = 1.
+    assert frame.depth[32, 32] == pytest.approx(0.95, abs=1e-3)
+    assert frame.depth[0, 0] == pytest.approx(sensor.far, rel=1e-3)
+
+
+def test_no_segmentation_mode_still_masks_background():
+    m, d = _setup(SKY_XML)
+    with RgbdSensor(m, "c", 64, 64, segmentation=False) as sensor:
+        frame = sensor.render(d)
+    assert frame.segmentation is None
+    assert not frame.valid[0, 0] and frame.valid[32, 32]
+    with pytest.raises(RenderError, match="this frame has no segmentation"):
+        frame.geom_ids()
+
+
+def test_lifecycle_close_twice_and_render_after_close():
+    m, d = _setup(SKY_XML)
+    sensor = RgbdSensor(m, "c", 32, 32, fast=False)
+    assert sensor.render(d).rgb.shape == (32, 32, 3)
+    assert m.vis.quality.offsamples == 4  # the model is left as it was
+    sensor.close()
+    sensor.close()
+    assert sensor.closed
+    with pytest.raises(RenderError) as exc:
+        sensor.render(d)
+    assert str(exc.value) == "render() called on a closed RgbdSensor"
+    assert exc.value.code == "render.closed"
+    with RgbdSensor(m, "c", 32, 32) as s2:
+        s2.render(d)
+    assert s2.closed
+
+
+def test_image_larger_than_framebuffer_is_refused():
+    m, _ = _setup(SKY_XML)
+    with pytest.raises(RenderError) as exc:
+        RgbdSensor(m, "c", 128, 64)
+    assert str(exc.value) == (
+        "image 128x64 exceeds the offscreen framebuffer 64x64; "
+        'add <visual><global offwidth="128" offheight="64"/></visual>'
+    )
