@@ -1,0 +1,54 @@
+"""Running submitted Python in a constrained child process.
+
+``Sandbox(module_path)`` starts ``python -I`` on a small trusted bootstrap that imports the submitted
+module in its own temporary working directory and serves calls over two pipes. Replies cross the
+channel in a typed, pickle-free format (JSON header + raw array bytes, ``codec``); the parent never
+unpickles anything the child produced. Every fault of the submitted code is a ``ParticipantFault``
+with a stable code (``FAULT_CODES``).
+
+Which guarantee comes from which layer:
+
+==========================  ==========================================  ============================
+guarantee                   layer                                       when
+==========================  ==========================================  ============================
+no secret in the child      scrubbed environment (allowlist), own       always
+                            working directory with copies only
+bounded wall time           parent-side per-call/import timeout, kill   always
+                            of the child's process group
+bounded CPU, memory, file   RLIMIT_CPU, RLIMIT_AS, RLIMIT_FSIZE,        always (kernel)
+size                        RLIMIT_CORE=0
+no fork                     RLIMIT_NPROC=max_processes                  kernel: for a non-root uid
+                            audit hook on os.fork/exec/spawn/system/    always (Python-level)
+                            subprocess/posix_spawn/pty
+no network                  new network namespace (only loopback,       root only (kernel)
+                            down)
+                            audit hook on every ``socket.*`` event      always (Python-level)
+no writes outside workdir   uid/gid drop to nobody/nogroup, workdir     root only (kernel)
+                            owned by nobody (mode 700)
+                            audit hook on open-for-write, mkdir,        always (Python-level)
+                            remove, rename, chmod ... outside workdir
+cannot signal the parent    own session; different uid (EPERM)          kernel: root only
+                            audit hook on os.kill/os.killpg             always (Python-level)
+no privilege regain         prctl(PR_SET_NO_NEW_PRIVS)                  always (kernel)
+==========================  ==========================================  ============================
+
+The audit hook is a tripwire, not a boundary: code that loads ``ctypes`` (allowed, since libraries
+such as torch need it) can call libc directly and bypass it. The kernel layers are the boundary,
+and most of them need the parent to run as root (as in the evaluation container). Not running as
+root, the child keeps the caller's uid: the kernel still enforces the rlimits (RLIMIT_NPROC=0 stops
+fork and thread creation), but a ctypes-level bypass could open sockets, write wherever the
+caller's user can, read files the caller can read (put the secret in a file the verifier's user
+reads only before starting sandboxes, or pass it through the environment, which is scrubbed), and
+signal the parent (same uid). As root, files readable only by root stay unreadable, world-writable
+directories (/tmp, /dev/shm) stay writable by ``nobody`` (size capped by RLIMIT_FSIZE), and all
+concurrent sandboxes share the ``nobody`` uid, so RLIMIT_NPROC counts their processes together.
+
+If the parent dies abruptly, an orphaned child exits at its next read of the closed request pipe, or
+at its CPU-time limit if it is spinning.
+"""
+
+from rle_design.sandbox.faults import FAULT_CODES, ParticipantFault
+from rle_design.sandbox.limits import SandboxLimits
+from rle_design.sandbox.process import Sandbox
+
+__all__ = ["FAULT_CODES", "ParticipantFault", "Sandbox", "SandboxLimits"]

@@ -1,0 +1,288 @@
+"""Child side of the sandbox: run as ``python -I -B _bootstrap.py CONFIG_JSON``.
+
+Trusted code only until the submitted module is imported: it isolates the network (root), sets the
+rlimits, drops to the unprivileged uid (root), sets no_new_privs, installs the audit hook, imports the
+module and then serves requests on the two channel file descriptors. It never imports ``rle_design``
+(isolated mode has no package path); the codec is loaded from its file.
+"""
+
+import ctypes
+import importlib.util
+import json
+import os
+import resource
+import sys
+import traceback
+
+sys.dont_write_bytecode = True
+_CONFIG = json.loads(sys.argv[1])
+_spec = importlib.util.spec_from_file_location("_rle_codec", _CONFIG["codec"])
+codec = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(codec)
+
+_RFD, _WFD = _CONFIG["rfd"], _CONFIG["wfd"]
+_WORKDIR = os.path.realpath(_CONFIG["workdir"])
+_MARK = "rle-sandbox:"
+_state = {"violation": None}
+_CLONE_NEWNET = 0x40000000
+_PR_SET_NO_NEW_PRIVS = 38
+_WRITE_FLAGS = os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_TRUNC | os.O_APPEND
+_PROCESS_EVENTS = {
+    "os.system": "os.system",
+    "os.exec": "exec",
+    "os.posix_spawn": "posix_spawn",
+    "os.spawn": "os.spawn",
+    "os.fork": "fork",
+    "os.forkpty": "forkpty",
+    "subprocess.Popen": "subprocess",
+    "pty.spawn": "pty.spawn",
+}
+_PATH_EVENTS = {
+    "os.mkdir",
+    "os.remove",
+    "os.rmdir",
+    "os.chmod",
+    "os.chown",
+    "os.truncate",
+    "os.utime",
+    "os.mknod",
+}
+_TWO_PATH_EVENTS = {"os.rename", "os.link", "os.symlink"}
+
+
+def _send(meta, value=None):
+    try:
+        parts = codec.encode_frame(meta, value)
+    except codec.CodecError as exc:
+        parts = codec.encode_frame(
+            {"ok": False, "code": "sandbox.bad_type", "message": f"cannot return {exc}"}
+        )
+    if codec.frame_size(parts) > _CONFIG["max_reply_bytes"]:
+        msg = (
+            f"reply of {codec.frame_size(parts)} bytes exceeds the cap of {_CONFIG['max_reply_bytes']} bytes"
+        )
+        parts = codec.encode_frame({"ok": False, "code": "sandbox.output_too_large", "message": msg})
+    for part in parts:
+        view = memoryview(part)
+        while view:
+            view = view[os.write(_WFD, view) :]
+
+
+def _read_exact(n):
+    buf = bytearray(n)
+    view, got = memoryview(buf), 0
+    while got < n:
+        k = os.readv(_RFD, [view[got:]])
+        if k == 0:
+            os._exit(0)  # parent went away
+        got += k
+    return buf
+
+
+def _receive():
+    n_header, n_payload = codec.parse_prefix(bytes(_read_exact(codec.PREFIX.size)))
+    header = _read_exact(n_header)
+    return codec.decode_frame(bytes(header), _read_exact(n_payload))
+
+
+def _forbid(what):
+    msg = f"{_MARK} {what} is not allowed in the sandbox"
+    if _state["violation"] is None:
+        _state["violation"] = msg
+    raise PermissionError(msg)
+
+
+def _inside(path):
+    if path is None or isinstance(path, int):
+        return True
+    real = os.path.realpath(os.fsdecode(path))
+    return real == _WORKDIR or real.startswith(_WORKDIR + os.sep) or real == os.devnull
+
+
+def _audit(event, args):
+    if event == "open":
+        path, mode, flags = args
+        writing = (isinstance(mode, str) and any(c in mode for c in "wax+")) or (
+            isinstance(flags, int) and flags & _WRITE_FLAGS
+        )
+        if writing and not _inside(path):
+            _forbid(f"opening '{os.fsdecode(path)}' for writing (outside the working directory)")
+    elif event.startswith("socket.") and not _CONFIG["network"]:
+        _forbid(f"network access ({event})")
+    elif event in _PROCESS_EVENTS:
+        _forbid(f"creating processes ({_PROCESS_EVENTS[event]})")
+    elif event in ("os.kill", "os.killpg"):
+        pid = args[0]
+        if pid not in (0, os.getpid(), -os.getpid()):
+            _forbid(f"sending signals to other processes (pid {pid})")
+    elif event in _PATH_EVENTS:
+        if event != "os.truncate" and args[-1] is not None:
+            return  # dir_fd-relative: left to the kernel layers
+        if not _inside(args[0]):
+            _forbid(f"{event} on '{os.fsdecode(args[0])}' (outside the working directory)")
+    elif event in _TWO_PATH_EVENTS:
+        if not _inside(args[1]) or (event == "os.rename" and not _inside(args[0])):
+            _forbid(f"{event} to '{os.fsdecode(args[1])}' (outside the working directory)")
+
+
+def _world_reachable(path):
+    """True if any uid can list ``path``: every ancestor is world-searchable and it is world-readable."""
+    try:
+        if not os.stat(path).st_mode & 0o005 == 0o005:
+            return False
+        parent = os.path.dirname(path)
+        while parent and parent != os.path.dirname(parent):
+            if not os.stat(parent).st_mode & 0o001:
+                return False
+            parent = os.path.dirname(parent)
+    except OSError:
+        return True  # absent entries are harmless
+    return True
+
+
+def _reroute_unreachable_paths():
+    """Keep the interpreter's own library importable after the uid drop.
+
+    An interpreter installed under a private directory (e.g. ``/root/.pyenv``) would be unreadable
+    to ``nobody``. Each such ``sys.path`` directory is opened now, as root, and replaced by its
+    ``/proc/self/fd/N`` alias: lookups through that descriptor start inside the directory, so only
+    the library itself (public content) becomes readable, not its private ancestors.
+    """
+    aliases = {}
+    for i, entry in enumerate(list(sys.path)):
+        if entry and os.path.isdir(entry) and not _world_reachable(os.path.realpath(entry)):
+            fd = os.open(entry, os.O_RDONLY | os.O_DIRECTORY)
+            sys.path[i] = aliases[entry.rstrip(os.sep) + os.sep] = f"/proc/self/fd/{fd}/"
+    for module in list(sys.modules.values()):  # packages imported already (ctypes, json, ...)
+        path = getattr(module, "__path__", None)
+        if isinstance(path, list):
+            for j, p in enumerate(path):
+                for old, new in aliases.items():
+                    if isinstance(p, str) and p.startswith(old):
+                        path[j] = new + p[len(old) :]
+    sys.path_importer_cache.clear()
+
+
+def _isolate():
+    layers = {"netns": False, "uid_drop": False, "no_new_privs": False, "nproc": False}
+    libc = ctypes.CDLL(None, use_errno=True)
+    if _CONFIG["unshare_net"]:
+        if libc.unshare(_CLONE_NEWNET) != 0:
+            raise OSError(ctypes.get_errno(), "unshare(CLONE_NEWNET) failed")
+        layers["netns"] = True
+    os.chdir(_WORKDIR)
+    os.umask(0o077)
+    cpu = int(_CONFIG["cpu_seconds"] + 0.999)
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 2))
+    resource.setrlimit(resource.RLIMIT_AS, (_CONFIG["memory_bytes"],) * 2)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (_CONFIG["file_bytes"],) * 2)
+    if _CONFIG["uid"] is not None:
+        _reroute_unreachable_paths()
+        os.setgroups([])
+        os.setgid(_CONFIG["gid"])
+        os.setuid(_CONFIG["uid"])
+        if os.getuid() != _CONFIG["uid"] or os.geteuid() != _CONFIG["uid"]:
+            raise OSError("privilege drop did not take effect")
+        layers["uid_drop"] = True
+    layers["no_new_privs"] = libc.prctl(_PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) == 0
+    resource.setrlimit(resource.RLIMIT_NPROC, (_CONFIG["max_processes"],) * 2)
+    layers["nproc"] = os.getuid() != 0
+    return layers
+
+
+def _fault(code, exc):
+    return {
+        "ok": False,
+        "code": code,
+        "message": f"{type(exc).__name__}: {exc}",
+        "detail": traceback.format_exc(),
+    }
+
+
+def _classify(exc):
+    if isinstance(exc, MemoryError):
+        return "sandbox.memory"
+    if _state["violation"] is not None or (isinstance(exc, PermissionError) and _MARK in str(exc)):
+        return "sandbox.forbidden"
+    return "sandbox.exception"
+
+
+def _flush():
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except Exception:  # noqa: BLE001 - a closed or replaced stream must not kill the server loop
+            pass
+
+
+def _load():
+    spec = importlib.util.spec_from_file_location(_CONFIG["module_name"], _CONFIG["module_file"])
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[_CONFIG["module_name"]] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def _call(module, name, args):
+    fn = getattr(module, name, None)
+    if not callable(fn):
+        return {
+            "ok": False,
+            "code": "sandbox.missing_function",
+            "message": f"no callable named '{name}'",
+        }, None
+    _state["violation"] = None
+    try:
+        value = fn(*args)
+    except SystemExit as exc:
+        _flush()
+        _send({"ok": False, "code": "sandbox.exit", "message": f"sys.exit({exc.code!r}) called", "status": 0})
+        os._exit(0)
+    except BaseException as exc:  # noqa: BLE001 - every participant exception becomes a fault
+        return _fault(_classify(exc), exc), None
+    if _state["violation"] is not None:
+        return {
+            "ok": False,
+            "code": "sandbox.forbidden",
+            "message": _state["violation"] + " (error swallowed)",
+        }, None
+    return {"ok": True}, value
+
+
+def main():
+    try:
+        layers = _isolate()
+    except Exception as exc:  # noqa: BLE001 - our own setup failed: reported as an internal fault
+        _send({"ok": False, "code": "internal", "message": f"{type(exc).__name__}: {exc}"})
+        os._exit(0)
+    sys.addaudithook(_audit)
+    sys.path.insert(0, _WORKDIR)
+    try:
+        module = _load()
+    except SystemExit as exc:
+        _send(
+            {"ok": False, "code": "sandbox.exit", "message": f"sys.exit({exc.code!r}) called during import"}
+        )
+        os._exit(0)
+    except BaseException as exc:  # noqa: BLE001
+        code = _classify(exc)
+        _send(_fault("sandbox.import_error" if code == "sandbox.exception" else code, exc))
+        os._exit(0)
+    _flush()
+    _send({"ok": True, "op": "ready", "layers": layers})
+    while True:
+        meta, value = _receive()
+        op = meta.get("op")
+        if op == "call":
+            reply, result = _call(module, meta["fn"], value)
+        elif op == "has":
+            reply, result = {"ok": True}, callable(getattr(module, meta["fn"], None))
+        else:
+            os._exit(0)
+        _flush()
+        _send(reply, result)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,386 @@
+"""``Sandbox``: a submitted Python module served from a constrained child process."""
+
+from __future__ import annotations
+
+import atexit
+import json
+import os
+import select
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import weakref
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from rle_design.errors import RleError
+from rle_design.sandbox import codec
+from rle_design.sandbox.checks import check_output
+from rle_design.sandbox.faults import FAULT_CODES, ParticipantFault
+from rle_design.sandbox.isolation import child_env, copy_tree, drop_ids, give_to
+from rle_design.sandbox.limits import SandboxLimits
+
+_BOOTSTRAP = Path(__file__).with_name("_bootstrap.py")
+_LIVE: weakref.WeakSet[Sandbox] = weakref.WeakSet()
+
+
+class _ChildGone(Exception):
+    pass
+
+
+class _Expired(Exception):
+    pass
+
+
+class Sandbox:
+    """Runs the functions of one submitted module in a child process.
+
+    Use as a context manager; ``call`` raises ``ParticipantFault`` for every fault of the submitted
+    code and never hangs past its timeout. Not thread-safe: one caller at a time.
+
+    Args:
+        module_path: The submitted ``.py`` file. The contents of its directory are copied into a
+            fresh working directory the child may read and write.
+        limits: Resource limits.
+        workdir_files: Extra files copied into the working directory, ``{relative name: source}``.
+        name: Module name in the child, used in fault messages.
+    """
+
+    def __init__(
+        self,
+        module_path: Path,
+        *,
+        limits: SandboxLimits = SandboxLimits(),  # noqa: B008 - frozen dataclass
+        workdir_files: Mapping[str, Path] = {},  # noqa: B006 - read only
+        name: str = "submission",
+    ) -> None:
+        if not name.isidentifier():
+            raise ValueError(f"sandbox module name must be an identifier, got {name!r}")
+        self.module_path = Path(module_path)
+        self.limits = limits
+        self.name = name
+        self.layers: dict[str, bool] = {}
+        self._workdir_files = dict(workdir_files)
+        self._proc: subprocess.Popen | None = None
+        self._workdir: Path | None = None
+        self._req_w = self._rep_r = -1
+        self._death: str | None = None
+        self._out = bytearray()
+        self._out_lock = threading.Lock()
+        self._drain: threading.Thread | None = None
+
+    # -- lifecycle -----------------------------------------------------------------------------------
+    def __enter__(self) -> Sandbox:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    @property
+    def workdir(self) -> Path | None:
+        """The child's working directory (None before ``start`` and after ``close``)."""
+        return self._workdir
+
+    @property
+    def alive(self) -> bool:
+        """True while the child runs and can serve calls."""
+        return self._proc is not None and self._death is None and self._proc.poll() is None
+
+    @property
+    def stdout_tail(self) -> str:
+        """The last ``limits.max_output_bytes`` of the child's stdout and stderr (merged)."""
+        with self._out_lock:
+            return self._out.decode("utf-8", errors="replace")
+
+    def start(self) -> None:
+        """Create the working directory, start the child and import the module in it.
+
+        Raises:
+            ParticipantFault: ``sandbox.import_error`` (or the code of the death) when the import fails.
+            RleError: ``sandbox.setup`` when the isolation itself cannot be established (our fault).
+        """
+        if self._proc is not None:
+            return
+        if not self.module_path.is_file():
+            raise ParticipantFault(
+                "sandbox.import_error", f"{self.name}: module file {self.module_path.name} does not exist"
+            )
+        self._workdir = Path(tempfile.mkdtemp(prefix="rle-sandbox-"))
+        copy_tree(self.module_path.parent, self._workdir)
+        for rel, src in self._workdir_files.items():
+            dest = (self._workdir / rel).resolve()
+            if not dest.is_relative_to(self._workdir.resolve()):
+                raise ValueError(f"workdir file name {rel!r} escapes the working directory")
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(src, dest)
+        (self._workdir / "tmp").mkdir(exist_ok=True)
+        ids = drop_ids()
+        if ids is not None:
+            give_to(self._workdir, *ids)
+        req_r, self._req_w = os.pipe()
+        self._rep_r, rep_w = os.pipe()
+        lim = self.limits
+        config = {
+            "codec": str(Path(codec.__file__).resolve()),
+            "workdir": str(self._workdir),
+            "module_file": str(self._workdir / self.module_path.name),
+            "module_name": self.name,
+            "rfd": req_r,
+            "wfd": rep_w,
+            "unshare_net": ids is not None and not lim.network,
+            "network": lim.network,
+            "uid": ids[0] if ids else None,
+            "gid": ids[1] if ids else None,
+            "cpu_seconds": lim.cpu_seconds,
+            "memory_bytes": lim.memory_bytes,
+            "file_bytes": lim.file_bytes,
+            "max_processes": lim.max_processes,
+            "max_reply_bytes": lim.max_reply_bytes,
+        }
+        try:
+            self._proc = subprocess.Popen(
+                [sys.executable, "-I", "-B", str(_BOOTSTRAP), json.dumps(config)],
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.STDOUT,
+                pass_fds=(req_r, rep_w),
+                start_new_session=True,
+                cwd=self._workdir,
+                env=child_env(self._workdir),
+            )
+        finally:
+            os.close(req_r)
+            os.close(rep_w)
+        os.set_blocking(self._req_w, False)
+        _LIVE.add(self)
+        self._drain = threading.Thread(
+            target=self._drain_output, name=f"sandbox-{self.name}-out", daemon=True
+        )
+        self._drain.start()
+        where = f"{self.name} (import of {self.module_path.name})"
+        meta, _ = self._exchange(None, None, lim.startup_timeout_s, where)
+        self.layers = (
+            {k: bool(v) for k, v in meta.get("layers", {}).items()} if isinstance(meta, dict) else {}
+        )
+
+    def close(self) -> None:
+        """Kill the child's whole process group and remove the working directory. Idempotent."""
+        proc, self._proc = self._proc, None
+        if proc is not None:
+            if self._death is None:
+                self._death = "closed"
+            self._kill(proc)
+        for fd in (self._req_w, self._rep_r):
+            if fd >= 0:
+                os.close(fd)
+        self._req_w = self._rep_r = -1
+        if self._drain is not None:
+            self._drain.join(timeout=2.0)
+            self._drain = None
+        if self._workdir is not None:
+            shutil.rmtree(self._workdir, ignore_errors=True)
+            self._workdir = None
+        _LIVE.discard(self)
+
+    def __del__(self) -> None:
+        if getattr(self, "_proc", None) is not None:
+            self.close()
+
+    # -- calls ---------------------------------------------------------------------------------------
+    def call(
+        self,
+        function: str,
+        *args: Any,
+        timeout: float | None = None,
+        shape: tuple | None = None,
+        finite: bool = True,
+    ) -> Any:
+        """Call ``function(*args)`` in the child and return its checked result.
+
+        Args:
+            function: Name of a module-level callable.
+            *args: Values of the wire format (None, bool, int, float, str, list, tuple, dict, ndarray).
+            timeout: Wall-clock cap of this call [s]; default ``limits.call_timeout_s``.
+            shape: Expected array shape (``None``/``-1`` entries match any size); lists are converted.
+            finite: Fault on NaN or infinity anywhere in the result.
+
+        Raises:
+            ParticipantFault: any fault of the submitted code (see ``FAULT_CODES``).
+        """
+        where = f"{self.name}.{function}()"
+        value = self._request({"op": "call", "fn": function}, list(args), timeout, where)
+        return check_output(value, shape=shape, finite=finite, where=where)
+
+    def has(self, function: str) -> bool:
+        """True if the module defines a callable ``function``."""
+        return bool(
+            self._request({"op": "has", "fn": function}, None, None, f"{self.name}.has({function!r})")
+        )
+
+    def _request(self, meta: dict, value: Any, timeout: float | None, where: str) -> Any:
+        if self._proc is None and self._death is None:
+            self.start()
+        if self._death is not None:
+            raise ParticipantFault("sandbox.dead", f"{where}: the sandbox is dead ({self._death})")
+        try:
+            parts = codec.encode_frame(meta, value)
+        except codec.CodecError as exc:
+            raise RleError(f"{where}: cannot send argument: {exc}", code="sandbox.bad_argument") from None
+        _, result = self._exchange(parts, meta, timeout or self.limits.call_timeout_s, where)
+        return result
+
+    def _exchange(
+        self, parts: list | None, meta: dict | None, timeout: float, where: str
+    ) -> tuple[dict, Any]:
+        deadline = time.monotonic() + timeout
+        try:
+            if parts is not None:
+                self._write_all(parts, deadline)
+            n_header, n_payload = codec.parse_prefix(bytes(self._read_exact(codec.PREFIX.size, deadline)))
+            if n_header + n_payload > self.limits.max_reply_bytes:
+                self._die(f"reply of {n_header + n_payload} bytes exceeds the cap")
+                raise ParticipantFault(
+                    "sandbox.output_too_large",
+                    f"{where}: reply of {n_header + n_payload} bytes exceeds the cap of "
+                    f"{self.limits.max_reply_bytes} bytes",
+                )
+            header = self._read_exact(n_header, deadline)
+            reply, value = codec.decode_frame(bytes(header), self._read_exact(n_payload, deadline))
+        except _Expired:
+            self._die(f"timed out after {timeout:g} s")
+            raise ParticipantFault(
+                "sandbox.timeout", f"{where}: no reply within {timeout:g} s; the child was killed"
+            ) from None
+        except _ChildGone:
+            raise self._death_fault(where) from None
+        except codec.CodecError as exc:
+            self._die("malformed reply")
+            raise ParticipantFault(
+                "sandbox.bad_type", f"{where}: malformed reply from the child: {exc}"
+            ) from None
+        if reply.get("ok") is True:
+            return reply, value
+        code, message = reply.get("code"), str(reply.get("message", ""))
+        detail = str(reply.get("detail", ""))
+        if code == "internal":
+            self._die("isolation failed")
+            raise RleError(f"{where}: sandbox isolation failed: {message}", code="sandbox.setup")
+        if code not in FAULT_CODES:
+            code, message = "sandbox.bad_type", f"malformed fault reply (code {code!r})"
+        if meta is None or code == "sandbox.exit":  # import failures and exits end the child
+            self._die(f"{code}: {message}")
+        raise ParticipantFault(code, f"{where}: {message}", detail)
+
+    # -- channel -------------------------------------------------------------------------------------
+    def _write_all(self, parts: list, deadline: float) -> None:
+        for part in parts:
+            view = memoryview(part).cast("B")
+            while view:
+                if not select.select([], [self._req_w], [], max(0.0, deadline - time.monotonic()))[1]:
+                    raise _Expired
+                try:
+                    view = view[os.write(self._req_w, view) :]
+                except BlockingIOError:
+                    continue
+                except (BrokenPipeError, OSError):
+                    raise _ChildGone from None
+
+    def _read_exact(self, n: int, deadline: float) -> bytearray:
+        buf = bytearray(n)
+        view, got = memoryview(buf), 0
+        while got < n:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0 or not select.select([self._rep_r], [], [], remaining)[0]:
+                raise _Expired
+            k = os.readv(self._rep_r, [view[got:]])
+            if k == 0:
+                raise _ChildGone
+            got += k
+        return buf
+
+    def _drain_output(self) -> None:
+        proc, cap = self._proc, self.limits.max_output_bytes
+        if proc is None or proc.stdout is None:
+            return
+        fd = proc.stdout.fileno()
+        while True:
+            try:
+                chunk = os.read(fd, 1 << 16)
+            except OSError:
+                break
+            if not chunk:
+                break
+            with self._out_lock:
+                self._out += chunk
+                if len(self._out) > cap:
+                    del self._out[: len(self._out) - cap]
+        proc.stdout.close()
+
+    # -- death ---------------------------------------------------------------------------------------
+    def _kill(self, proc: subprocess.Popen) -> tuple[int, float]:
+        """SIGKILL the process group, reap the child; (exit code, CPU seconds used)."""
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+        return self._reap(proc, 5.0)
+
+    def _reap(self, proc: subprocess.Popen, wait_s: float) -> tuple[int, float]:
+        if proc.returncode is not None:
+            return proc.returncode, getattr(proc, "_rle_cpu", 0.0)
+        deadline = time.monotonic() + wait_s
+        while True:
+            try:
+                pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+            except ChildProcessError:
+                proc.returncode = proc.returncode if proc.returncode is not None else -signal.SIGKILL
+                return proc.returncode, 0.0
+            if pid:
+                proc.returncode = os.waitstatus_to_exitcode(status)
+                proc._rle_cpu = usage.ru_utime + usage.ru_stime  # type: ignore[attr-defined]
+                return proc.returncode, proc._rle_cpu  # type: ignore[attr-defined]
+            if time.monotonic() > deadline:
+                try:
+                    os.killpg(proc.pid, signal.SIGKILL)
+                except (ProcessLookupError, PermissionError):
+                    pass
+                deadline = time.monotonic() + 5.0
+            time.sleep(0.002)
+
+    def _die(self, reason: str) -> None:
+        if self._death is None:
+            self._death = reason
+        if self._proc is not None:
+            self._kill(self._proc)
+
+    def _death_fault(self, where: str) -> ParticipantFault:
+        proc = self._proc
+        rc, cpu = self._reap(proc, 2.0) if proc is not None else (-signal.SIGKILL, 0.0)
+        cpu_limit = int(self.limits.cpu_seconds + 0.999)
+        if rc == -signal.SIGXCPU or (rc == -signal.SIGKILL and cpu >= cpu_limit):
+            code, text = "sandbox.cpu", f"CPU-time limit of {cpu_limit} s used up ({cpu:.1f} s)"
+        elif rc < 0:
+            code, text = "sandbox.crash", f"the child was killed by signal {_signal_name(-rc)}"
+        else:
+            code, text = "sandbox.exit", f"the child exited with status {rc}"
+        self._die(f"{code}: {text}")
+        return ParticipantFault(code, f"{where}: {text}", self.stdout_tail[-4000:])
+
+
+def _signal_name(num: int) -> str:
+    try:
+        return signal.Signals(num).name
+    except ValueError:
+        return str(num)
+
+
+@atexit.register
+def _close_all() -> None:
+    for box in list(_LIVE):
+        box.close()

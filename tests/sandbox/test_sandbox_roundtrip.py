@@ -1,0 +1,133 @@
+"""Happy path: arrays in and out, latency, working directory, environment, isolation layers, codec."""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rle_design.sandbox import Sandbox, SandboxLimits, codec
+
+POLICY = """
+import os
+import numpy as np
+
+GAIN = np.loadtxt("gain.txt")
+
+def act(obs):
+    return -GAIN * obs
+
+def echo(value):
+    return value
+
+def where():
+    return {"cwd": os.getcwd(), "home": os.environ["HOME"], "env": sorted(os.environ), "uid": os.getuid()}
+
+def read_extra():
+    return open("data/extra.txt").read()
+"""
+
+
+@pytest.fixture()
+def policy(tmp_path) -> Path:
+    (tmp_path / "policy.py").write_text(POLICY)
+    (tmp_path / "gain.txt").write_text("2.0\n")
+    extra = tmp_path / "extra_src.txt"
+    extra.write_text("extra data")
+    return tmp_path / "policy.py"
+
+
+def test_array_in_array_out_and_round_trip_latency(policy):
+    obs = np.linspace(-1.0, 1.0, 7)
+    with Sandbox(policy, limits=SandboxLimits(call_timeout_s=5.0)) as box:
+        np.testing.assert_array_equal(box.call("act", obs, shape=(7,)), -2.0 * obs)
+        times = np.empty(1000)
+        for i in range(1000):
+            t0 = time.perf_counter()
+            box.call("act", obs, shape=(7,))
+            times[i] = time.perf_counter() - t0
+    median_ms = float(np.median(times)) * 1e3
+    print(f"sandbox round trip: median {median_ms:.3f} ms, p99 {np.percentile(times, 99) * 1e3:.3f} ms")
+    assert median_ms < 1.0
+
+
+def test_values_of_every_wire_type_round_trip(policy):
+    value = {
+        "none": None,
+        "flags": [True, False],
+        "int": -(2**40),
+        "float": 0.1,
+        "text": "ünïcode",
+        "nested": {"t": (1, 2.5, "x")},
+        "f32": np.arange(6, dtype=np.float32).reshape(2, 3),
+        "i64": np.array([[1], [2]], dtype=np.int64),
+        "bool": np.array([True, False]),
+        "empty": np.zeros((0, 3)),
+        "scalar": np.float64(3.25),
+    }
+    with Sandbox(policy) as box:
+        back = box.call("echo", value)
+    assert back["none"] is None and back["flags"] == [True, False] and back["int"] == -(2**40)
+    assert back["float"] == 0.1 and back["text"] == "ünïcode" and back["nested"] == {"t": [1, 2.5, "x"]}
+    for key in ("f32", "i64", "bool", "empty"):
+        assert back[key].dtype == value[key].dtype and back[key].shape == value[key].shape
+        np.testing.assert_array_equal(back[key], value[key])
+    assert back["scalar"] == 3.25 and isinstance(back["scalar"], float)
+
+
+def test_working_directory_environment_and_extra_files(policy, monkeypatch):
+    monkeypatch.setenv("RLE_SECRET", "s3cr3t")
+    monkeypatch.setenv("AWS_SECRET_ACCESS_KEY", "nope")
+    extra = {"data/extra.txt": policy.parent / "extra_src.txt"}
+    with Sandbox(policy, workdir_files=extra) as box:
+        info = box.call("where")
+        assert info["cwd"] == str(box.workdir) and info["home"] == str(box.workdir)
+        assert box.call("read_extra") == "extra data"
+        workdir = box.workdir
+    assert not workdir.exists()  # removed on close
+    assert "RLE_SECRET" not in info["env"] and "AWS_SECRET_ACCESS_KEY" not in info["env"]
+    assert set(info["env"]) <= {
+        "PATH", "LANG", "LC_ALL", "TZ", "MUJOCO_GL", "PYOPENGL_PLATFORM", "HOME", "TMPDIR",
+        "PYTHONDONTWRITEBYTECODE", "MPLCONFIGDIR", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS",
+        "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS", "LC_CTYPE",
+    }  # fmt: skip
+    if os.geteuid() == 0:
+        assert info["uid"] != 0
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="kernel isolation layers need root")
+def test_kernel_layers_are_active_as_root(policy):
+    with Sandbox(policy) as box:
+        assert box.layers == {"netns": True, "uid_drop": True, "no_new_privs": True, "nproc": True}
+
+
+def test_close_kills_the_process_group(policy):
+    box = Sandbox(policy)
+    box.start()
+    pid = box._proc.pid
+    box.close()
+    with pytest.raises(ProcessLookupError):
+        os.kill(pid, 0)
+    assert not box.alive
+
+
+def test_codec_refuses_object_arrays_and_unknown_tags():
+    with pytest.raises(codec.CodecError, match="ndarray of dtype object"):
+        codec.encode_frame({}, np.array([object()]))
+    with pytest.raises(codec.CodecError, match="value of type set"):
+        codec.encode_frame({}, {1, 2})
+    header = json.dumps({"m": {}, "v": {"$a": [0, "|O", [1]]}, "b": [8]}).encode()
+    with pytest.raises(codec.CodecError, match="dtype object is not allowed"):
+        codec.decode_frame(header, bytearray(8))
+    header = json.dumps({"m": {}, "v": {"__reduce__": 1}, "b": []}).encode()
+    with pytest.raises(codec.CodecError, match="unknown tag in value tree"):
+        codec.decode_frame(header, bytearray())
+    header = json.dumps({"m": {}, "v": {"$a": [0, "<f8", [3]]}, "b": [16]}).encode()
+    with pytest.raises(
+        codec.CodecError, match=r"array of shape \(3,\) and dtype float64 does not match 16 bytes"
+    ):
+        codec.decode_frame(header, bytearray(16))
