@@ -372,7 +372,9 @@ def _spec_from_string(xml: str, assets: dict[str, bytes], line_map: dict) -> muj
         spec = mujoco.MjSpec.from_string(xml, assets=dict(assets))
     except ValueError as exc:
         text, where = _map_lines(str(exc), line_map)
-        raise MjcfError(f"MuJoCo parse error: {text}", code="mjcf.schema", path=where[0], line=where[1]) from None
+        raise MjcfError(
+            f"MuJoCo parse error: {text}", code="mjcf.schema", path=where[0], line=where[1]
+        ) from None
     for group in (spec.meshes, spec.hfields, spec.skins, spec.textures):
         for item in group:
             names = [item.file] + (list(item.cubefiles) if hasattr(item, "cubefiles") else [])

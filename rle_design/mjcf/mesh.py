@@ -24,6 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "MeshProperties",
+    "as_trimesh",
     "WallThickness",
     "boolean",
     "check_mesh_bytes",
@@ -134,7 +135,7 @@ class MeshProperties:
     bounds: tuple[tuple[float, float, float], tuple[float, float, float]]
 
 
-def _as_trimesh(mesh_or_path) -> trimesh.Trimesh:
+def as_trimesh(mesh_or_path) -> trimesh.Trimesh:
     import trimesh
 
     if isinstance(mesh_or_path, trimesh.Trimesh):
@@ -154,7 +155,7 @@ def mesh_properties(mesh_or_path, density: float) -> MeshProperties:
         mesh_or_path: ``trimesh.Trimesh`` or a mesh file path.
         density: Material density [kg/m^3].
     """
-    mesh = _as_trimesh(mesh_or_path).copy()
+    mesh = as_trimesh(mesh_or_path).copy()
     mesh.density = float(density)
     tup = lambda v: tuple(float(x) for x in v)  # noqa: E731
     return MeshProperties(
