@@ -6,6 +6,7 @@ module and then serves requests on the two channel file descriptors. It never im
 (isolated mode has no package path); the codec is loaded from its file.
 """
 
+import contextlib
 import ctypes
 import importlib.util
 import json
@@ -120,15 +121,16 @@ def _audit(event, args):
             return  # dir_fd-relative: left to the kernel layers
         if not _inside(args[0]):
             _forbid(f"{event} on '{os.fsdecode(args[0])}' (outside the working directory)")
-    elif event in _TWO_PATH_EVENTS:
-        if not _inside(args[1]) or (event == "os.rename" and not _inside(args[0])):
-            _forbid(f"{event} to '{os.fsdecode(args[1])}' (outside the working directory)")
+    elif event in _TWO_PATH_EVENTS and (
+        not _inside(args[1]) or (event == "os.rename" and not _inside(args[0]))
+    ):
+        _forbid(f"{event} to '{os.fsdecode(args[1])}' (outside the working directory)")
 
 
 def _world_reachable(path):
     """True if any uid can list ``path``: every ancestor is world-searchable and it is world-readable."""
     try:
-        if not os.stat(path).st_mode & 0o005 == 0o005:
+        if os.stat(path).st_mode & 5 != 5:
             return False
         parent = os.path.dirname(path)
         while parent and parent != os.path.dirname(parent):
@@ -210,10 +212,8 @@ def _classify(exc):
 
 def _flush():
     for stream in (sys.stdout, sys.stderr):
-        try:
+        with contextlib.suppress(Exception):  # a closed or replaced stream must not kill the loop
             stream.flush()
-        except Exception:  # noqa: BLE001 - a closed or replaced stream must not kill the server loop
-            pass
 
 
 def _load():

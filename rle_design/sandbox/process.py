@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import atexit
+import contextlib
 import json
 import os
 import select
@@ -325,10 +326,8 @@ class Sandbox:
     # -- death ---------------------------------------------------------------------------------------
     def _kill(self, proc: subprocess.Popen) -> tuple[int, float]:
         """SIGKILL the process group, reap the child; (exit code, CPU seconds used)."""
-        try:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
             os.killpg(proc.pid, signal.SIGKILL)
-        except (ProcessLookupError, PermissionError):
-            pass
         return self._reap(proc, 5.0)
 
     def _reap(self, proc: subprocess.Popen, wait_s: float) -> tuple[int, float]:
@@ -346,10 +345,8 @@ class Sandbox:
                 proc._rle_cpu = usage.ru_utime + usage.ru_stime  # type: ignore[attr-defined]
                 return proc.returncode, proc._rle_cpu  # type: ignore[attr-defined]
             if time.monotonic() > deadline:
-                try:
+                with contextlib.suppress(ProcessLookupError, PermissionError):
                     os.killpg(proc.pid, signal.SIGKILL)
-                except (ProcessLookupError, PermissionError):
-                    pass
                 deadline = time.monotonic() + 5.0
             time.sleep(0.002)
 
