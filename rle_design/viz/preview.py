@@ -21,7 +21,7 @@ def load_preview_model(xml: str | Path, arm: str | None = None, payload: str | N
     if not path.is_file():
         raise RleError(f"file '{xml}' does not exist", code="preview.missing_file")
     design = load_design(path.parent, entry=path.name)
-    spec = compose(design.spec, arm_id=arm, payload_id=payload, options=None)
+    spec = compose(design.spec, arm_id=arm, payload_id=payload)
     return compile_spec(spec)
 
 
@@ -97,7 +97,7 @@ def serve_meshcat(
             continue
         rgba = model.geom_rgba[i]
         colour = int(rgba[0] * 255) << 16 | int(rgba[1] * 255) << 8 | int(rgba[2] * 255)
-        material = g.MeshLambertMaterial(color=colour, opacity=float(rgba[3]), transparent=rgba[3] < 1)
+        material = g.MeshLambertMaterial(color=colour, opacity=float(rgba[3]), transparent=bool(rgba[3] < 1))
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or f"geom{i}"
         T = np.eye(4)
         T[:3, :3] = data.geom_xmat[i].reshape(3, 3)
@@ -121,22 +121,22 @@ def _geom_to_meshcat(model: mujoco.MjModel, i: int, g):
     t, size = model.geom_type[i], model.geom_size[i]
     G = mujoco.mjtGeom
     if t == G.mjGEOM_BOX:
-        return g.Box(2 * size)
+        return g.Box((2 * size).tolist())
     if t == G.mjGEOM_SPHERE:
-        return g.Sphere(size[0])
+        return g.Sphere(float(size[0]))
     if t == G.mjGEOM_CYLINDER:
-        return _z_cylinder(g, size[0], 2 * size[1])
+        return _z_cylinder(g, float(size[0]), float(2 * size[1]))
     if t == G.mjGEOM_CAPSULE:
-        return _z_cylinder(g, size[0], 2 * size[1] + 2 * size[0])
+        return _z_cylinder(g, float(size[0]), float(2 * size[1] + 2 * size[0]))
     if t == G.mjGEOM_ELLIPSOID:
-        return g.Ellipsoid(size)
+        return g.Ellipsoid(size.tolist())
     if t == G.mjGEOM_MESH:
         mid = model.geom_dataid[i]
         v0, nv = model.mesh_vertadr[mid], model.mesh_vertnum[mid]
         f0, nf = model.mesh_faceadr[mid], model.mesh_facenum[mid]
         verts = model.mesh_vert[v0 : v0 + nv]
         faces = model.mesh_face[f0 : f0 + nf]
-        return g.TriangularMeshGeometry(verts, faces)
+        return g.TriangularMeshGeometry(verts.astype(np.float32), faces.astype(np.uint32))
     if t == G.mjGEOM_PLANE:
         return g.Box([4.0, 4.0, 0.002])
     return None
@@ -154,4 +154,4 @@ def _z_cylinder(g, radius: float, length: float):
     for k in range(n):
         a, b = k, (k + 1) % n
         faces += [[a, b, n + b], [a, n + b, n + a], [2 * n, b, a], [2 * n + 1, n + a, n + b]]
-    return g.TriangularMeshGeometry(verts, np.array(faces))
+    return g.TriangularMeshGeometry(verts.astype(np.float32), np.array(faces, dtype=np.uint32))
