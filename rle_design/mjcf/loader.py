@@ -388,7 +388,8 @@ def _spec_from_string(xml: str, assets: dict[str, bytes], line_map: dict) -> muj
 
 
 def _map_lines(message: str, line_map: dict) -> tuple[str, tuple[str | None, int | None]]:
-    """Rewrite MuJoCo's ``line N`` (of the XML we generated) as ``line L of FILE`` (submitted).
+    """Rewrite MuJoCo's ``line N`` (of the XML we generated) as ``line L of FILE`` (submitted), and
+    in-memory asset keys (the ``str`` keys of ``line_map``) as the submitted paths.
 
     Returns the rewritten message and the (file, line) of the first mapped line, or (None, None).
     """
@@ -402,6 +403,9 @@ def _map_lines(message: str, line_map: dict) -> tuple[str, tuple[str | None, int
         return f"line {where[1]} of {where[0]}"
 
     text = re.sub(r"line (\d+)", repl, message.strip())
+    for key, rel in line_map.items():  # in-memory asset keys back to submitted paths
+        if isinstance(key, str):
+            text = text.replace(f"'{key}'", f"'{rel}'")
     return text, (first[0] if first else (None, None))
 
 
@@ -468,6 +472,7 @@ def load_design(
     dirs = _asset_dirs(top, origin, entry_rel, reader)
     flat = copy.deepcopy(tree)
     assets: dict[str, bytes] = {}
+    key_to_rel: dict[str, str] = {}
     for el, twin in zip(top.iter(), flat.getroot().iter()):
         if not isinstance(el.tag, str):
             continue
@@ -497,12 +502,14 @@ def load_design(
             _check_asset(data, rel, el, limits, where)
             key_name = f"rle{len(assets)}/{posixpath.basename(rel)}"
             assets[key_name] = data
+            key_to_rel[key_name] = rel
             twin.set(key, key_name)
     xml = etree.tostring(flat, encoding="unicode")
-    line_map = {
+    line_map: dict = {
         new.sourceline: (origin.get(old, entry_rel), old.sourceline)
         for old, new in zip(top.iter(), etree.fromstring(xml).iter())
         if new.sourceline is not None
     }
+    line_map.update(key_to_rel)
     spec = _spec_from_string(xml, assets, line_map)
     return Design(root, entry_rel, tree, spec, tuple(reader.files), xml, assets, origin, line_map)

@@ -54,8 +54,8 @@ def _looks_like(data: bytes) -> str:
 def check_mesh_bytes(data: bytes, name: str, content_type: str | None, max_faces: int) -> int:
     """Check that ``data`` is the mesh format its name claims and count its faces cheaply.
 
-    Binary STL: the header count must match the size (84 + 50 n bytes). ASCII STL: ``endfacet``
-    count. OBJ: no NUL bytes, at least one ``v`` line; faces bounded below by the ``f`` line count.
+    Binary STL: the header count must match the size (84 + 50 n bytes); ASCII STL is refused (MuJoCo
+    reads binary STL only, and at most 200,000 STL faces: its own compile error names the file). OBJ: no NUL bytes, at least one ``v`` line; faces bounded below by the ``f`` line count.
     MSH (MuJoCo binary): 4 int32 counts whose arrays fill the file exactly.
 
     Args:
@@ -76,14 +76,18 @@ def check_mesh_bytes(data: bytes, name: str, content_type: str | None, max_faces
         n = struct.unpack("<I", data[80:84])[0] if len(data) >= 84 else -1
         if n >= 0 and len(data) == 84 + 50 * n:
             faces = n
-        elif data.lstrip()[:5].lower() == b"solid" and b"\x00" not in data:
-            faces = data.count(b"endfacet")
-            if faces == 0:
-                raise MjcfError("ASCII STL without any facet", code="mesh.invalid")
+        elif data.lstrip()[:5].lower() == b"solid":
+            raise MjcfError(
+                "ASCII STL is not supported by MuJoCo; save the mesh as binary STL", code="mesh.invalid"
+            )
+        elif n < 0:
+            raise MjcfError(
+                f"not a valid binary STL: {len(data)} bytes, header needs 84{hint}", code="mesh.invalid"
+            )
         else:
             raise MjcfError(
-                f"not a valid STL: {len(data)} bytes is neither a binary STL (84 + 50 x {n} faces = "
-                f"{84 + 50 * max(n, 0)} bytes) nor ASCII ('solid ...'){hint}",
+                f"not a valid binary STL: {len(data)} bytes, but the header claims {n} faces (84 + 50 x {n} = "
+                f"{84 + 50 * n} bytes){hint}",
                 code="mesh.invalid",
             )
     elif suffix == ".obj":
