@@ -74,6 +74,7 @@ class VerifyContext:
         executor: ``"local"`` (process pool) or ``"ray"``.
         ray_address: Cluster address for ``executor="ray"``; None starts a local Ray.
         quick: Reduced batteries (tests and CI); the report marks it in native metrics.
+        hang_cap_s: Per-call timeout for submitted code [s] (the card's 30 s hang cap by default).
     """
 
     secret: Secret
@@ -82,6 +83,7 @@ class VerifyContext:
     executor: str = "local"
     ray_address: str | None = None
     quick: bool = False
+    hang_cap_s: float = 30.0
 
 
 VerifyFn = Callable[[Path, VerifyContext], "VerifierReport"]
