@@ -1,0 +1,305 @@
+"""Export tasks as Harbor (0.25, task schema 1.4) task directories with a separate verifier image.
+
+Layout of ``OUT/<task id>/``::
+
+    task.toml              schema 1.4; [task] name "rle-bench/<id>"; budgets; environment_mode "separate"
+    instruction.md         the instruction I, the artifact contract A and the budget B
+    environment/           agent image: Dockerfile + a snapshot of the project (no shipped solutions)
+    tests/                 verifier image: Dockerfile, test.sh, and a snapshot of the project
+    solution/solve.sh      copies the reference solution into /logs/artifacts (only when one is shipped)
+
+The agent writes its artifact into ``/logs/artifacts``, the only directory that crosses into the
+verifier container. ``tests/test.sh`` runs ``rle verify`` there and turns the report into
+``/logs/verifier/reward.json``: ``reward`` (the task score) and one key per checkpoint. The verifier
+secret comes from the host's ``RLE_SECRET`` (the public development key when it is unset).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from collections.abc import Sequence
+from pathlib import Path
+
+from rle_design.errors import RleError
+from rle_tasks.core.report import VERIFIER_VERSION
+from rle_tasks.core.task import TaskSpec
+
+ORG = "rle-bench"
+BASE_IMAGE = "python:3.11-slim-bookworm"
+APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6"
+ROBOSUITE = "robosuite==1.5.2"
+AGENT_USER = "agent"
+"""Unprivileged user the agent runs as (submitted code never runs as root; see harbor#1779)."""
+_PROJECT_FILES = ("pyproject.toml", "README.md", "LICENSE")
+_PROJECT_DIRS = ("rle_design", "rle_tasks", "catalogs")
+_IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".pytest_cache")
+
+
+def _toml_str(text: str) -> str:
+    """A TOML basic string (JSON escapes are valid TOML; DEL is not allowed raw)."""
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
+def _number(x: float) -> str:
+    return str(int(x)) if float(x).is_integer() else repr(float(x))
+
+
+def project_root() -> Path:
+    """Root of the source checkout that the images install (must hold ``pyproject.toml``)."""
+    from rle_design.paths import REPO_ROOT
+
+    if not (REPO_ROOT / "pyproject.toml").is_file():
+        raise RleError(
+            f"Harbor export needs the project source tree, but {REPO_ROOT} has no pyproject.toml; "
+            "run from a source checkout installed with `pip install -e .`",
+            code="harbor.source",
+        )
+    return REPO_ROOT
+
+
+def _resolve_specs(task_ids: Sequence[str | TaskSpec] | None) -> list[TaskSpec]:
+    from rle_tasks.core.registry import all_tasks, get_task
+
+    if task_ids is None:
+        return [t for t in all_tasks() if t.implemented]
+    specs: list[TaskSpec] = []
+    for item in task_ids:
+        spec = item if isinstance(item, TaskSpec) else get_task(item)
+        if not spec.implemented:
+            implemented = [t.id for t in all_tasks() if t.implemented]
+            raise RleError(
+                f"task '{spec.id}' is registered but not implemented (no verifier), so it cannot be exported. "
+                f"Implemented tasks: {', '.join(implemented) or '(none)'}",
+                code="harbor.unimplemented",
+            )
+        if spec.id in {s.id for s in specs}:
+            raise RleError(f"task '{spec.id}' is listed twice", code="harbor.duplicate")
+        specs.append(spec)
+    return specs
+
+
+def _solution_dirs(spec: TaskSpec, root: Path) -> dict[str, Path]:
+    out: dict[str, Path] = {}
+    for name, path in spec.solutions:
+        p = Path(path)
+        p = p if p.is_absolute() else root / p
+        if not p.is_dir():
+            raise RleError(f"task '{spec.id}' lists solution '{name}' at {p}, which is not a directory")
+        out[name] = p.resolve()
+    return out
+
+
+def _copy_project(root: Path, dst: Path, exclude: Sequence[Path] = ()) -> None:
+    """Snapshot of the installable project; directories in ``exclude`` are left out."""
+    excluded = {p.resolve() for p in exclude}
+
+    def ignore(directory: str, names: list[str]) -> set[str]:
+        skip = set(_IGNORE(directory, names))
+        skip |= {n for n in names if (Path(directory) / n).resolve() in excluded}
+        return skip
+
+    dst.mkdir(parents=True)
+    for name in _PROJECT_FILES:
+        if (root / name).is_file():
+            shutil.copy2(root / name, dst / name)
+    for name in _PROJECT_DIRS:
+        if (root / name).is_dir():
+            shutil.copytree(root / name, dst / name, ignore=ignore, symlinks=False)
+
+
+def task_toml(spec: TaskSpec) -> str:
+    """The ``task.toml`` text of one task."""
+    b = spec.budget
+    contract = spec.contract
+    required = ", ".join(_toml_str(r) for r in contract.required)
+    lines = [
+        'schema_version = "1.4"',
+        "",
+        "[task]",
+        f"name = {_toml_str(f'{ORG}/{spec.id}')}",
+        f"description = {_toml_str(spec.title)}",
+        f'keywords = ["rle-bench", {_toml_str(spec.workflow)}, "family-{spec.family:02d}"]',
+        "",
+        "[metadata]",
+        f"family = {spec.family}",
+        f"workflow = {_toml_str(spec.workflow)}",
+        f"verifier_version = {_toml_str(VERIFIER_VERSION)}",
+        f"required_artifacts = [{required}]",
+        f"max_artifact_bytes = {contract.max_total_bytes}",
+    ]
+    if b.steps is not None:
+        lines.append(f"interaction_steps = {b.steps}")
+    lines += [
+        "",
+        "[agent]",
+        f"timeout_sec = {_number(b.wall_time_s)}",
+        f"user = {_toml_str(AGENT_USER)}",
+        "",
+        "[verifier]",
+        f"timeout_sec = {_number(b.verifier_timeout_s)}",
+        'environment_mode = "separate"',
+        'env = { RLE_SECRET = "${RLE_SECRET:-}" }',
+        "",
+        "[environment]",
+        f"cpus = {b.cpus}",
+        f"memory_mb = {b.memory_mb}",
+        f"gpus = {b.gpus}",
+        'network_mode = "no-network"',
+        "build_timeout_sec = 1800",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def instruction_md(spec: TaskSpec) -> str:
+    """The ``instruction.md`` text: instruction I, artifact contract A, budget B."""
+    b, c = spec.budget, spec.contract
+    parts = [
+        f"# {spec.title}",
+        "",
+        spec.instruction.strip() or "(no instruction text)",
+        "",
+        "## Submission",
+        "",
+    ]
+    parts.append(
+        "Write your artifact into `/logs/artifacts/`. Only that directory reaches the verifier, which runs "
+        "in a separate container with the hidden evaluation."
+    )
+    parts.append("")
+    parts.append("Required files: " + (", ".join(f"`{r}`" for r in c.required) or "(none)"))
+    if c.optional:
+        parts.append("Optional files: " + ", ".join(f"`{o}`" for o in c.optional))
+    parts.append(f"Size limit: {c.max_total_bytes / 2**20:.0f} MiB.")
+    if c.description:
+        parts += ["", c.description.strip()]
+    budget = (
+        f"Wall time {b.wall_time_s / 3600:.1f} h, {b.cpus} CPUs, {b.gpus} GPUs, {b.memory_mb} MiB memory, "
+        "no network."
+    )
+    if b.steps is not None:
+        budget += f" {b.steps} charged interaction steps (each reset and executed action costs one)."
+    parts += ["", "## Budget", "", budget, "", "## Tools", ""]
+    parts.append(
+        f"The `rle` command is installed: `rle show {spec.id}` repeats this task card, "
+        f"`rle dev {spec.id} --workspace DIR` lays out the development environment, and "
+        "`rle preview FILE.xml --png OUT.png` renders an MJCF file."
+    )
+    return "\n".join(parts) + "\n"
+
+
+def base_image() -> str:
+    """Base image of both containers: ``RLE_HARBOR_BASE_IMAGE`` (e.g. pinned by digest) or ``BASE_IMAGE``."""
+    return os.environ.get("RLE_HARBOR_BASE_IMAGE") or BASE_IMAGE
+
+
+def _dockerfile(extra: str = "") -> str:
+    return f"""FROM {base_image()}
+ENV DEBIAN_FRONTEND=noninteractive PIP_NO_CACHE_DIR=1 PIP_DISABLE_PIP_VERSION_CHECK=1 \\
+    MUJOCO_GL=egl PYOPENGL_PLATFORM=egl
+# Offscreen OpenGL on CPU: EGL with Mesa llvmpipe, OSMesa as fallback.
+RUN apt-get update \\
+ && apt-get install -y --no-install-recommends {APT_PACKAGES} \\
+ && rm -rf /var/lib/apt/lists/*
+COPY rle-bench /opt/rle-bench
+# robosuite is an asset source only (arm MJCF and meshes): installed without its dependencies.
+RUN pip install -e /opt/rle-bench && pip install --no-deps {ROBOSUITE}
+RUN mkdir -p /logs/artifacts
+{extra}"""
+
+
+def _test_sh(spec: TaskSpec) -> str:
+    return f"""#!/usr/bin/env bash
+# Verifier of {ORG}/{spec.id}, run in the separate verifier image: only /logs/artifacts crosses over.
+set -uo pipefail
+mkdir -p /logs/verifier /logs/artifacts
+rle verify {spec.id} /logs/artifacts --json /logs/verifier/report.json --jobs "$(nproc)" \\
+    2>&1 | tee /logs/verifier/verify.log
+status=${{PIPESTATUS[0]}}
+python3 - <<'PY'
+import json
+import pathlib
+
+report = pathlib.Path("/logs/verifier/report.json")
+reward = {{"reward": 0.0}}
+if report.is_file():
+    data = json.loads(report.read_text())
+    reward["reward"] = float(data.get("score", 0.0))
+    for checkpoint in data.get("checkpoints", []):
+        key = checkpoint["id"] if checkpoint["id"] != "reward" else "checkpoint_reward"
+        reward[key] = float(checkpoint["score"])
+pathlib.Path("/logs/verifier/reward.json").write_text(json.dumps(reward) + "\\n")
+PY
+# 0: a report was produced (whatever its score); 1: an internal verifier fault, shown as an error.
+exit "$status"
+"""
+
+
+_SOLVE_SH = """#!/usr/bin/env bash
+# Oracle: submit the shipped reference solution.
+set -euo pipefail
+mkdir -p /logs/artifacts
+cp -a /solution/reference/. /logs/artifacts/
+"""
+
+
+def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
+    """Write one Harbor task directory ``out/<id>`` (replacing an earlier export there)."""
+    root = root or project_root()
+    solutions = _solution_dirs(spec, root)
+    task_dir = out / spec.id
+    if task_dir.exists():
+        if not (task_dir / "task.toml").is_file():
+            raise RleError(
+                f"{task_dir} exists and is not a Harbor task directory; remove it or choose another OUT"
+            )
+        shutil.rmtree(task_dir)
+    task_dir.mkdir(parents=True)
+    (task_dir / "task.toml").write_text(task_toml(spec))
+    (task_dir / "instruction.md").write_text(instruction_md(spec))
+
+    env = task_dir / "environment"
+    _copy_project(root, env / "rle-bench", exclude=list(solutions.values()))
+    workspace = f"RUN rle dev {spec.id} --workspace /workspace --no-serve\n" if spec.make_dev_env else ""
+    agent = (
+        f"{workspace}RUN useradd --create-home --uid 1000 {AGENT_USER} && mkdir -p /workspace \\\n"
+        f" && chown -R {AGENT_USER} /workspace /logs/artifacts\nWORKDIR /workspace\n"
+    )
+    (env / "Dockerfile").write_text(_dockerfile(agent))
+
+    tests = task_dir / "tests"
+    _copy_project(root, tests / "rle-bench")
+    (tests / "Dockerfile").write_text(
+        _dockerfile("COPY test.sh /tests/test.sh\nRUN chmod +x /tests/test.sh\n")
+    )
+    (tests / "test.sh").write_text(_test_sh(spec))
+    (tests / "test.sh").chmod(0o755)
+
+    if "reference" in solutions:
+        sol = task_dir / "solution"
+        shutil.copytree(solutions["reference"], sol / "reference", ignore=_IGNORE)
+        (sol / "solve.sh").write_text(_SOLVE_SH)
+        (sol / "solve.sh").chmod(0o755)
+    return task_dir
+
+
+def export_harbor(out: Path, task_ids: Sequence[str | TaskSpec] | None = None) -> list[Path]:
+    """Export tasks as Harbor task directories under ``out``.
+
+    Args:
+        out: Output directory (created).
+        task_ids: Task ids or ``TaskSpec`` objects; None exports every implemented task.
+
+    Returns:
+        The written task directories, in the given (or registry) order.
+
+    Raises:
+        RleError: An id is unknown, a task is not implemented, or the project source is unavailable.
+    """
+    specs = _resolve_specs(task_ids)
+    root = project_root()
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    return [export_task(spec, out, root) for spec in specs]

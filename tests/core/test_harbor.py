@@ -1,0 +1,204 @@
+"""Harbor export: task.toml fields (tomllib), files and scripts, reference solution, errors."""
+
+import json
+import os
+import re
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from rle_design.errors import RleError
+from rle_tasks.core.harbor import export_harbor
+from rle_tasks.core.report import Checkpoint, VerifierReport
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+
+# Harbor's package-name rule (harbor.constants.ORG_NAME_PATTERN in 0.25).
+ORG_NAME = re.compile(r"^[a-zA-Z0-9][a-zA-Z0-9._-]*/[a-zA-Z0-9][a-zA-Z0-9._-]*$")
+
+
+def _verify(directory, ctx):  # pragma: no cover - never called by the export
+    raise AssertionError("export must not run the verifier")
+
+
+@pytest.fixture
+def spec(tmp_path) -> TaskSpec:
+    ref = tmp_path / "solutions" / "reference"
+    ref.mkdir(parents=True)
+    (ref / "base.xml").write_text("<mujoco/>\n")
+    base = tmp_path / "solutions" / "baseline"
+    base.mkdir()
+    (base / "base.xml").write_text("<mujoco/>\n")
+    return TaskSpec(
+        id="08-mobile-base",
+        family=8,
+        title='Universal mobile-manipulator base ("test" spec)',
+        instruction="Design a base.\n",
+        budget=Budget(
+            wall_time_s=7200.0, cpus=4, gpus=0, memory_mb=8192, steps=5000, verifier_timeout_s=1800.0
+        ),
+        contract=ArtifactContract(
+            required=("base.xml",), optional=("meshes/*.stl",), description="One MJCF."
+        ),
+        verify=_verify,
+        solutions=(("reference", ref), ("baseline/box", base)),
+    )
+
+
+def test_task_toml_fields(tmp_path, spec):
+    (task_dir,) = export_harbor(tmp_path / "out", [spec])
+    assert task_dir == tmp_path / "out" / "08-mobile-base"
+    cfg = tomllib.loads((task_dir / "task.toml").read_text())
+    assert cfg["schema_version"] == "1.4"
+    assert cfg["task"]["name"] == "rle-bench/08-mobile-base" and ORG_NAME.match(cfg["task"]["name"])
+    assert cfg["task"]["description"] == 'Universal mobile-manipulator base ("test" spec)'
+    assert cfg["agent"] == {"timeout_sec": 7200, "user": "agent"}  # never root (harbor lint root-agent)
+    assert cfg["verifier"]["timeout_sec"] == 1800
+    assert cfg["verifier"]["environment_mode"] == "separate"
+    assert cfg["verifier"]["env"] == {"RLE_SECRET": "${RLE_SECRET:-}"}
+    env = cfg["environment"]
+    assert (env["cpus"], env["memory_mb"], env["gpus"]) == (4, 8192, 0)
+    assert env["network_mode"] == "no-network"
+    assert cfg["metadata"]["required_artifacts"] == ["base.xml"]
+    assert cfg["metadata"]["interaction_steps"] == 5000
+    assert set(cfg) == {"schema_version", "task", "metadata", "agent", "verifier", "environment"}
+
+
+def test_files_images_and_scripts(tmp_path, spec):
+    (task_dir,) = export_harbor(tmp_path / "out", [spec])
+    instr = (task_dir / "instruction.md").read_text()
+    assert instr.startswith('# Universal mobile-manipulator base ("test" spec)\n\nDesign a base.\n')
+    assert "`/logs/artifacts/`" in instr and "Required files: `base.xml`" in instr
+    assert "5000 charged interaction steps" in instr
+
+    agent_df = (task_dir / "environment" / "Dockerfile").read_text()
+    assert agent_df.startswith("FROM python:3.11-slim")
+    assert "pip install -e /opt/rle-bench && pip install --no-deps robosuite==1.5.2" in agent_df
+    assert "libegl1" in agent_df and "libosmesa6" in agent_df
+    assert (
+        "useradd --create-home --uid 1000 agent" in agent_df
+        and "chown -R agent /workspace /logs/artifacts" in agent_df
+    )
+    snap = task_dir / "environment" / "rle-bench"
+    assert (snap / "pyproject.toml").is_file() and (snap / "rle_tasks" / "core" / "harbor.py").is_file()
+    assert (snap / "catalogs").is_dir()
+    assert not list(snap.rglob("__pycache__"))
+
+    verifier_df = (task_dir / "tests" / "Dockerfile").read_text()
+    assert "COPY test.sh /tests/test.sh" in verifier_df
+    assert (task_dir / "tests" / "rle-bench" / "pyproject.toml").is_file()
+    test_sh = task_dir / "tests" / "test.sh"
+    assert os.access(test_sh, os.X_OK)
+    text = test_sh.read_text()
+    assert "rle verify 08-mobile-base /logs/artifacts --json /logs/verifier/report.json" in text
+    assert "/logs/verifier/reward.json" in text
+    assert subprocess.run(["bash", "-n", str(test_sh)], capture_output=True).returncode == 0
+
+    solve = task_dir / "solution" / "solve.sh"
+    assert os.access(solve, os.X_OK) and "cp -a /solution/reference/. /logs/artifacts/" in solve.read_text()
+    assert (task_dir / "solution" / "reference" / "base.xml").read_text() == "<mujoco/>\n"
+
+
+def test_reward_snippet_turns_the_report_into_flat_numbers(tmp_path, spec):
+    """Run test.sh's python snippet on a real report, with /logs redirected into tmp_path."""
+    (task_dir,) = export_harbor(tmp_path / "out", [spec])
+    text = (task_dir / "tests" / "test.sh").read_text()
+    snippet = text.split("<<'PY'\n", 1)[1].split("\nPY\n", 1)[0]
+    logs = tmp_path / "logs" / "verifier"
+    logs.mkdir(parents=True)
+    report = VerifierReport("08-mobile-base", "08", "mechanical_design", score=0.625, valid=True)
+    report.checkpoints = [Checkpoint("validity", 0.25, 1.0, True), Checkpoint("reward", 0.75, 0.5, False)]
+    report.write(logs / "report.json")
+    snippet = snippet.replace("/logs/verifier", str(logs))
+    subprocess.run([sys.executable, "-c", snippet], check=True)
+    reward = json.loads((logs / "reward.json").read_text())
+    assert reward == {"reward": 0.625, "validity": 1.0, "checkpoint_reward": 0.5}
+    (logs / "report.json").unlink()
+    subprocess.run([sys.executable, "-c", snippet], check=True)
+    assert json.loads((logs / "reward.json").read_text()) == {"reward": 0.0}
+
+
+def test_agent_image_leaves_out_shipped_solutions(tmp_path, spec):
+    # Solutions inside the project tree must not be baked into the agent image.
+    import rle_tasks.core.harbor as harbor
+
+    root = tmp_path / "proj"
+    pkg = root / "rle_tasks" / "f08_mobile_base"
+    (pkg / "reference").mkdir(parents=True)
+    (pkg / "reference" / "base.xml").write_text("<mujoco/>\n")
+    (pkg / "verifier.py").write_text("")
+    (root / "pyproject.toml").write_text("")
+    s = TaskSpec("08-mobile-base", 8, "t", verify=_verify, solutions=(("reference", pkg / "reference"),))
+    task_dir = harbor.export_task(s, tmp_path / "out", root)
+    agent = task_dir / "environment" / "rle-bench" / "rle_tasks" / "f08_mobile_base"
+    assert (agent / "verifier.py").is_file() and not (agent / "reference").exists()
+    assert (task_dir / "tests" / "rle-bench" / "rle_tasks" / "f08_mobile_base" / "reference").is_dir()
+
+
+def test_base_image_can_be_pinned(tmp_path, spec, monkeypatch):
+    monkeypatch.setenv("RLE_HARBOR_BASE_IMAGE", "python:3.11-slim-bookworm@sha256:" + "0" * 64)
+    (task_dir,) = export_harbor(tmp_path, [spec])
+    for df in ("environment/Dockerfile", "tests/Dockerfile"):
+        assert (task_dir / df).read_text().startswith("FROM python:3.11-slim-bookworm@sha256:000")
+
+
+def test_re_export_replaces_and_foreign_directory_is_kept(tmp_path, spec):
+    out = tmp_path / "out"
+    export_harbor(out, [spec])
+    (out / "08-mobile-base" / "stale.txt").write_text("x")
+    export_harbor(out, [spec])
+    assert not (out / "08-mobile-base" / "stale.txt").exists()
+    foreign = tmp_path / "o2" / "08-mobile-base"
+    foreign.mkdir(parents=True)
+    with pytest.raises(RleError, match="exists and is not a Harbor task directory"):
+        export_harbor(tmp_path / "o2", [spec])
+    assert foreign.is_dir()
+
+
+def test_unimplemented_and_unknown_ids_are_refused(tmp_path):
+    with pytest.raises(RleError) as exc:
+        export_harbor(tmp_path, ["03-tower"])
+    assert exc.value.code == "harbor.unimplemented"
+    assert str(exc.value).startswith(
+        "task '03-tower' is registered but not implemented (no verifier), so it cannot be exported. "
+        "Implemented tasks: "
+    )
+    with pytest.raises(RleError, match="task '03-towr' does not exist"):
+        export_harbor(tmp_path, ["03-towr"])
+
+
+def test_default_exports_every_implemented_task(tmp_path):
+    from rle_tasks.core.registry import all_tasks
+
+    implemented = [t.id for t in all_tasks() if t.implemented]
+    written = export_harbor(tmp_path, None)
+    assert [p.name for p in written] == implemented
+
+
+def test_validates_with_harbor_task_config(tmp_path, spec):
+    try:
+        from harbor.models.task.config import TaskConfig
+    except ImportError:
+        pytest.skip(
+            "harbor is not installed: every harbor release on PyPI (0.25.0 included) declares "
+            f"Requires-Python >=3.12, and this environment runs Python {sys.version.split()[0]}"
+        )
+    (task_dir,) = export_harbor(tmp_path, [spec])
+    cfg = TaskConfig.model_validate_toml((task_dir / "task.toml").read_text())
+    assert cfg.task.name == "rle-bench/08-mobile-base"
+    assert cfg.verifier.environment_mode.value == "separate"
+    assert cfg.environment.network_mode.value == "no-network"
+    assert (cfg.environment.cpus, cfg.environment.memory_mb, cfg.environment.gpus) == (4, 8192, 0)
+    assert Path(task_dir / "tests" / "Dockerfile").is_file()
+
+
+def test_cli_export_of_unimplemented_task_exits_2(tmp_path, capsys):
+    from rle_tasks.cli import main
+
+    assert main(["export", "harbor", str(tmp_path), "--tasks", "03-tower"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(
+        "rle export: error [harbor.unimplemented]: task '03-tower' is registered but not implemented"
+    )
