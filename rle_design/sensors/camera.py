@@ -135,26 +135,37 @@ class CameraSpec:
         out[:3, 3] = -rot.T @ self.world_from_camera[:3, 3]
         return out
 
-    def project(self, points_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def to_camera(self, points_world: np.ndarray) -> np.ndarray:
+        """World points [m] in OpenCV camera coordinates [m]; column 2 is the planar depth.
+
+        Args:
+            points_world: ``(N, 3)`` or ``(3,)`` world coordinates [m].
+
+        Returns:
+            ``(N, 3)`` camera coordinates.
+        """
+        pts = np.atleast_2d(np.asarray(points_world, dtype=float))
+        if pts.ndim != 2 or pts.shape[1] != 3:
+            raise RleError(f"points must have shape (N, 3), got {pts.shape}", code="camera.shape")
+        return pts @ self.camera_from_world[:3, :3].T + self.camera_from_world[:3, 3]
+
+    def project(self, points_world: np.ndarray) -> np.ndarray:
         """Project world points to pixels.
 
         Args:
             points_world: ``(N, 3)`` or ``(3,)`` world coordinates [m].
 
         Returns:
-            ``(pixels, z)``: ``(N, 2)`` pixel coordinates ``(u, v)`` [px] and ``(N,)`` planar depth
-            along the optical axis [m]. Points behind the camera get ``z <= 0`` and NaN pixels.
+            ``(N, 2)`` pixel coordinates ``(u, v)`` [px]; NaN for points not in front of the camera
+            (their depth, ``to_camera(p)[:, 2]``, is <= 0).
         """
-        pts = np.atleast_2d(np.asarray(points_world, dtype=float))
-        if pts.shape[-1] != 3:
-            raise RleError(f"points must have shape (N, 3), got {pts.shape}", code="camera.shape")
-        cam = pts @ self.camera_from_world[:3, :3].T + self.camera_from_world[:3, 3]
+        cam = self.to_camera(points_world)
         z = cam[:, 2]
         k = self.intrinsics
         with np.errstate(divide="ignore", invalid="ignore"):
             u = np.where(z > 0, k.fx * cam[:, 0] / z + k.cx, np.nan)
             v = np.where(z > 0, k.fy * cam[:, 1] / z + k.cy, np.nan)
-        return np.stack([u, v], axis=1), z
+        return np.stack([u, v], axis=1)
 
     def backproject(
         self, depth: np.ndarray, mask: np.ndarray | None = None, pixels: np.ndarray | None = None

@@ -52,12 +52,12 @@ def test_extrinsics_follow_opencv_convention(model_data):
     assert np.allclose(cam.world_from_camera[:3, 3], [0, 0, 2])
     assert np.allclose(cam.camera_from_world @ cam.world_from_camera, np.eye(4))
     # A point 1 m below the camera and 0.1 m towards +x lands right of centre, same row.
-    (uv,), (z,) = cam.project(np.array([0.1, 0.0, 1.0]))
-    assert z == pytest.approx(1.0)
+    (uv,) = cam.project(np.array([0.1, 0.0, 1.0]))
+    assert cam.to_camera(np.array([0.1, 0.0, 1.0]))[0] == pytest.approx([0.1, 0.0, 1.0])
     assert uv[0] == pytest.approx(31.5 + cam.intrinsics.fx * 0.1)
     assert uv[1] == pytest.approx(23.5)
     # World +y is image-up: smaller row index.
-    (uv2,), _ = cam.project(np.array([0.0, 0.1, 1.0]))
+    (uv2,) = cam.project(np.array([0.0, 0.1, 1.0]))
     assert uv2[1] < 23.5
 
 
@@ -69,7 +69,8 @@ def test_project_backproject_round_trip(model_data):
         [rng.uniform(-0.3, 0.3, 50), rng.uniform(-0.2, 0.2, 50), rng.uniform(0.4, 3.0, 50)]
     )
     world = local @ cam.world_from_camera[:3, :3].T + cam.world_from_camera[:3, 3]
-    uv, z = cam.project(world)
+    uv = cam.project(world)
+    z = cam.to_camera(world)[:, 2]
     assert np.allclose(z, local[:, 2])
     back = cam.backproject(z, pixels=uv)
     assert np.abs(back - world).max() < 1e-9
@@ -88,8 +89,8 @@ def test_backproject_image_of_constant_depth_is_a_plane(model_data):
 def test_points_behind_camera_get_nan_pixels(model_data):
     m, d = model_data
     cam = camera_spec(m, d, "down", 64, 48)
-    uv, z = cam.project(np.array([[0.0, 0.0, 3.0]]))
-    assert z[0] == pytest.approx(-1.0)
+    uv = cam.project(np.array([[0.0, 0.0, 3.0]]))
+    assert cam.to_camera(np.array([0.0, 0.0, 3.0]))[0, 2] == pytest.approx(-1.0)
     assert np.isnan(uv).all()
 
 

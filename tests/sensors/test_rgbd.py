@@ -85,11 +85,17 @@ def test_projection_matches_rendered_sphere_centroid(camera):
     mask = frame.geom_ids() == gid
     assert mask.sum() > 50
     v, u = np.nonzero(mask)
-    (uv,), (z,) = frame.camera.project(d.geom_xpos[gid])
+    (uv,) = frame.camera.project(d.geom_xpos[gid])
+    z = frame.camera.to_camera(d.geom_xpos[gid])[0, 2]
     assert abs(u.mean() - uv[0]) < 0.5
     assert abs(v.mean() - uv[1]) < 0.5
     # Nearest sphere point is on the ray through the centre: depth there ~ z - r (planar, 3 mm slack).
     assert abs(frame.depth[mask].min() - (z - 0.025)) < 3e-3
+    # Colour comes out in the same orientation: the red ball's pixels are red, the grey floor's not.
+    red = frame.rgb[mask].astype(int)
+    assert (red[:, 0] > red[:, 1] + 30).mean() > 0.9  # grazing-light rim pixels are dark
+    floor = frame.rgb[frame.geom_ids() == 0].astype(int)
+    assert np.median(np.abs(floor[:, 0] - floor[:, 1])) < 10
     # The floor (and, from the side, the sky) fills the rest; segmentation names each pixel's geom.
     assert {0, gid} <= set(np.unique(frame.geom_ids()).tolist()) <= {BACKGROUND, 0, gid}
 
@@ -115,6 +121,15 @@ def test_no_segmentation_mode_still_masks_background():
     assert not frame.valid[0, 0] and frame.valid[32, 32]
     with pytest.raises(RenderError, match="this frame has no segmentation"):
         frame.geom_ids()
+
+
+def test_unknown_backend_is_refused(monkeypatch):
+    from rle_design.sensors.gl import requested_backend
+
+    monkeypatch.setenv("MUJOCO_GL", "glfw")
+    with pytest.raises(RenderError) as exc:
+        requested_backend()
+    assert str(exc.value) == "MUJOCO_GL='glfw' cannot render offscreen here. Available backends: egl, osmesa"
 
 
 def test_lifecycle_close_twice_and_render_after_close():
