@@ -157,3 +157,12 @@ def test_image_larger_than_framebuffer_is_refused():
         "image 128x64 exceeds the offscreen framebuffer 64x64; "
         'add <visual><global offwidth="128" offheight="64"/></visual>'
     )
+
+
+def test_default_backend_prefers_egl_and_falls_back_to_osmesa():
+    import rle_design
+
+    libs = {"EGL": "libEGL.so.1", "OSMesa": "libOSMesa.so.8"}
+    assert rle_design._default_gl_backend(libs.get) == "egl"
+    assert rle_design._default_gl_backend({"OSMesa": "libOSMesa.so.8"}.get) == "osmesa"
+    assert rle_design._default_gl_backend({}.get) == "egl"
