@@ -1,0 +1,33 @@
+"""Metered development sessions and their HMAC-chained, sealed ledger.
+
+A ``LedgerServer`` process owns the ledger key, the ledger file and a ``MeteredSession`` (a MuJoCo
+model stepped ``n_substeps`` times per action). The agent's ``LedgerClient`` connects over a Unix
+socket; each reset and executed action costs one step of the budget, observations are free. Every
+charged operation appends a record chained by HMAC-SHA256 (``records``); the session ends with a
+seal. ``verify_ledger`` checks a file against the key and returns a ``LedgerVerdict`` whose code
+names the first failure (``VERDICT_CODES``).
+
+Trust: the key lives only in the server process (and in whoever derives it, e.g. ``rle dev`` from the
+verifier secret). An agent that can read the server's memory or the secret can forge a ledger, so in
+evaluation the server runs outside the agent's container or user; with the public development key
+the ledger proves nothing and is only a rehearsal.
+"""
+
+from rle_design.ledger.client import LedgerClient
+from rle_design.ledger.records import LedgerError, LedgerWriter
+from rle_design.ledger.server import LedgerServer, serve
+from rle_design.ledger.session import MeteredEnv, MeteredSession
+from rle_design.ledger.verify import VERDICT_CODES, LedgerVerdict, verify_ledger
+
+__all__ = [
+    "VERDICT_CODES",
+    "LedgerClient",
+    "LedgerError",
+    "LedgerServer",
+    "LedgerVerdict",
+    "LedgerWriter",
+    "MeteredEnv",
+    "MeteredSession",
+    "serve",
+    "verify_ledger",
+]

@@ -1,0 +1,75 @@
+"""The agent's side of a metered session: ``LedgerClient(socket_path)``; it never holds the key."""
+
+from __future__ import annotations
+
+from multiprocessing.connection import Client
+from pathlib import Path
+from typing import Any
+
+from rle_design.ledger.records import LedgerError
+from rle_design.ledger.server import MAX_MESSAGE_BYTES, decode, encode
+
+
+class LedgerClient:
+    """Connection to a ledger server.
+
+    Each ``reset`` and each ``step`` costs one step of the budget; ``observe`` and ``info`` are free.
+    Observations are dicts with ``qpos`` [m, rad], ``qvel`` [m/s, rad/s], ``time`` [s] and the
+    environment's extra observers.
+
+    Args:
+        address: The server's Unix socket (``.rle/ledger.sock`` in a dev workspace).
+    """
+
+    def __init__(self, address: str | Path) -> None:
+        try:
+            self._conn = Client(str(address), family="AF_UNIX")
+        except OSError as exc:
+            raise LedgerError(
+                f"cannot connect to the ledger server at {address}: {exc.strerror or exc}",
+                code="ledger.no_server",
+            ) from None
+        self.steps_used = 0
+
+    def _request(self, op: str, value: Any = None) -> tuple[dict, Any]:
+        try:
+            self._conn.send_bytes(encode({"op": op}, value))
+            meta, result = decode(self._conn.recv_bytes(MAX_MESSAGE_BYTES))
+        except (EOFError, OSError) as exc:
+            raise LedgerError(
+                f"ledger server connection lost during '{op}': {exc}", code="ledger.no_server"
+            ) from None
+        if not meta.get("ok"):
+            raise LedgerError(str(meta.get("message")), code=str(meta.get("code")))
+        self.steps_used = meta.get("steps_used", self.steps_used)
+        return meta, result
+
+    def reset(self) -> dict[str, Any]:
+        """Reset the simulation (costs one step); returns the observation."""
+        return self._request("reset")[1]
+
+    def step(self, action: Any) -> dict[str, Any]:
+        """Apply ``action`` (the actuators' ctrl) for one control period (costs one step)."""
+        return self._request("step", action)[1]
+
+    def observe(self) -> dict[str, Any]:
+        """Current observation (free)."""
+        return self._request("observe")[1]
+
+    def info(self) -> dict[str, Any]:
+        """Budget (``steps_used``, ``budget``) and model dimensions (free)."""
+        return self._request("info")[1]
+
+    def seal(self) -> str:
+        """End the session: the server seals the ledger and exits; returns the seal hash."""
+        return self._request("seal")[1]
+
+    def close(self) -> None:
+        """Disconnect (the session stays open for the next connection)."""
+        self._conn.close()
+
+    def __enter__(self) -> LedgerClient:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,132 @@
+"""The ledger file: JSON lines, each record HMAC-SHA256-chained to the previous one.
+
+A record is one line of canonical JSON with the fields, in this order::
+
+    {"seq": 0, "kind": "open", "task_id": "08-mobile-base", "prev": "<64 hex>",
+     "digest": "<64 hex>", "payload": {...}, "mac": "<64 hex>"}
+
+- ``seq`` counts records from 0; ``kind`` is ``open`` (first record), ``reset``, ``step`` or ``seal``
+  (last record);
+- ``prev`` is SHA-256 of the previous line's bytes (64 zeros for the open record);
+- ``digest`` is SHA-256 of the payload's canonical JSON (sorted keys, no spaces);
+- ``mac`` is HMAC-SHA256(key, line without its ``,"mac":"..."`` member), so it covers every byte of
+  every other field.
+
+The open record carries a random nonce; the seal records the number of records before it, the
+charged step count, the head hash (``prev`` of the seal) and the ledger id (SHA-256 of the open line),
+so a seal cannot be moved to another ledger. The key never appears in the file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+import json
+import os
+import secrets
+import time
+from pathlib import Path
+from typing import Any
+
+from rle_design.errors import RleError
+
+GENESIS = "0" * 64
+KINDS = ("open", "reset", "step", "seal")
+CHARGED = ("reset", "step")
+MAC_SUFFIX_LEN = len(',"mac":""}') + 64
+
+
+class LedgerError(RleError):
+    """Ledger misuse or a refused metered operation (budget spent, bad action, sealed session)."""
+
+    code = "ledger.error"
+
+
+def canonical(payload: dict[str, Any]) -> str:
+    """Canonical JSON of a payload: sorted keys, no spaces (floats as Python's shortest repr)."""
+    return json.dumps(payload, sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def mac_input(line: bytes) -> bytes:
+    """The bytes a record's MAC covers: the line with its trailing ``,"mac":"..."`` member removed."""
+    return line[:-MAC_SUFFIX_LEN] + b"}"
+
+
+def line_hash(line: bytes) -> str:
+    """SHA-256 (hex) of one record line without its newline."""
+    return hashlib.sha256(line).hexdigest()
+
+
+class LedgerWriter:
+    """Appends chained records to a new ledger file; the only holder of the key in the server.
+
+    Args:
+        path: The ledger file; must not exist yet.
+        key: HMAC key [bytes], at least 16 bytes.
+        task_id: Task the ledger belongs to.
+        meta: Extra fields of the open record's payload (model digest, budget, ...).
+    """
+
+    def __init__(self, path: Path, key: bytes, task_id: str, meta: dict[str, Any] | None = None) -> None:
+        if len(key) < 16:
+            raise LedgerError(
+                f"ledger key must have at least 16 bytes, got {len(key)}", code="ledger.weak_key"
+            )
+        self.path = Path(path)
+        try:
+            fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+        except FileExistsError:
+            raise LedgerError(
+                f"ledger {self.path} exists already; a session never appends to an old ledger",
+                code="ledger.exists",
+                path=str(self.path),
+            ) from None
+        self._file = os.fdopen(fd, "wb", buffering=1 << 16)
+        self._key = key
+        self._task_json = json.dumps(task_id)
+        self.task_id = task_id
+        self.seq = 0
+        self.prev = GENESIS
+        self.sealed = False
+        open_payload = {"nonce": secrets.token_hex(16), "created": round(time.time(), 3), **(meta or {})}
+        self.ledger_id = self._append("open", canonical(open_payload))
+
+    def _append(self, kind: str, payload_json: str) -> str:
+        digest = hashlib.sha256(payload_json.encode()).hexdigest()
+        body = (
+            f'{{"seq":{self.seq},"kind":"{kind}","task_id":{self._task_json},"prev":"{self.prev}",'
+            f'"digest":"{digest}","payload":{payload_json}'
+        ).encode()
+        mac = hmac.digest(self._key, body + b"}", "sha256").hex()
+        line = body + b',"mac":"' + mac.encode() + b'"}'
+        self._file.write(line + b"\n")
+        self.prev = hashlib.sha256(line).hexdigest()
+        self.seq += 1
+        return self.prev
+
+    def append(self, kind: str, payload: dict[str, Any]) -> str:
+        """Append a ``reset`` or ``step`` record; returns the new head hash."""
+        if self.sealed:
+            raise LedgerError(
+                f"ledger {self.path} is sealed; no records after the seal", code="ledger.sealed"
+            )
+        if kind not in CHARGED:
+            raise LedgerError(f"record kind '{kind}' cannot be appended. Kinds: {', '.join(CHARGED)}")
+        return self._append(kind, canonical(payload))
+
+    def seal(self, steps: int) -> str:
+        """Write the seal (record count, step count, head, ledger id), flush and close; returns the seal hash."""
+        if self.sealed:
+            raise LedgerError(f"ledger {self.path} is sealed already", code="ledger.sealed")
+        payload = {"head": self.prev, "ledger": self.ledger_id, "records": self.seq, "steps": steps}
+        head = self._append("seal", canonical(payload))
+        self.sealed = True
+        self._file.flush()
+        os.fsync(self._file.fileno())
+        self._file.close()
+        return head
+
+    def flush(self) -> None:
+        """Push buffered records to the file."""
+        if not self._file.closed:
+            self._file.flush()

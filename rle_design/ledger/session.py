@@ -1,0 +1,184 @@
+"""A metered MuJoCo session: resets and executed actions cost one step each, observations are free."""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from rle_design.ledger.records import LedgerError, LedgerWriter
+
+ObserverFn = Callable[[mujoco.MjModel, mujoco.MjData], Any]
+
+
+@dataclass(frozen=True)
+class MeteredEnv:
+    """A generic metered environment: one MuJoCo model, ``n_substeps`` physics steps per action.
+
+    Attributes:
+        xml: MJCF of the scene (a string, compiled in the server process).
+        n_substeps: Physics steps per executed action; the control period is
+            ``n_substeps * model.opt.timestep`` [s].
+        observers: Extra observations computed server-side, ``((name, fn(model, data)), ...)``; the
+            functions must be importable module-level callables (they cross to the server process)
+            and return wire-format values (numbers, strings, lists, dicts, ndarrays).
+        keyframe: Name of the keyframe a reset restores; None resets to the model's default state.
+    """
+
+    xml: str
+    n_substeps: int = 10
+    observers: tuple[tuple[str, ObserverFn], ...] = ()
+    keyframe: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.n_substeps < 1:
+            raise ValueError(f"MeteredEnv.n_substeps must be >= 1, got {self.n_substeps}")
+        reserved = {"qpos", "qvel", "time"} & {name for name, _ in self.observers}
+        if reserved:
+            raise ValueError(f"observer names {sorted(reserved)} clash with qpos/qvel/time")
+
+
+class MeteredSession:
+    """Server-side session: owns the model, the budget and (when metered) the ledger writer.
+
+    Args:
+        env: The environment.
+        task_id: Task the ledger belongs to.
+        budget: Charged steps allowed, or None for unlimited.
+        key: Ledger HMAC key; None runs unmetered (no ledger; used to measure the overhead).
+        ledger_path: New ledger file (required with ``key``).
+    """
+
+    def __init__(
+        self,
+        env: MeteredEnv,
+        *,
+        task_id: str,
+        budget: int | None,
+        key: bytes | None = None,
+        ledger_path: Path | None = None,
+    ) -> None:
+        try:
+            self.model = mujoco.MjModel.from_xml_string(env.xml)
+        except ValueError as exc:
+            raise LedgerError(f"environment model does not compile: {exc}", code="ledger.bad_model") from None
+        self.data = mujoco.MjData(self.model)
+        self.env = env
+        self.task_id = task_id
+        self.budget = budget
+        self.steps_used = 0
+        self._key_id = -1
+        if env.keyframe is not None:
+            self._key_id = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_KEY, env.keyframe)
+            if self._key_id < 0:
+                names = [self.model.key(i).name for i in range(self.model.nkey)]
+                raise LedgerError(
+                    f"keyframe '{env.keyframe}' does not exist. Available keyframes: {', '.join(names) or '(none)'}",
+                    code="ledger.bad_model",
+                )
+        self.writer: LedgerWriter | None = None
+        if key is not None:
+            if ledger_path is None:
+                raise LedgerError("a metered session needs a ledger path", code="ledger.no_path")
+            meta = {
+                "budget": budget,
+                "model_sha256": hashlib.sha256(env.xml.encode()).hexdigest(),
+                "n_substeps": env.n_substeps,
+                "timestep": float(self.model.opt.timestep),
+            }
+            self.writer = LedgerWriter(ledger_path, key, task_id, meta)
+        self._ctrl = np.empty(self.model.nu)
+        mujoco.mj_forward(self.model, self.data)
+
+    @property
+    def sealed(self) -> bool:
+        return self.writer is not None and self.writer.sealed
+
+    def _charge(self) -> None:
+        if self.sealed:
+            raise LedgerError("the session is sealed; no more resets or steps", code="ledger.sealed")
+        if self.budget is not None and self.steps_used >= self.budget:
+            raise LedgerError(
+                f"{self.steps_used} of {self.budget} steps used; resets and executed actions cost one step each, "
+                "observations are free",
+                code="ledger.budget_exhausted",
+            )
+        self.steps_used += 1
+
+    def reset(self) -> dict[str, Any]:
+        """Reset the simulation (one charged step); returns the observation."""
+        self._charge()
+        if self._key_id >= 0:
+            mujoco.mj_resetDataKeyframe(self.model, self.data, self._key_id)
+        else:
+            mujoco.mj_resetData(self.model, self.data)
+        mujoco.mj_forward(self.model, self.data)
+        if self.writer is not None:
+            self.writer.append("reset", {"steps": self.steps_used, "time": self.data.time})
+        return self.observe()
+
+    def step(self, action: Any) -> dict[str, Any]:
+        """Apply ``action`` as ``ctrl`` for ``n_substeps`` physics steps (one charged step).
+
+        Raises:
+            LedgerError: ``ledger.bad_action`` (wrong shape or non-finite; not charged),
+                ``ledger.budget_exhausted``, ``ledger.sealed``.
+        """
+        try:
+            arr = np.asarray(action, dtype=np.float64)
+        except (TypeError, ValueError):
+            arr = None
+        if arr is None or arr.shape != (self.model.nu,):
+            got = "non-numeric" if arr is None else f"shape {arr.shape}"
+            raise LedgerError(
+                f"action must be {self.model.nu} real numbers (the actuators' ctrl), got {got}",
+                code="ledger.bad_action",
+            )
+        self._ctrl[:] = arr
+        if not np.isfinite(self._ctrl).all():
+            raise LedgerError("action holds NaN or infinity", code="ledger.bad_action")
+        self._charge()
+        self.data.ctrl[:] = self._ctrl
+        mujoco.mj_step(self.model, self.data, self.env.n_substeps)
+        if self.writer is not None:
+            digest = hashlib.sha256(self._ctrl.tobytes()).hexdigest()
+            self.writer.append("step", {"action": digest, "steps": self.steps_used, "time": self.data.time})
+        return self.observe()
+
+    def observe(self) -> dict[str, Any]:
+        """qpos, qvel, time and the extra observers (free)."""
+        obs: dict[str, Any] = {
+            "qpos": self.data.qpos.copy(),
+            "qvel": self.data.qvel.copy(),
+            "time": self.data.time,
+        }
+        for name, fn in self.env.observers:
+            obs[name] = fn(self.model, self.data)
+        return obs
+
+    def info(self) -> dict[str, Any]:
+        """Budget and model dimensions (free)."""
+        return {
+            "task_id": self.task_id,
+            "steps_used": self.steps_used,
+            "budget": self.budget,
+            "sealed": self.sealed,
+            "nq": self.model.nq,
+            "nv": self.model.nv,
+            "nu": self.model.nu,
+            "n_substeps": self.env.n_substeps,
+            "timestep": float(self.model.opt.timestep),
+        }
+
+    def seal(self) -> str:
+        """Seal the ledger (idempotent); returns the seal hash, or "" when unmetered."""
+        if self.writer is None:
+            return ""
+        if not self.writer.sealed:
+            self._head = self.writer.seal(self.steps_used)
+        return self._head
