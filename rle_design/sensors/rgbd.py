@@ -99,10 +99,13 @@ class RgbdSensor:
             model.vis.quality.offsamples = 0  # read once by MjrContext, restored right after
         try:
             self._con = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_100)
+            mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._con)
+            self._con.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
+        except Exception:
+            self.close()  # do not leak the GL context
+            raise
         finally:
             model.vis.quality.offsamples = samples
-        mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._con)
-        self._con.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
         self._scene = mujoco.MjvScene(model, maxgeom=max_geom)
         self._option = mujoco.MjvOption()
         self._cam = mujoco.MjvCamera()
