@@ -108,7 +108,9 @@ class ModelContract:
             ``camera``, ``equality``) -> names that must exist.
         forbid_gravcomp: Reject body ``gravcomp`` and joint ``actuatorgravcomp``.
         forbid_option_changes: Reject option values differing from MuJoCo's defaults ...
-        allowed_options: ... except these ``MjsOption`` fields (e.g. ``("timestep", "integrator")``).
+        allowed_options: ... except these ``MjsOption`` fields or XML attributes (e.g.
+            ``("timestep", "integrator")``) and flags named ``"flag.<name>"`` (e.g. ``"flag.contact"``;
+            ``"flag"`` allows all flags).
         forbid_world_welds: Reject equality welds/connects involving the world.
         forbid_actuators: Reject any actuator.
         forbid_multiple_roots: Reject more than one body under ``<worldbody>``.
@@ -169,32 +171,56 @@ def _fmt(v) -> str:
     return " ".join(f"{x:g}" for x in arr)
 
 
+def _flag_bits(enum, prefix: str) -> dict[int, str]:
+    return {
+        int(v): k[len(prefix) :].lower()
+        for k, v in enum.__members__.items()
+        if k.startswith(prefix) and not k.startswith("mjN")
+    }
+
+
+def _flag_changes(old: int, new: int, enum, prefix: str, on: str, off: str) -> list[tuple[str, str, str]]:
+    """(flag name, default state, new state) for each bit that differs."""
+    return [
+        (name, on if old & bit else off, on if new & bit else off)
+        for bit, name in _flag_bits(enum, prefix).items()
+        if (old ^ new) & bit
+    ]
+
+
 def _options(design: Design, allowed: tuple[str, ...]) -> list[Finding]:
     default, spec = mujoco.MjSpec().option, design.spec.option
-    options = list(design.tree.getroot().iter("option"))
+    root = design.tree.getroot()
+    options = list(root.iter("option"))
+    flags = list(root.iter("flag"))
+    shown_allowed = ", ".join(allowed) or "(none)"
     out = []
     for fld, attr in _OPTION_FIELDS.items():
-        if fld in allowed or attr in allowed:
-            continue
         old, new = getattr(default, fld), getattr(spec, fld)
-        if np.array_equal(np.asarray(old), np.asarray(new)):
+        if fld in allowed or attr in allowed or np.array_equal(np.asarray(old), np.asarray(new)):
             continue
-        el = None
-        for opt in options:
-            if attr == "flag":
-                el = next(iter(opt.iter("flag")), el)
-            elif opt.get(attr) is not None:
-                el = opt
-        shown = "flags" if attr == "flag" else attr
-        msg = (
-            f"<option> {shown}{{where}} changed from {_fmt(old)} (default) to {_fmt(new)}; "
-            f"allowed changes: {', '.join(allowed) or '(none)'}"
-        )
-        out.append(
-            _finding(
-                design, "contract.option_changed", msg, el if el is not None else (options or [None])[-1]
+        if attr == "flag":
+            enum, prefix = (
+                (mujoco.mjtDisableBit, "mjDSBL_")
+                if fld == "disableflags"
+                else (mujoco.mjtEnableBit, "mjENBL_")
             )
+            on, off = ("disable", "enable") if fld == "disableflags" else ("enable", "disable")
+            for name, was, now in _flag_changes(int(old), int(new), enum, prefix, on, off):
+                if f"flag.{name}" in allowed:
+                    continue
+                el = next(
+                    (f for f in reversed(flags) if f.get(name) is not None), flags[-1] if flags else None
+                )
+                msg = f"<flag> {name}{{where}} changed from {was} (default) to {now}; allowed changes: {shown_allowed}"
+                out.append(_finding(design, "contract.option_changed", msg, el))
+            continue
+        el = next((o for o in reversed(options) if o.get(attr) is not None), options[-1] if options else None)
+        msg = (
+            f"<option> {attr}{{where}} changed from {_fmt(old)} (default) to {_fmt(new)}; "
+            f"allowed changes: {shown_allowed}"
         )
+        out.append(_finding(design, "contract.option_changed", msg, el))
     return out
 
 

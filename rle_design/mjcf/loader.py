@@ -126,7 +126,7 @@ class Design:
         """Compile ``spec``; a MuJoCo error becomes ``MjcfError`` code ``mjcf.compile``."""
         try:
             return self.spec.compile()
-        except ValueError as exc:
+        except (ValueError, RuntimeError, TypeError) as exc:
             text, (path, line) = _map_lines(str(exc), self._line_map)
             raise MjcfError(
                 f"MuJoCo compile error: {text}", code="mjcf.compile", path=path or self.entry, line=line
@@ -171,6 +171,18 @@ class _Reader:
                 el=el,
                 unsafe=True,
             )
+        try:
+            return self._locate(rel, shown, path=path, el=el)
+        except OSError as exc:
+            raise _fail(
+                "artifact.unreadable",
+                f"file {shown} cannot be accessed: {exc.strerror or exc}",
+                path=path,
+                el=el,
+                unsafe=True,
+            ) from None
+
+    def _locate(self, rel: str, shown: str, *, path: str | None, el) -> str:
         full = self.root / rel
         real = Path(os.path.realpath(full))
         if real != self.root and self.root not in real.parents:
@@ -196,8 +208,9 @@ class _Reader:
                 unsafe=True,
             )
         if not real.exists():
+            what = "is a broken or looping symlink" if os.path.lexists(full) else "does not exist"
             raise _fail(
-                "artifact.missing_file", f"file {shown} (looked for '{rel}') does not exist", path=path, el=el
+                "artifact.missing_file", f"file {shown} (looked for '{rel}') {what}", path=path, el=el
             )
         if not stat.S_ISREG(real.stat().st_mode):
             raise _fail(
@@ -207,6 +220,18 @@ class _Reader:
 
     def read(self, rel: str, limit: int, *, path: str | None, el=None) -> bytes:
         """Read a resolved file, refusing it before reading when larger than ``limit``."""
+        try:
+            return self._read(rel, limit, path=path, el=el)
+        except OSError as exc:
+            raise _fail(
+                "artifact.unreadable",
+                f"file '{rel}' cannot be read: {exc.strerror or exc}",
+                path=path,
+                el=el,
+                unsafe=True,
+            ) from None
+
+    def _read(self, rel: str, limit: int, *, path: str | None, el) -> bytes:
         fd = os.open(self.root / rel, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
         try:
             st = os.fstat(fd)
@@ -370,7 +395,7 @@ def _asset_dirs(root: etree._Element, origin: dict, entry: str, reader: _Reader)
 def _spec_from_string(xml: str, assets: dict[str, bytes], line_map: dict) -> mujoco.MjSpec:
     try:
         spec = mujoco.MjSpec.from_string(xml, assets=dict(assets))
-    except ValueError as exc:
+    except (ValueError, RuntimeError, TypeError) as exc:
         text, where = _map_lines(str(exc), line_map)
         raise MjcfError(
             f"MuJoCo parse error: {text}", code="mjcf.schema", path=where[0], line=where[1]
