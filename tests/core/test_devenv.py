@@ -1,0 +1,127 @@
+"""``rle dev``: workspace layout, the metered server, and no hidden data in the workspace."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rle_design.errors import RleError
+from rle_design.ledger import MeteredEnv, verify_ledger
+from rle_tasks.core.devenv import layout_workspace, ledger_key
+from rle_tasks.core.secrets import Secret, derive_seed
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+
+SECRET = Secret(b"private-verifier-secret-for-devenv-tests", public=False)
+TASK = "09-gello"
+ARM = """
+<mujoco>
+  <option timestep="0.002"/>
+  <worldbody>
+    <body name="link">
+      <joint name="shoulder" type="hinge" axis="0 1 0" damping="0.1"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="0.4"/>
+    </body>
+  </worldbody>
+  <actuator><motor name="tau" joint="shoulder"/></actuator>
+</mujoco>
+"""
+
+
+def _dev_env(workspace: Path) -> MeteredEnv:
+    (workspace / "scene.xml").write_text(ARM)
+    return MeteredEnv(ARM, n_substeps=10)
+
+
+def _spec(make_dev_env=_dev_env, verify=lambda d, c: None, steps: int | None = 50) -> TaskSpec:
+    return TaskSpec(
+        TASK,
+        9,
+        "test task",
+        instruction="# Do the thing\nBuild a device.",
+        budget=Budget(wall_time_s=3600.0, steps=steps),
+        contract=ArtifactContract(required=("device.xml",)),
+        make_dev_env=make_dev_env,
+        verify=verify,
+    )
+
+
+def _client_module(workspace: Path):
+    spec = importlib.util.spec_from_file_location("agent_client", workspace / "client.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_unimplemented_task_is_refused(tmp_path):
+    with pytest.raises(RleError) as info:
+        layout_workspace(TaskSpec("01-open-fridge-l1", 1, "placeholder"), tmp_path / "ws")
+    assert info.value.code == "task.not_implemented"
+    assert str(info.value) == (
+        "task '01-open-fridge-l1' is registered but not implemented yet: it has no development environment. "
+        "See `rle tasks` for the implemented ones"
+    )
+    assert not (tmp_path / "ws").exists()
+
+
+def test_cli_dev_exits_2_for_an_unimplemented_task(tmp_path, monkeypatch, capsys):
+    import rle_tasks.core.registry as registry
+    from rle_tasks.cli import main
+
+    monkeypatch.setattr(registry, "get_task", lambda task_id: TaskSpec(task_id, 1, "placeholder"))
+    assert main(["dev", "01-open-fridge-l1", "--workspace", str(tmp_path / "ws")]) == 2
+    assert "error [task.not_implemented]: task '01-open-fridge-l1' is registered" in capsys.readouterr().err
+
+
+def test_metered_workspace_serves_a_verifiable_session_without_hidden_data(tmp_path):
+    ws = layout_workspace(_spec(), tmp_path / "ws", secret=SECRET)
+    try:
+        assert ws.files == ("client.py", "instruction.md", "scene.xml")
+        assert (ws.workspace / "instruction.md").read_text() == "# Do the thing\nBuild a device.\n"
+        assert ws.ledger_path == tmp_path / "ws.ledger" / "session-001.jsonl"  # outside the workspace
+        with _client_module(ws.workspace).connect() as env:
+            obs = env.reset()
+            assert set(obs) == {"qpos", "qvel", "time"}
+            for _ in range(9):
+                obs = env.step(np.array([0.05]))
+            assert obs["time"] == pytest.approx(9 * 10 * 0.002)
+            assert env.info()["budget"] == 50
+            env.seal()
+        ws.server.wait(10)
+    finally:
+        ws.close()
+    verdict = verify_ledger(ws.ledger_path, ledger_key(SECRET, TASK), task_id=TASK)
+    assert verdict.valid and verdict.steps == 10
+    public = ledger_key(Secret(b"rle-bench public development key v1", public=True), TASK)
+    assert verify_ledger(ws.ledger_path, public, TASK).code == "ledger.forged_key"
+
+    hidden = [SECRET.key, ledger_key(SECRET, TASK), ledger_key(SECRET, TASK).hex().encode()]
+    hidden += [str(derive_seed(SECRET, TASK, i)).encode() for i in range(16)]
+    for path in ws.workspace.rglob("*"):
+        if path.is_file():
+            content = path.read_bytes()
+            for item in hidden:
+                assert item not in content, f"hidden data found in {path.name}"
+
+
+def test_layout_only_writes_the_client_but_starts_nothing(tmp_path):
+    ws = layout_workspace(_spec(), tmp_path / "ws", serve=False, secret=SECRET)
+    assert ws.server is None and ws.ledger_path is None
+    assert "client.py" in ws.files and not (tmp_path / "ws.ledger").exists()
+    assert "Budget: 50 charged steps." in (ws.workspace / "client.py").read_text()
+
+
+def test_unmetered_family_gets_instruction_and_its_own_files(tmp_path):
+    def plain(workspace: Path) -> None:
+        (workspace / "template.xml").write_text("<mujoco/>")
+
+    ws = layout_workspace(_spec(make_dev_env=plain, steps=None), tmp_path / "ws", secret=SECRET)
+    assert ws.files == ("instruction.md", "template.xml") and ws.server is None
+
+
+def test_ledger_keys_differ_per_task_and_secret():
+    assert ledger_key(SECRET, "09-gello") != ledger_key(SECRET, "08-mobile-base")
+    assert ledger_key(SECRET, TASK) != ledger_key(Secret(b"other-secret", public=False), TASK)
+    assert len(ledger_key(SECRET, TASK)) == 32
