@@ -2,7 +2,7 @@
 
 Pipeline (MuJoCo never opens a file itself):
 
-1. Every file is reached through ``_Reader``: no absolute path, no ``..`` escape, no symlink out of
+1. Every file is reached through ``ArtifactReader``: no absolute path, no ``..`` escape, no symlink out of
    the directory, regular files only, size limits checked with ``stat`` before reading.
 2. XML is parsed by a locked-down lxml parser (no DTD, no entity expansion, no network, no huge
    tree); any ``<!DOCTYPE``/``<!ENTITY`` is refused. Depth, element count and attribute length are
@@ -30,8 +30,6 @@ import copy
 import os
 import posixpath
 import re
-import stat
-import struct
 from dataclasses import dataclass, field
 from pathlib import Path, PureWindowsPath
 
@@ -39,9 +37,11 @@ import mujoco
 from lxml import etree
 
 from rle_design.errors import MjcfError, UnsafeArtifact
-from rle_design.mjcf.mesh import check_mesh_bytes
+from rle_design.mjcf.artifact_files import ArtifactReader, LoadLimits, check_asset, fail
 
-__all__ = ["Design", "LoadLimits", "load_design"]
+__all__ = ["DEFAULT_LIMITS", "Design", "LoadLimits", "load_design"]
+
+DEFAULT_LIMITS = LoadLimits()
 
 _MESH_DIR_TAGS = frozenset({"mesh", "hfield", "skin", "flexcomp"})
 _TEXTURE_DIR_TAGS = frozenset({"texture"})
@@ -49,33 +49,6 @@ _PLUGIN_TAGS = frozenset({"extension", "plugin", "instance"})
 _LIBXML_TOO_DEEP = ("Excessive depth",)
 _LIBXML_TOO_LARGE = ("too long", "huge text", "Resource limit", "too large")
 _LIBXML_ENTITY = ("entity", "Entity")
-
-
-@dataclass(frozen=True)
-class LoadLimits:
-    """Resource limits applied to an untrusted MJCF directory.
-
-    Attributes:
-        max_xml_bytes: Largest XML file (entry or include) [bytes].
-        max_file_bytes: Largest single mesh, texture, height field or skin [bytes].
-        max_total_bytes: Sum of all files read from the directory [bytes].
-        max_mesh_faces: Most faces in one mesh, read from the file header or bounded by line count.
-        max_image_pixels: Most pixels of one PNG texture/height field (width x height from IHDR).
-        max_depth: Deepest element nesting (``<mujoco>`` is depth 1) of the tree with includes inlined.
-        max_elements: Most elements in the tree with includes inlined.
-        max_attribute_length: Longest attribute value [characters].
-        allow_plugins: Accept ``<extension>``/``<plugin>`` elements (engine plugins run native code).
-    """
-
-    max_xml_bytes: int = 8 * 2**20
-    max_file_bytes: int = 64 * 2**20
-    max_total_bytes: int = 256 * 2**20
-    max_mesh_faces: int = 2_000_000
-    max_image_pixels: int = 4096 * 4096
-    max_depth: int = 64
-    max_elements: int = 200_000
-    max_attribute_length: int = 1_000_000
-    allow_plugins: bool = False
 
 
 @dataclass(frozen=True)
@@ -131,146 +104,6 @@ class Design:
             raise MjcfError(
                 f"MuJoCo compile error: {text}", code="mjcf.compile", path=path or self.entry, line=line
             ) from None
-
-
-def _fail(code: str, message: str, *, path: str | None, el=None, unsafe: bool = False) -> MjcfError:
-    cls = UnsafeArtifact if unsafe else MjcfError
-    tag = el.tag if el is not None and isinstance(el.tag, str) else None
-    line = el.sourceline if el is not None else None
-    return cls(message, code=code, path=path, element=tag, line=line)
-
-
-class _Reader:
-    """Reads files strictly inside ``root`` within the limits; counts the bytes read."""
-
-    def __init__(self, root: Path, limits: LoadLimits) -> None:
-        self.root = root
-        self.limits = limits
-        self.total = 0
-        self.files: list[str] = []
-
-    def resolve(self, ref: str, base: str, *, path: str | None, el=None) -> str:
-        """Validate reference ``ref`` (relative to directory ``base`` of root); return root-relative path."""
-        shown = f"'{ref}'" if len(ref) < 200 else f"'{ref[:200]}...'"
-        if not ref or "\x00" in ref:
-            raise _fail("artifact.missing_file", f"empty or invalid file reference {shown}", path=path, el=el)
-        if ref.startswith(("/", "\\", "~")) or PureWindowsPath(ref).drive or re.match(r"^[a-zA-Z]+:", ref):
-            raise _fail(
-                "artifact.path_absolute",
-                f"file {shown} is absolute; references must be relative to the artifact directory",
-                path=path,
-                el=el,
-                unsafe=True,
-            )
-        rel = posixpath.normpath(posixpath.join(base, ref.replace("\\", "/")))
-        if rel == ".." or rel.startswith("../"):
-            raise _fail(
-                "artifact.path_escape",
-                f"file {shown} resolves outside the artifact directory",
-                path=path,
-                el=el,
-                unsafe=True,
-            )
-        try:
-            return self._locate(rel, shown, path=path, el=el)
-        except OSError as exc:
-            raise _fail(
-                "artifact.unreadable",
-                f"file {shown} cannot be accessed: {exc.strerror or exc}",
-                path=path,
-                el=el,
-                unsafe=True,
-            ) from None
-
-    def _locate(self, rel: str, shown: str, *, path: str | None, el) -> str:
-        full = self.root / rel
-        real = Path(os.path.realpath(full))
-        if real != self.root and self.root not in real.parents:
-            links = [
-                p
-                for p in [full, *full.parents]
-                if p != self.root and self.root in p.parents and p.is_symlink()
-            ]
-            if links:
-                raise _fail(
-                    "artifact.symlink_escape",
-                    f"file {shown} goes through symlink '{links[-1].relative_to(self.root).as_posix()}' "
-                    "pointing outside the artifact directory",
-                    path=path,
-                    el=el,
-                    unsafe=True,
-                )
-            raise _fail(
-                "artifact.path_escape",
-                f"file {shown} resolves outside the artifact directory",
-                path=path,
-                el=el,
-                unsafe=True,
-            )
-        if not real.exists():
-            what = "is a broken or looping symlink" if os.path.lexists(full) else "does not exist"
-            raise _fail(
-                "artifact.missing_file", f"file {shown} (looked for '{rel}') {what}", path=path, el=el
-            )
-        if not stat.S_ISREG(real.stat().st_mode):
-            raise _fail(
-                "artifact.not_a_file", f"file {shown} is not a regular file", path=path, el=el, unsafe=True
-            )
-        return real.relative_to(self.root).as_posix()
-
-    def read(self, rel: str, limit: int, *, path: str | None, el=None) -> bytes:
-        """Read a resolved file, refusing it before reading when larger than ``limit``."""
-        try:
-            return self._read(rel, limit, path=path, el=el)
-        except OSError as exc:
-            raise _fail(
-                "artifact.unreadable",
-                f"file '{rel}' cannot be read: {exc.strerror or exc}",
-                path=path,
-                el=el,
-                unsafe=True,
-            ) from None
-
-    def _read(self, rel: str, limit: int, *, path: str | None, el) -> bytes:
-        fd = os.open(self.root / rel, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
-        try:
-            st = os.fstat(fd)
-            if not stat.S_ISREG(st.st_mode):
-                raise _fail(
-                    "artifact.not_a_file",
-                    f"file '{rel}' is not a regular file",
-                    path=path,
-                    el=el,
-                    unsafe=True,
-                )
-            if st.st_size > limit:
-                raise _fail(
-                    "artifact.too_large",
-                    f"file '{rel}' has {st.st_size} bytes, limit {limit}",
-                    path=path,
-                    el=el,
-                    unsafe=True,
-                )
-            if self.total + st.st_size > self.limits.max_total_bytes:
-                raise _fail(
-                    "artifact.too_large",
-                    f"file '{rel}' brings the files read to {self.total + st.st_size} bytes, "
-                    f"limit {self.limits.max_total_bytes}",
-                    path=path,
-                    el=el,
-                    unsafe=True,
-                )
-            with os.fdopen(fd, "rb", closefd=False) as fh:
-                data = fh.read(limit + 1)
-        finally:
-            os.close(fd)
-        if len(data) > limit:
-            raise _fail(
-                "artifact.too_large", f"file '{rel}' exceeds {limit} bytes", path=path, el=el, unsafe=True
-            )
-        self.total += len(data)
-        self.files.append(rel)
-        return data
 
 
 def _parse_xml(data: bytes, rel: str, limits: LoadLimits) -> etree._ElementTree:
@@ -331,14 +164,14 @@ def _check_size(root: etree._Element, origin: dict, entry: str, limits: LoadLimi
         count += 1
         where = origin.get(el, entry)
         if depth > limits.max_depth:
-            raise _fail(
+            raise fail(
                 "mjcf.too_deep", f"element nesting exceeds {limits.max_depth} levels", path=where, el=el
             )
         if count > limits.max_elements:
-            raise _fail("mjcf.too_large", f"more than {limits.max_elements} elements", path=where, el=el)
+            raise fail("mjcf.too_large", f"more than {limits.max_elements} elements", path=where, el=el)
         for key, value in el.attrib.items():
             if len(value) > limits.max_attribute_length:
-                raise _fail(
+                raise fail(
                     "mjcf.too_large",
                     f"attribute '{key}' has {len(value)} characters, limit {limits.max_attribute_length}",
                     path=where,
@@ -347,38 +180,38 @@ def _check_size(root: etree._Element, origin: dict, entry: str, limits: LoadLimi
         stack.extend((child, depth + 1) for child in el)
 
 
-def _inline_includes(tree, rel: str, reader: _Reader, origin: dict, seen: set[str]) -> None:
+def _inline_includes(tree, rel: str, reader: ArtifactReader, origin: dict, seen: set[str]) -> None:
     """Replace every ``<include>`` of ``tree`` (file ``rel``) by the children of the included root."""
     for inc in list(tree.getroot().iter("include")):
-        inc_rel = reader.resolve(inc.get("file", ""), "", path=rel, el=inc)
+        inc_rel = reader.resolve(inc.get("file", ""), "", (rel, inc))
         if inc_rel in seen:
-            raise _fail(
+            raise fail(
                 "mjcf.include_repeat", f"file '{inc_rel}' is included more than once", path=rel, el=inc
             )
         seen.add(inc_rel)
         sub = _parse_xml(
-            reader.read(inc_rel, reader.limits.max_xml_bytes, path=rel, el=inc), inc_rel, reader.limits
+            reader.read(inc_rel, reader.limits.max_xml_bytes, (rel, inc)), inc_rel, reader.limits
         )
         for el in sub.getroot().iter():
             origin[el] = inc_rel
         _inline_includes(sub, inc_rel, reader, origin, seen)
         parent = inc.getparent()
         if parent is None:
-            raise _fail("mjcf.not_mjcf", "<include> cannot be the root element", path=rel, el=inc)
+            raise fail("mjcf.not_mjcf", "<include> cannot be the root element", path=rel, el=inc)
         index = parent.index(inc)
         parent.remove(inc)
         for offset, child in enumerate(list(sub.getroot())):
             parent.insert(index + offset, child)
 
 
-def _asset_dirs(root: etree._Element, origin: dict, entry: str, reader: _Reader) -> dict[str, str]:
+def _asset_dirs(root: etree._Element, origin: dict, entry: str, reader: ArtifactReader) -> dict[str, str]:
     dirs = {"meshdir": "", "texturedir": "", "assetdir": ""}
     for comp in root.iter("compiler"):
         for key in dirs:
             value = comp.get(key)
             if value is not None:
                 if value.startswith(("/", "\\", "~")) or PureWindowsPath(value).drive:
-                    raise _fail(
+                    raise fail(
                         "artifact.path_absolute",
                         f"{key} '{value}' is absolute; it must be relative to the artifact directory",
                         path=origin.get(comp, entry),
@@ -434,31 +267,8 @@ def _map_lines(message: str, line_map: dict) -> tuple[str, tuple[str | None, int
     return text, (first[0] if first else (None, None))
 
 
-def _check_png(data: bytes, max_pixels: int) -> None:
-    if data[:8] != b"\x89PNG\r\n\x1a\n" or len(data) < 24 or data[12:16] != b"IHDR":
-        raise MjcfError("file is not a PNG image (bad signature)", code="artifact.invalid_format")
-    width, height = struct.unpack(">II", data[16:24])
-    if width * height > max_pixels:
-        raise MjcfError(
-            f"PNG is {width} x {height} = {width * height} pixels, limit {max_pixels}",
-            code="artifact.too_large",
-        )
-
-
-def _check_asset(data: bytes, rel: str, el, limits: LoadLimits, where: str) -> None:
-    suffix = posixpath.splitext(rel)[1].lower()
-    ctype = el.get("content_type")
-    try:
-        if el.tag == "mesh" or (el.tag == "flexcomp" and suffix in (".stl", ".obj")):
-            check_mesh_bytes(data, rel, ctype, limits.max_mesh_faces)
-        elif suffix == ".png" or ctype == "image/png":
-            _check_png(data, limits.max_image_pixels)
-    except MjcfError as exc:
-        raise _fail(exc.code, f"file '{rel}': {exc.message}", path=where, el=el, unsafe=True) from None
-
-
 def load_design(
-    directory: str | os.PathLike, entry: str = "robot.xml", limits: LoadLimits = LoadLimits()
+    directory: str | os.PathLike, entry: str = "robot.xml", limits: LoadLimits = DEFAULT_LIMITS
 ) -> Design:
     """Load and validate ``directory/entry`` and every file it references.
 
@@ -478,9 +288,9 @@ def load_design(
     if not base.is_dir():
         raise UnsafeArtifact(f"artifact directory '{directory}' does not exist", code="artifact.missing_dir")
     root = Path(os.path.realpath(base))
-    reader = _Reader(root, limits)
-    entry_rel = reader.resolve(entry, "", path=None)
-    tree = _parse_xml(reader.read(entry_rel, limits.max_xml_bytes, path=entry_rel), entry_rel, limits)
+    reader = ArtifactReader(root, limits)
+    entry_rel = reader.resolve(entry, "", (None, None))
+    tree = _parse_xml(reader.read(entry_rel, limits.max_xml_bytes, (entry_rel, None)), entry_rel, limits)
     origin: dict = {}
     _inline_includes(tree, entry_rel, reader, origin, {entry_rel})
     top = tree.getroot()
@@ -488,7 +298,7 @@ def load_design(
     if not limits.allow_plugins:
         el = next(top.iter(*_PLUGIN_TAGS), None)
         if el is not None:
-            raise _fail(
+            raise fail(
                 "mjcf.forbidden_element",
                 f"<{el.tag}> is not allowed: engine plugins run native code",
                 path=origin.get(el, entry_rel),
@@ -515,16 +325,16 @@ def load_design(
                 if el.tag in _TEXTURE_DIR_TAGS
                 else ""
             )
-            rel = reader.resolve(ref, sub, path=where, el=el)
+            rel = reader.resolve(ref, sub, (where, el))
             if el.tag == "model":
-                raise _fail(
+                raise fail(
                     "mjcf.forbidden_element",
                     "<model> sub-model assets are not supported by the safe loader; use <include>",
                     path=where,
                     el=el,
                 )
-            data = reader.read(rel, limits.max_file_bytes, path=where, el=el)
-            _check_asset(data, rel, el, limits, where)
+            data = reader.read(rel, limits.max_file_bytes, (where, el))
+            check_asset(data, rel, el, limits, where)
             key_name = f"rle{len(assets)}/{posixpath.basename(rel)}"
             assets[key_name] = data
             key_to_rel[key_name] = rel
