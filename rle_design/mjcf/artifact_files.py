@@ -35,6 +35,8 @@ class LoadLimits:
         max_total_bytes: Sum of all files read from the directory [bytes].
         max_mesh_faces: Most faces in one mesh, read from the file header or bounded by line count.
         max_image_pixels: Most pixels of one PNG texture/height field (width x height from IHDR).
+        max_files: Most files read (entry, includes and assets).
+        max_include_depth: Deepest chain of nested ``<include>`` files.
         max_depth: Deepest element nesting (``<mujoco>`` is depth 1) of the tree with includes inlined.
         max_elements: Most elements in the tree with includes inlined.
         max_attribute_length: Longest attribute value [characters].
@@ -46,6 +48,8 @@ class LoadLimits:
     max_total_bytes: int = 256 * 2**20
     max_mesh_faces: int = 2_000_000
     max_image_pixels: int = 4096 * 4096
+    max_files: int = 10_000
+    max_include_depth: int = 16
     max_depth: int = 64
     max_elements: int = 200_000
     max_attribute_length: int = 1_000_000
@@ -128,6 +132,8 @@ class ArtifactReader:
                 size = os.fstat(fd).st_size
                 if not stat.S_ISREG(os.fstat(fd).st_mode):
                     raise _unsafe("artifact.not_a_file", f"file '{rel}' is not a regular file", ctx)
+                if len(self.files) >= self.limits.max_files:
+                    raise _unsafe("artifact.too_large", f"more than {self.limits.max_files} files", ctx)
                 if size > limit:
                     raise _unsafe("artifact.too_large", f"file '{rel}' has {size} bytes, limit {limit}", ctx)
                 if self.total + size > self.limits.max_total_bytes:

@@ -180,9 +180,14 @@ def _check_size(root: etree._Element, origin: dict, entry: str, limits: LoadLimi
         stack.extend((child, depth + 1) for child in el)
 
 
-def _inline_includes(tree, rel: str, reader: ArtifactReader, origin: dict, seen: set[str]) -> None:
+def _inline_includes(
+    tree, rel: str, reader: ArtifactReader, origin: dict, seen: set[str], depth: int = 1
+) -> None:
     """Replace every ``<include>`` of ``tree`` (file ``rel``) by the children of the included root."""
     for inc in list(tree.getroot().iter("include")):
+        if depth > reader.limits.max_include_depth:
+            msg = f"includes nested deeper than {reader.limits.max_include_depth} files"
+            raise fail("mjcf.too_deep", msg, path=rel, el=inc)
         inc_rel = reader.resolve(inc.get("file", ""), "", (rel, inc))
         if inc_rel in seen:
             raise fail(
@@ -194,10 +199,8 @@ def _inline_includes(tree, rel: str, reader: ArtifactReader, origin: dict, seen:
         )
         for el in sub.getroot().iter():
             origin[el] = inc_rel
-        _inline_includes(sub, inc_rel, reader, origin, seen)
-        parent = inc.getparent()
-        if parent is None:
-            raise fail("mjcf.not_mjcf", "<include> cannot be the root element", path=rel, el=inc)
+        _inline_includes(sub, inc_rel, reader, origin, seen, depth + 1)
+        parent = inc.getparent()  # never None: the root is <mujoco>
         index = parent.index(inc)
         parent.remove(inc)
         for offset, child in enumerate(list(sub.getroot())):

@@ -265,6 +265,18 @@ def test_repeated_include(artifact):
     assert (err.code, err.line) == ("mjcf.include_repeat", 3)
 
 
+def test_include_chain_depth_and_file_count(artifact):
+    files = {f"i{k}.xml": f'<mujoco><include file="i{k + 1}.xml"/></mujoco>' for k in range(30)}
+    files["i30.xml"] = "<mujoco/>"
+    root = artifact({"robot.xml": '<mujoco><include file="i0.xml"/></mujoco>', **files})
+    err = load_error(root)
+    # robot.xml includes i0 (depth 1) ... i15 includes i16 at depth 17
+    assert (err.code, err.path, err.element) == ("mjcf.too_deep", "i15.xml", "include")
+    assert str(err) == "i15.xml:1 <include>: includes nested deeper than 16 files"
+    err = load_error(root, LoadLimits(max_files=5, max_include_depth=100))
+    assert (err.code, str(err)) == ("artifact.too_large", "i3.xml:1 <include>: more than 5 files")
+
+
 def test_include_cycle(artifact):
     root = artifact(
         {
