@@ -194,3 +194,14 @@ def test_loaded_design_composes_with_an_arm(artifact):
     design = load_design(artifact({"robot.xml": xml}))
     model = compile_spec(compose(design.spec, "xarm7"))
     assert model.nu == 7 and model.body("base").mass[0] == 38.0
+
+
+def test_cube_texture_from_six_files_in_texturedir(artifact):
+    sides = ("right", "left", "up", "down", "front", "back")
+    attrs = " ".join(f'file{s}="{s}.png"' for s in sides)
+    xml = f'<mujoco><compiler texturedir="tex"/><asset><texture name="sky" type="skybox" {attrs}/></asset></mujoco>'
+    root = artifact({"robot.xml": xml, **{f"tex/{s}.png": png_bytes() for s in sides}})
+    design = load_design(root)
+    assert design.files[1:] == tuple(f"tex/{s}.png" for s in sides)
+    assert list(design.spec.textures[0].cubefiles) == [f"rle{i}/{s}.png" for i, s in enumerate(sides)]
+    assert design.compile().ntex == 1
