@@ -1,0 +1,158 @@
+"""Measurements on a leader: analytic residual maps and MuJoCo hold, backdrive and push batteries.
+
+All MuJoCo measurements use ``device.battery_model`` (dt 2 ms, ``noslip_iterations`` 10 so joint
+``frictionloss`` truly sticks below its threshold instead of creeping, contacts off) and a frozen
+feedforward torque ``tau_ff`` applied through ``qfrc_applied`` for the whole scenario.
+
+* residual: ``r(q) = g(q) - tau_spring(q)`` [N m] (Pinocchio + spring model), cross-checked against
+  MuJoCo ``qfrc_bias - qfrc_passive`` at rest;
+* hold drift: largest joint excursion [rad] during ``hold_s`` after releasing the arm at rest;
+* backdrive: per joint, with the other joints held (their friction raised to ``HELD_FRICTION``, as
+  when a user steadies the arm and moves one joint), the smallest constant external torque that moves the joint by more than
+  ``MOVE_RAD`` in the pushed direction within ``PROBE_S``, in the harder direction (bracketed around the friction-model
+  prediction ``tau_f + |r - tau_ff|``, bisection when the bracket fails) [N m];
+* push recovery: a force pulse at the handle, then the creep over the last ``CREEP_WINDOW_S`` [rad].
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from rle_design.kinematics import GravityMap, KinematicModel, spring_torque
+from rle_tasks.f09_gello.assembly import HANDLE_SITE
+
+MOVE_RAD = 1e-4
+PROBE_S = 0.2
+BACKDRIVE_CAP = 1.5
+HELD_FRICTION = 100.0
+CREEP_WINDOW_S = 0.5
+
+
+def residual_map(km: KinematicModel, springs: list, poses: np.ndarray, gmap: GravityMap | None = None) -> np.ndarray:
+    """Analytic residual r(q) = g(q) - tau_spring(q) over poses (N, n) [N m]."""
+    g = (gmap or GravityMap(km))(poses)
+    if springs:
+        g = g - np.array([spring_torque(km, springs, q) for q in poses])
+    return g
+
+
+def residual_mujoco(m: mujoco.MjModel, poses: np.ndarray) -> np.ndarray:
+    """MuJoCo residual at rest: ``qfrc_bias - qfrc_passive`` (gravity minus springs) [N m]."""
+    d = mujoco.MjData(m)
+    out = np.empty((len(poses), m.nv))
+    for k, q in enumerate(poses):
+        d.qpos[:] = q
+        d.qvel[:] = 0.0
+        mujoco.mj_forward(m, d)
+        out[k] = d.qfrc_bias - d.qfrc_passive
+    return out
+
+
+def _reset(m: mujoco.MjModel, d: mujoco.MjData, q0: np.ndarray, tau: np.ndarray) -> None:
+    mujoco.mj_resetData(m, d)
+    d.qpos[:] = q0
+    d.qfrc_applied[:] = tau
+    mujoco.mj_forward(m, d)
+
+
+def hold_drift(m: mujoco.MjModel, q0: np.ndarray, tau_ff: np.ndarray, hold_s: float) -> float:
+    """Largest excursion max_t max_i |q_i(t) - q0_i| after release at rest [rad]."""
+    d = mujoco.MjData(m)
+    _reset(m, d, q0, tau_ff)
+    worst = 0.0
+    steps = int(round(hold_s / m.opt.timestep))
+    for k in range(steps):
+        mujoco.mj_step(m, d)
+        if k % 10 == 9 or k == steps - 1:
+            worst = max(worst, float(np.max(np.abs(d.qpos - q0))))
+    return worst
+
+
+def _moves(m: mujoco.MjModel, d: mujoco.MjData, q0: np.ndarray, tau: np.ndarray, joint: int, sign: float) -> bool:
+    """Whether ``joint`` moves by more than ``MOVE_RAD`` in direction ``sign`` within ``PROBE_S``."""
+    _reset(m, d, q0, tau)
+    for _ in range(int(round(PROBE_S / m.opt.timestep))):
+        mujoco.mj_step(m, d)
+        if sign * (d.qpos[joint] - q0[joint]) > MOVE_RAD:
+            return True
+    return False
+
+
+def breakaway(
+    m: mujoco.MjModel, q0: np.ndarray, tau_ff: np.ndarray, joint: int, sign: float, predicted: float
+) -> float:
+    """External torque magnitude that starts ``joint`` moving in direction ``sign`` [N m]."""
+    d = mujoco.MjData(m)
+    unit = np.zeros(m.nv)
+    unit[joint] = sign
+
+    def moves(t: float) -> bool:
+        return _moves(m, d, q0, tau_ff + t * unit, joint, sign)
+
+    lo, hi = max(0.0, 0.97 * predicted - 1e-3), min(BACKDRIVE_CAP, 1.03 * predicted + 1e-3)
+    if lo == 0.0 and moves(0.0):
+        return 0.0
+    if not moves(lo) and moves(hi):
+        return predicted
+    lo, hi = 0.0, BACKDRIVE_CAP
+    if moves(0.0):
+        return 0.0
+    if not moves(hi):
+        return BACKDRIVE_CAP
+    for _ in range(12):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if moves(mid) else (mid, hi)
+    return hi
+
+
+def backdrive(m: mujoco.MjModel, q0: np.ndarray, tau_ff: np.ndarray, net_residual: np.ndarray) -> np.ndarray:
+    """Per-joint backdrive torque: breakaway in the harder direction [N m].
+
+    Args:
+        m: Battery model.
+        q0: Pose [rad].
+        tau_ff: Frozen feedforward [N m].
+        net_residual: Predicted ``r(q0) - tau_ff`` (brackets the measurement) [N m].
+    """
+    out = np.empty(m.nv)
+    friction = m.dof_frictionloss.copy()
+    try:
+        for j in range(m.nv):
+            m.dof_frictionloss[:] = HELD_FRICTION
+            m.dof_frictionloss[j] = friction[j]
+            tf = float(friction[j])
+            vals = [breakaway(m, q0, tau_ff, j, s, max(0.0, tf - s * net_residual[j])) for s in (1.0, -1.0)]
+            out[j] = max(vals)
+    finally:
+        m.dof_frictionloss[:] = friction
+    return out
+
+
+def push_recovery(
+    m: mujoco.MjModel, q0: np.ndarray, tau_ff: np.ndarray, force: np.ndarray, pulse_s: float, total_s: float
+) -> float:
+    """Creep over the last ``CREEP_WINDOW_S`` after a force pulse at the handle [rad].
+
+    Args:
+        force: World force at the handle site during the pulse [N].
+        pulse_s: Pulse duration [s].
+        total_s: Scenario duration from the start of the pulse [s].
+    """
+    d = mujoco.MjData(m)
+    _reset(m, d, q0, tau_ff)
+    sid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, HANDLE_SITE)
+    body = int(m.site_bodyid[sid])
+    dt = m.opt.timestep
+    steps, pulse, window = int(round(total_s / dt)), int(round(pulse_s / dt)), int(round(CREEP_WINDOW_S / dt))
+    qfrc = np.zeros(m.nv)
+    mark = None
+    for k in range(steps):
+        qfrc[:] = 0.0
+        if k < pulse:
+            mujoco.mj_applyFT(m, d, np.asarray(force, float), np.zeros(3), d.site_xpos[sid].copy(), body, qfrc)
+        d.qfrc_applied[:] = tau_ff + qfrc
+        mujoco.mj_step(m, d)
+        if k == steps - window - 1:
+            mark = d.qpos.copy()
+    return float(np.max(np.abs(d.qpos - mark)))

@@ -1,0 +1,59 @@
+"""Motion clearance: do the added parts collide with the arm, the base or the table over the workspace?
+
+The submitted leader is recompiled with every geom colliding (``contype = conaffinity = 1``, so a
+part cannot opt out) and a table plane at z = 0 (the bottom of the base plate). A grid pose counts
+as a clearance failure when a geom of an added body penetrates any geom of another rigid group
+(MuJoCo already ignores pairs welded together and parent-child pairs).
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from rle_design.mjcf.loader import Design
+
+PENETRATION_M = 1e-4
+
+
+def clearance_model(design: Design) -> mujoco.MjModel:
+    """Compiled copy of the design with all geoms colliding and a table plane."""
+    spec = design.fresh_spec()
+    for g in spec.geoms:
+        g.contype = 1
+        g.conaffinity = 1
+        g.margin = 0.0
+    spec.worldbody.add_geom(name="__table__", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[2.0, 2.0, 0.1])
+    return spec.compile()
+
+
+def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarray) -> tuple[float, list[str]]:
+    """Fraction of poses with an added part in collision, and up to five example pairs.
+
+    Args:
+        design: Loaded submission.
+        added_bodies: Names of the bodies that are not in the stock assembly.
+        poses: Grid poses [rad], shape (N, n).
+    """
+    if not added_bodies or len(poses) == 0:
+        return 0.0, []
+    m = clearance_model(design)
+    d = mujoco.MjData(m)
+    added = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in added_bodies}
+    geom_added = np.isin(m.geom_bodyid, list(added))
+    hits, examples = 0, []
+    for q in poses:
+        d.qpos[:] = q
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_collision(m, d)
+        n = d.ncon
+        dist, g1, g2 = d.contact.dist[:n], d.contact.geom1[:n], d.contact.geom2[:n]
+        hit = (dist < -PENETRATION_M) & (geom_added[g1] | geom_added[g2])
+        bad = bool(hit.any())
+        if bad and len(examples) < 5:
+            k = int(np.flatnonzero(hit)[0])
+            n1 = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, int(g1[k])) or f"geom{g1[k]}"
+            n2 = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, int(g2[k])) or f"geom{g2[k]}"
+            examples.append(f"{n1}/{n2}")
+        hits += bad
+    return hits / len(poses), examples

@@ -1,0 +1,297 @@
+"""Loading a submitted leader, checking it against the stock assembly, and hidden device copies.
+
+Structure rules (each violation is a ``Finding`` with a stable code; any of them is a structure
+failure that skips the submitted-arm battery):
+
+* MJCF contract (``rle_design.mjcf.contract``): no ``gravcomp``, no ``<option>`` change, no weld or
+  connect to the world, no actuator, one root body, no body inside ``<frame>``;
+* ``contract.equality``: no equality constraint at all; ``contract.extra_joint``: no new joint;
+* ``contract.joint_frame``: every stock body keeps its parent, position and orientation, every stock
+  joint its position, axis and range (1e-6);
+* ``contract.stock_servo``: stock joint frictionloss, damping and armature unchanged;
+* ``contract.stock_geometry`` / ``contract.stock_inertia``: stock geoms (type, size, placement) and
+  stock body inertials (mass, centre of mass, inertia) unchanged: add mass as new welded bodies.
+
+Validity rules (deductions, the battery still runs): device mass <= 2.30 kg (``contract.over_mass``);
+added mesh parts printable in PLA (``contract.printability``); added bodies no denser than steel
+(``contract.point_mass``).
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import trimesh
+
+from rle_design.errors import MjcfError
+from rle_design.mjcf.contract import Finding, ModelContract, check_contract
+from rle_design.mjcf.loader import Design, load_design
+from rle_tasks.f09_gello.assembly import HANDLE_SITE
+
+ASSET_DIR = Path(__file__).resolve().parent / "assets"
+MAX_MASS_KG = 2.30
+STEEL_DENSITY = 7850.0
+TOL = 1e-6
+OBJ = mujoco.mjtObj
+
+
+@functools.cache
+def stock_model(robot: str) -> mujoco.MjModel:
+    """Compiled stock leader of ``robot`` (shipped assets)."""
+    return mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
+
+
+def stock_names(robot: str) -> tuple[list[str], list[str], list[str]]:
+    """Stock body, joint and geom names."""
+    m = stock_model(robot)
+    bodies = [mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) for b in range(1, m.nbody)]
+    joints = [mujoco.mj_id2name(m, OBJ.mjOBJ_JOINT, j) for j in range(m.njnt)]
+    geoms = [mujoco.mj_id2name(m, OBJ.mjOBJ_GEOM, g) for g in range(m.ngeom)]
+    return bodies, joints, geoms
+
+
+def model_contract(robot: str) -> ModelContract:
+    bodies, joints, _ = stock_names(robot)
+    return ModelContract(
+        required={"body": tuple(bodies), "joint": tuple(joints), "site": (HANDLE_SITE,)},
+        forbid_gravcomp=True,
+        forbid_option_changes=True,
+        forbid_world_welds=True,
+        forbid_actuators=True,
+        forbid_multiple_roots=True,
+        forbid_frames=True,
+    )
+
+
+@dataclass
+class Submission:
+    """One robot's submitted leader.
+
+    Attributes:
+        robot: Follower id.
+        design: Loaded design (None when loading failed).
+        model: Compiled model (None when loading or compiling failed).
+        structure: Findings that make the design unusable (battery skipped).
+        validity: Findings that deduct from the score.
+        added_bodies: Ids of bodies that are not in the stock assembly.
+        mass: Device mass [kg].
+    """
+
+    robot: str
+    design: Design | None = None
+    model: mujoco.MjModel | None = None
+    structure: list[Finding] = field(default_factory=list)
+    validity: list[Finding] = field(default_factory=list)
+    added_bodies: list[int] = field(default_factory=list)
+    mass: float = float("nan")
+
+    @property
+    def usable(self) -> bool:
+        return self.model is not None and not self.structure
+
+
+def _close(a, b) -> bool:
+    return bool(np.allclose(np.asarray(a, float), np.asarray(b, float), atol=TOL, rtol=TOL))
+
+
+def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
+    s = stock_model(robot)
+    out: list[Finding] = []
+
+    def bad(code: str, msg: str, element: str) -> None:
+        out.append(Finding(code, msg, element=element, path=path))
+
+    if m.neq:
+        bad("contract.equality", f"{m.neq} equality constraint(s): none are allowed in a leader", "equality")
+    if m.njnt != s.njnt:
+        extra = [mujoco.mj_id2name(m, OBJ.mjOBJ_JOINT, j) for j in range(m.njnt)]
+        bad("contract.extra_joint", f"leader has {m.njnt} joints {extra}; the stock leader has {s.njnt}", "joint")
+        return out
+    for b in range(1, s.nbody):
+        name = mujoco.mj_id2name(s, OBJ.mjOBJ_BODY, b)
+        mb = mujoco.mj_name2id(m, OBJ.mjOBJ_BODY, name)
+        if mb < 0:
+            continue  # reported by the required-names check
+        parent = mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, int(m.body_parentid[mb])) or "world"
+        sparent = mujoco.mj_id2name(s, OBJ.mjOBJ_BODY, int(s.body_parentid[b])) or "world"
+        if parent != sparent or not (_close(m.body_pos[mb], s.body_pos[b]) and _close(m.body_quat[mb], s.body_quat[b])):
+            bad("contract.joint_frame", f"stock body '{name}' moved (parent '{parent}', pos {m.body_pos[mb]}, "
+                f"quat {m.body_quat[mb]}); expected parent '{sparent}', pos {s.body_pos[b]}, quat {s.body_quat[b]}",
+                "body")
+        if not (_close(m.body_mass[mb], s.body_mass[b]) and _close(m.body_ipos[mb], s.body_ipos[b])
+                and _close(m.body_inertia[mb], s.body_inertia[b])):
+            bad("contract.stock_inertia", f"stock body '{name}' inertial changed (mass {m.body_mass[mb]:.6g} kg, "
+                f"stock {s.body_mass[b]:.6g} kg); add mass as new welded child bodies", "body")
+    for j in range(s.njnt):
+        name = mujoco.mj_id2name(s, OBJ.mjOBJ_JOINT, j)
+        mj = mujoco.mj_name2id(m, OBJ.mjOBJ_JOINT, name)
+        if mj < 0:
+            continue
+        if not (_close(m.jnt_pos[mj], s.jnt_pos[j]) and _close(m.jnt_axis[mj], s.jnt_axis[j])
+                and _close(m.jnt_range[mj], s.jnt_range[j]) and m.jnt_type[mj] == s.jnt_type[j]):
+            bad("contract.joint_frame", f"stock joint '{name}' changed position, axis, type or range", "joint")
+        if not (_close(m.dof_frictionloss[mj], s.dof_frictionloss[j]) and _close(m.dof_damping[mj], s.dof_damping[j])
+                and _close(m.dof_armature[mj], s.dof_armature[j])):
+            bad("contract.stock_servo", f"stock joint '{name}' servo friction/damping/armature changed "
+                f"(frictionloss {m.dof_frictionloss[mj]:.6g}, stock {s.dof_frictionloss[j]:.6g} N m)", "joint")
+    for g in range(s.ngeom):
+        name = mujoco.mj_id2name(s, OBJ.mjOBJ_GEOM, g)
+        mg = mujoco.mj_name2id(m, OBJ.mjOBJ_GEOM, name)
+        same = mg >= 0 and (
+            m.geom_type[mg] == s.geom_type[g]
+            and mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, int(m.geom_bodyid[mg]))
+            == mujoco.mj_id2name(s, OBJ.mjOBJ_BODY, int(s.geom_bodyid[g]))
+            and _close(m.geom_size[mg], s.geom_size[g])
+            and _close(m.geom_pos[mg], s.geom_pos[g])
+            and _close(m.geom_quat[mg], s.geom_quat[g])
+            and _close(m.geom_rbound[mg], s.geom_rbound[g])
+        )
+        if not same:
+            bad("contract.stock_geometry", f"stock geom '{name}' removed or changed (link geometry, servo bodies "
+                "and the base mount must be preserved)", "geom")
+    return out
+
+
+def _geom_volume(m: mujoco.MjModel, g: int) -> float:
+    t, s = int(m.geom_type[g]), m.geom_size[g]
+    gt = mujoco.mjtGeom
+    if t == gt.mjGEOM_SPHERE:
+        return 4 / 3 * np.pi * s[0] ** 3
+    if t == gt.mjGEOM_BOX:
+        return 8 * s[0] * s[1] * s[2]
+    if t == gt.mjGEOM_CYLINDER:
+        return np.pi * s[0] ** 2 * 2 * s[1]
+    if t == gt.mjGEOM_CAPSULE:
+        return np.pi * s[0] ** 2 * (2 * s[1] + 4 / 3 * s[0])
+    if t == gt.mjGEOM_ELLIPSOID:
+        return 4 / 3 * np.pi * s[0] * s[1] * s[2]
+    if t == gt.mjGEOM_MESH:
+        return abs(float(mesh_of(m, int(m.geom_dataid[g])).volume))
+    return 0.0
+
+
+def mesh_of(m: mujoco.MjModel, mesh_id: int) -> trimesh.Trimesh:
+    """A compiled mesh as a trimesh (MuJoCo's recentred frame) [m]."""
+    va, vn = int(m.mesh_vertadr[mesh_id]), int(m.mesh_vertnum[mesh_id])
+    fa, fn = int(m.mesh_faceadr[mesh_id]), int(m.mesh_facenum[mesh_id])
+    return trimesh.Trimesh(m.mesh_vert[va : va + vn].copy(), m.mesh_face[fa : fa + fn].copy(), process=False)
+
+
+def _validity(robot: str, m: mujoco.MjModel, added: list[int], path: str) -> tuple[list[Finding], float]:
+    from rle_design.mjcf.printability import printability_report
+
+    out: list[Finding] = []
+    mass = float(m.body_mass[1:].sum())
+    if mass > MAX_MASS_KG:
+        out.append(Finding("contract.over_mass", f"device mass {mass:.3f} kg exceeds {MAX_MASS_KG:.2f} kg", path=path))
+    for b in added:
+        name = mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) or f"body{b}"
+        geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] == b]
+        vol = sum(_geom_volume(m, g) for g in geoms)
+        if m.body_mass[b] > STEEL_DENSITY * vol * 1.01 + 1e-6:
+            out.append(Finding("contract.point_mass", f"added body '{name}' has {m.body_mass[b]:.4g} kg in "
+                               f"{vol * 1e6:.3g} cm^3 of geometry: denser than steel ({STEEL_DENSITY:.0f} kg/m^3)",
+                               element="body", path=path))
+        for g in geoms:
+            if m.geom_type[g] != mujoco.mjtGeom.mjGEOM_MESH:
+                continue
+            rep = printability_report(mesh_of(m, int(m.geom_dataid[g])), material="pla", n_samples=400)
+            if not rep.passed:
+                gname = mujoco.mj_id2name(m, OBJ.mjOBJ_GEOM, g) or f"geom{g}"
+                out.append(Finding("contract.printability", f"added part '{gname}' is not printable: "
+                                   + "; ".join(rep.reasons), element="geom", path=path))
+    return out, mass
+
+
+def load_submission(robot: str, directory: Path) -> Submission:
+    """Load, compile and check ``directory/lead.xml``; never raises for participant faults."""
+    sub = Submission(robot)
+    rel = f"{robot}/lead.xml"
+    try:
+        sub.design = load_design(directory, entry="lead.xml")
+        sub.structure += [
+            Finding(f.code, f.message, f.element, f.line, f"{robot}/{f.path}" if f.path else rel)
+            for f in check_contract(sub.design, model_contract(robot))
+        ]
+        m = sub.design.compile()
+    except MjcfError as exc:
+        sub.structure.append(Finding(exc.code, exc.message, getattr(exc, "element", None), getattr(exc, "line", None),
+                                     rel))
+        return sub
+    sub.model = m
+    sub.structure += _structure(robot, m, rel)
+    stock_bodies = set(stock_names(robot)[0])
+    sub.added_bodies = [b for b in range(1, m.nbody) if mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) not in stock_bodies]
+    sub.validity, sub.mass = _validity(robot, m, sub.added_bodies, rel)
+    return sub
+
+
+def battery_model(m: mujoco.MjModel) -> mujoco.MjModel:
+    """Copy with the verifier's physics: dt 2 ms, noslip 10 (frictionloss sticks), no contacts."""
+    b = mujoco.MjModel.from_xml_string("<mujoco/>") if m is None else _copy(m)
+    b.opt.timestep = 0.002
+    b.opt.noslip_iterations = 10
+    b.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    return b
+
+
+def _copy(m: mujoco.MjModel) -> mujoco.MjModel:
+    import copy
+
+    return copy.deepcopy(m)
+
+
+@dataclass(frozen=True)
+class DeviceVariation:
+    """A hidden device copy: stock link mass factors and a handle payload.
+
+    Attributes:
+        link_scale: Mass (and inertia) factor of each stock link body ``link1..linkn``.
+        payload: Point mass at the handle site [kg].
+    """
+
+    link_scale: tuple[float, ...]
+    payload: float
+
+
+def draw_variation(rng: np.random.Generator, dof: int, spread: float = 0.15, payload=(0.01, 0.04)) -> DeviceVariation:
+    """Link masses uniformly within +-``spread``, payload uniform in ``payload`` [kg]."""
+    scale = tuple(float(x) for x in rng.uniform(1 - spread, 1 + spread, dof))
+    return DeviceVariation(scale, float(rng.uniform(*payload)))
+
+
+def apply_variation(m: mujoco.MjModel, var: DeviceVariation) -> mujoco.MjModel:
+    """Copy of ``m`` with stock link masses scaled and the payload merged into the handle's body."""
+    h = _copy(m)
+    for k, f in enumerate(var.link_scale):
+        b = mujoco.mj_name2id(h, OBJ.mjOBJ_BODY, f"link{k + 1}")
+        h.body_mass[b] *= f
+        h.body_inertia[b] *= f
+    sid = mujoco.mj_name2id(h, OBJ.mjOBJ_SITE, HANDLE_SITE)
+    b = int(h.site_bodyid[sid])
+    m0, c0, p = float(h.body_mass[b]), h.body_ipos[b].copy(), h.site_pos[sid].copy()
+    mp = var.payload
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, h.body_iquat[b])
+    rot = rot.reshape(3, 3)
+    i_body = rot @ np.diag(h.body_inertia[b]) @ rot.T
+    c = (m0 * c0 + mp * p) / (m0 + mp)
+    i_new = np.zeros((3, 3))
+    for mass, pt, ii in ((m0, c0, i_body), (mp, p, np.zeros((3, 3)))):
+        d = pt - c
+        i_new += ii + mass * (d @ d * np.eye(3) - np.outer(d, d))
+    w, v = np.linalg.eigh(i_new)
+    if np.linalg.det(v) < 0:
+        v[:, 0] *= -1
+    q = np.zeros(4)
+    mujoco.mju_mat2Quat(q, v.reshape(-1))
+    h.body_mass[b] = m0 + mp
+    h.body_ipos[b] = c
+    h.body_inertia[b] = w
+    h.body_iquat[b] = q
+    mujoco.mj_setConst(h, mujoco.MjData(h))
+    return h

@@ -1,0 +1,303 @@
+"""Verifier of 09-gello: three variants (panda, ur5e, xarm7), ten checkpoints each.
+
+Per variant: load and check the submitted leader (``device``), run ``trim.py`` in the sandbox
+(``trim_runner``), then the batteries (``battery``, ``clearance``) on
+
+* the nominal submitted leader (motion clearance, passive residual/hold/backdrive),
+* a hidden copy of the stock reference leader with the adapted feedforward (unclipped),
+* hidden copies of the submitted leader with the adapted feedforward clipped to 0.35 N m
+  (hold, backdrive, servo headroom, push recovery).
+
+Hidden copies and test poses derive from ``derive_rng(secret, "09-gello", ...)`` and are never
+written anywhere; the report carries only ``seed_digest``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from rle_design.errors import MjcfError
+from rle_design.kinematics import GravityMap, model_from_mujoco, springs_from_mujoco
+from rle_tasks.core.report import Checkpoint, VerifierReport
+from rle_tasks.core.secrets import derive_rng
+from rle_tasks.core.task import VerifyContext
+from rle_tasks.f09_gello import battery, clearance, device, helpers, scoring
+from rle_tasks.f09_gello.leaders import ROBOTS
+from rle_tasks.f09_gello.trim_runner import TrimRunner
+
+TASK_ID = "09-gello"
+CROSSCHECK_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class Battery:
+    """Sizes of the verification batteries.
+
+    Attributes:
+        grid: Workspace-grid poses for residual and headroom maps.
+        clearance: Grid poses checked for collisions.
+        test_poses: Hidden test poses for hold, backdrive and push.
+        copies: Hidden copies of the submitted leader.
+        hold_s: Hold duration after release [s].
+    """
+
+    grid: int = 2048
+    clearance: int = 256
+    test_poses: int = 4
+    copies: int = 2
+    hold_s: float = 1.0
+
+
+FULL = Battery()
+QUICK = Battery(grid=256, clearance=48, test_poses=2, copies=1, hold_s=0.5)
+PUSH_N = 3.0
+PUSH_S = 0.1
+PUSH_TOTAL_S = 1.2
+
+
+@dataclass
+class VariantResult:
+    scores: dict[str, float] = field(default_factory=dict)
+    measured: dict[str, object] = field(default_factory=dict)
+    deduction: float = 0.0
+    valid: bool = True
+
+
+def _measure_probes(m: mujoco.MjModel, poses: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Holding torques of a device copy at settled poses, with static-friction and sensing errors."""
+    tau = battery.residual_mujoco(m, poses)
+    band = helpers.PROBE_FRICTION_BAND * m.dof_frictionloss
+    return tau + rng.uniform(-1.0, 1.0, tau.shape) * band + rng.normal(0.0, helpers.PROBE_NOISE, tau.shape)
+
+
+def _test_poses(ranges: np.ndarray, n: int, rng: np.random.Generator) -> np.ndarray:
+    lo, hi = ranges[:, 0] + 3 * helpers.LIMIT_MARGIN, ranges[:, 1] - 3 * helpers.LIMIT_MARGIN
+    return rng.uniform(lo, hi, size=(n, len(ranges)))
+
+
+def _adapted_ff(
+    trim: TrimRunner, plan: np.ndarray | None, arm: str, dev: mujoco.MjModel, home: np.ndarray, poses: np.ndarray,
+    rng: np.random.Generator,
+) -> np.ndarray | None:
+    """Feedforward at ``poses`` after adapting to device copy ``dev``; None when trim failed."""
+    if plan is None:
+        return None
+    q = np.vstack([home, plan])
+    params = trim.adapt(arm, q, _measure_probes(dev, q, rng))
+    if params is None:
+        return None
+    out = []
+    for p in poses:
+        f = trim.feedforward(p, params)
+        if f is None:
+            return None
+        out.append(f)
+    return np.array(out)
+
+
+def _hold_back_push(
+    dev: mujoco.MjModel, poses: np.ndarray, ff: np.ndarray, net: np.ndarray, hold_s: float,
+    push_dirs: np.ndarray | None,
+) -> dict[str, list[float]]:
+    bm = device.battery_model(dev)
+    out: dict[str, list[float]] = {"drift": [], "backdrive": [], "push": []}
+    for k, q in enumerate(poses):
+        out["drift"].append(battery.hold_drift(bm, q, ff[k], hold_s))
+        out["backdrive"].append(float(np.max(battery.backdrive(bm, q, ff[k], net[k]))))
+        if push_dirs is not None:
+            out["push"].append(battery.push_recovery(bm, q, ff[k], PUSH_N * push_dirs[k], PUSH_S, PUSH_TOTAL_S))
+    return out
+
+
+def _residuals(m: mujoco.MjModel, poses: np.ndarray, report: VerifierReport, robot: str) -> tuple[np.ndarray, float]:
+    """Analytic residual over poses, cross-checked in MuJoCo (MuJoCo wins on disagreement)."""
+    try:
+        km = model_from_mujoco(m)
+        springs = springs_from_mujoco(m, km)
+    except MjcfError as exc:
+        report.add_error(exc.code, f"{exc.message}; residuals taken from MuJoCo", f"{robot}/lead.xml")
+        return battery.residual_mujoco(m, poses), float("nan")
+    r = battery.residual_map(km, springs, poses, GravityMap(km))
+    check = battery.residual_mujoco(m, poses[:16])
+    err = float(np.max(np.abs(check - r[:16])))
+    if err > CROSSCHECK_TOL:
+        report.add_error("kinematics.crosscheck", f"analytic and MuJoCo residuals differ by {err:.3g} N m; "
+                         "MuJoCo values used", f"{robot}/lead.xml")
+        return battery.residual_mujoco(m, poses), err
+    return r, err
+
+
+def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierReport) -> VariantResult:
+    """All ten checkpoints of one robot."""
+    size = QUICK if ctx.quick else FULL
+    res = VariantResult()
+    stock = device.stock_model(robot)
+    ranges = stock.jnt_range.copy()
+    dof = stock.nv
+    home = np.array(helpers.HOME[robot])
+    grid = helpers.workspace_grid(ranges, size.grid)
+    poses = _test_poses(ranges, size.test_poses, derive_rng(ctx.secret, TASK_ID, f"{robot}/poses"))
+    push_rng = derive_rng(ctx.secret, TASK_ID, f"{robot}/push")
+    ang = push_rng.uniform(0, 2 * np.pi, size.test_poses)
+    push_dirs = np.stack([np.cos(ang), np.sin(ang), np.zeros_like(ang)], axis=1)
+
+    sub_dir = root / robot
+    if not sub_dir.is_dir():
+        report.add_error("artifact.missing_robot", f"submission has no directory '{robot}/'", robot)
+        sub = device.Submission(robot)
+        sub.structure.append(device.Finding("artifact.missing_robot", f"missing '{robot}/'"))
+    else:
+        sub = device.load_submission(robot, sub_dir)
+    for f in sub.structure + sub.validity:
+        report.add_error(f.code, f.message, f.path)
+    res.valid = not sub.structure and not sub.validity
+    res.deduction = scoring.deduction([f.code for f in sub.validity])
+    res.measured["device_mass_kg"] = sub.mass
+
+    trim = TrimRunner(sub_dir / "trim.py", dof)
+    try:
+        plan = trim.plan(ranges) if sub_dir.is_dir() else None
+        # adapted reference arm: hidden copy of the stock leader, feedforward unclipped
+        var = device.draw_variation(derive_rng(ctx.secret, TASK_ID, f"{robot}/reference"), dof)
+        ref_dev = device.apply_variation(stock, var)
+        ref_r = battery.residual_mujoco(ref_dev, poses)
+        ff = _adapted_ff(trim, plan, "reference", ref_dev, home, poses,
+                         derive_rng(ctx.secret, TASK_ID, f"{robot}/reference/probe"))
+        if ff is not None:
+            out = _hold_back_push(ref_dev, poses, ff, ref_r - ff, size.hold_s, None)
+            res.scores["reference_hold"] = scoring.mean_score("reference_hold", out["drift"])
+            res.scores["reference_backdrive"] = scoring.mean_score("reference_backdrive", out["backdrive"])
+            res.measured["reference_drift_rad"] = out["drift"]
+            res.measured["reference_backdrive_Nm"] = out["backdrive"]
+        if sub.usable:
+            _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, report, res)
+    finally:
+        trim.close()
+    seen = set()
+    for fault in trim.faults:
+        key = (fault.code, fault.message)
+        if key not in seen:
+            seen.add(key)
+            report.add_error(fault.code, fault.message, f"{robot}/trim.py")
+    if ctx.out_dir is not None and sub.model is not None:
+        _render(sub.model, home, Path(ctx.out_dir) / f"{TASK_ID}_{robot}.png", res)
+    return res
+
+
+def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, report, res) -> None:
+    m = sub.model
+    added = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in sub.added_bodies]
+    frac, examples = clearance.collision_fraction(sub.design, added, grid[: size.clearance])
+    res.scores["motion_clearance"] = scoring.BY_ID["motion_clearance"].score(frac)
+    res.measured["collision_fraction"] = frac
+    res.measured["collision_examples"] = examples
+
+    r, err = _residuals(m, grid, report, robot)
+    worst = np.max(np.abs(r), axis=1)
+    p95 = float(np.percentile(worst, 95))
+    res.scores["passive_residual"] = scoring.BY_ID["passive_residual"].score(p95)
+    res.measured["residual_p95_Nm"] = p95
+    res.measured["residual_max_per_joint_Nm"] = np.max(np.abs(r), axis=0)
+    res.measured["crosscheck_Nm"] = err
+
+    r_test = battery.residual_mujoco(m, poses)
+    zero = np.zeros_like(r_test)
+    out = _hold_back_push(m, poses, zero, r_test, size.hold_s, None)
+    res.scores["passive_hold"] = scoring.mean_score("passive_hold", out["drift"])
+    res.scores["passive_backdrive"] = scoring.mean_score("passive_backdrive", out["backdrive"])
+    res.measured["passive_drift_rad"] = out["drift"]
+    res.measured["passive_backdrive_Nm"] = out["backdrive"]
+
+    nominal = trim.feedforward(home, None) if plan is not None else None
+    if nominal is not None:
+        res.measured["nominal_ff_error_home_Nm"] = float(np.max(np.abs(nominal - battery.residual_mujoco(m, home[None])[0])))
+    drift, back, push, util = [], [], [], []
+    for c in range(size.copies):
+        var = device.draw_variation(derive_rng(ctx.secret, TASK_ID, f"{robot}/device/{c}"), m.nv)
+        dev = device.apply_variation(m, var)
+        ff = _adapted_ff(trim, plan, "submitted", dev, home, poses,
+                         derive_rng(ctx.secret, TASK_ID, f"{robot}/device/{c}/probe"))
+        ff = np.zeros((len(poses), m.nv)) if ff is None else np.clip(ff, -scoring.SERVO_LIMIT, scoring.SERVO_LIMIT)
+        r_dev = battery.residual_mujoco(dev, poses)
+        out = _hold_back_push(dev, poses, ff, r_dev - ff, size.hold_s, push_dirs)
+        drift += out["drift"]
+        back += out["backdrive"]
+        push += out["push"]
+        r_grid, _ = _residuals(dev, grid, report, robot)
+        util.append(float(np.max(np.abs(r_grid))) / scoring.SERVO_LIMIT)
+    res.scores["combined_hold"] = scoring.mean_score("combined_hold", drift)
+    res.scores["combined_backdrive"] = scoring.mean_score("combined_backdrive", back)
+    res.scores["servo_headroom"] = scoring.mean_score("servo_headroom", util)
+    res.scores["push_recovery"] = scoring.mean_score("push_recovery", push)
+    res.measured.update(combined_drift_rad=drift, combined_backdrive_Nm=back, push_creep_rad=push,
+                        servo_utilisation=util, headroom=[1.0 - u for u in util])
+
+
+def _render(m: mujoco.MjModel, home: np.ndarray, path: Path, res: VariantResult) -> None:
+    from rle_design.errors import RleError
+    from rle_design.viz.render import render_png
+
+    d = mujoco.MjData(m)
+    d.qpos[:] = home
+    mujoco.mj_forward(m, d)
+    try:
+        render_png(m, d, path, width=480, height=360)
+        res.measured["render"] = path.name
+    except RleError as exc:  # no offscreen GL here: the report still stands
+        res.measured["render"] = f"unavailable: {exc.message}"
+
+
+def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
+    """Verify a submission directory holding ``panda/``, ``ur5e/`` and ``xarm7/``."""
+    report = VerifierReport(task_id=TASK_ID, family="09", workflow="mechanical_design")
+    results = {robot: verify_variant(robot, Path(root), ctx, report) for robot in ROBOTS}
+    finals = {}
+    for robot, res in results.items():
+        total = sum(scoring.WEIGHT * res.scores.get(c.id, 0.0) for c in scoring.CHECKPOINTS)
+        finals[robot] = max(0.0, total - res.deduction)
+    for c in scoring.CHECKPOINTS:
+        per = {robot: results[robot].scores.get(c.id, 0.0) for robot in ROBOTS}
+        score = float(np.mean(list(per.values())))
+        report.checkpoints.append(
+            Checkpoint(
+                id=c.id,
+                weight=scoring.WEIGHT,
+                score=score,
+                passed=all(v >= 0.999 for v in per.values()),
+                message=c.metric,
+                measured={robot: _metric_for(c.id, results[robot]) for robot in ROBOTS},
+                threshold={"pass": c.pass_value, "fail": c.fail_value, "curve": "linear"},
+                per_variant=per,
+            )
+        )
+    report.native_metrics = {
+        "quick": bool(ctx.quick),
+        "variant_score": finals,
+        "deduction": {robot: results[robot].deduction for robot in ROBOTS},
+        **{robot: results[robot].measured for robot in ROBOTS},
+    }
+    report.valid = all(res.valid for res in results.values())
+    report.score = float(np.mean(list(finals.values())))
+    return report
+
+
+_METRIC_KEYS = {
+    "motion_clearance": "collision_fraction",
+    "passive_residual": "residual_p95_Nm",
+    "passive_hold": "passive_drift_rad",
+    "passive_backdrive": "passive_backdrive_Nm",
+    "reference_hold": "reference_drift_rad",
+    "reference_backdrive": "reference_backdrive_Nm",
+    "combined_hold": "combined_drift_rad",
+    "combined_backdrive": "combined_backdrive_Nm",
+    "servo_headroom": "servo_utilisation",
+    "push_recovery": "push_creep_rad",
+}
+
+
+def _metric_for(cid: str, res: VariantResult):
+    return res.measured.get(_METRIC_KEYS[cid])
