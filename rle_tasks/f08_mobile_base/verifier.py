@@ -1,0 +1,335 @@
+"""Verifier of ``08-mobile-base``: checkpoints, weights, per-arm minimum, caps, renders.
+
+Checkpoints (weights): validity 0.15, design_resources 0.35, static_stability 0.15,
+dynamic_stability 0.20, shelf_1kg 0.10, shelf_2kg 0.05. Each arm-dependent checkpoint scores the
+minimum over the three arms (``per_variant`` holds each arm's value). A failed validity (structure)
+checkpoint, or a pose of the static battery at 0 or 1 kg in which the machine cannot stand (required
+load), caps the reward at 0.15.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from rle_design.errors import RleError
+from rle_design.mjcf import load_design, match_profiles
+from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
+from rle_tasks.core.report import Checkpoint, VerifierReport
+from rle_tasks.core.secrets import derive_rng
+from rle_tasks.core.task import VerifyContext
+from rle_tasks.f08_mobile_base import batteries as B
+from rle_tasks.f08_mobile_base.poses import battery_poses
+from rle_tasks.f08_mobile_base.scene import ARMS, CHASSIS, TASK_ID, Variation, build_scene
+from rle_tasks.f08_mobile_base.shelf_trials import run_trial
+from rle_tasks.f08_mobile_base.validity import check_validity, interpenetration
+
+WEIGHTS = {
+    "validity": 0.15,
+    "design_resources": 0.35,
+    "static_stability": 0.15,
+    "dynamic_stability": 0.20,
+    "shelf_1kg": 0.10,
+    "shelf_2kg": 0.05,
+}
+CAP = 0.15
+# Design normalisation: score = clip((bad - x) / (bad - good), 0, 1), averaged over the five metrics.
+DESIGN_NORMS = {
+    "footprint_m2": (0.20, 0.60),
+    "height_m": (0.30, 0.80),
+    "base_mass_kg": (12.0, 40.0),
+    "profile_length_m": (2.0, 8.0),
+    "profile_cost_eur": (25.0, 110.0),
+}
+QUICK_TARGETS = ("T01", "T07", "T12")
+MAX_FAULTS_PER_ARM = 3
+
+
+def _design_metrics(design, model) -> dict:
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    chassis = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, CHASSIS)
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for g in range(model.ngeom):
+        c, h = model.geom_aabb[g][:3], model.geom_aabb[g][3:]
+        corners = c + h * np.array([[a, b, e] for a in (-1, 1) for b in (-1, 1) for e in (-1, 1)])
+        pts = data.geom_xpos[g] + corners @ data.geom_xmat[g].reshape(3, 3).T
+        lo, hi = np.minimum(lo, pts.min(0)), np.maximum(hi, pts.max(0))
+    prof = match_profiles(design, model)
+    bottom = lo[2]
+    return {
+        "footprint_m2": float((hi[0] - lo[0]) * (hi[1] - lo[1])),
+        "length_m": float(hi[0] - lo[0]),
+        "width_m": float(hi[1] - lo[1]),
+        "height_m": float(hi[2] - bottom),
+        "base_mass_kg": float(model.body_subtreemass[chassis]),
+        "profile_length_m": prof.total_length,
+        "profile_cost_eur": prof.total_cost,
+    }
+
+
+def _design_score(metrics: dict) -> tuple[float, dict]:
+    parts = {}
+    for key, (good, bad) in DESIGN_NORMS.items():
+        parts[key] = float(np.clip((bad - metrics[key]) / (bad - good), 0.0, 1.0))
+    return float(np.mean(list(parts.values()))), parts
+
+
+def _variation(ctx: VerifyContext, label: str) -> Variation:
+    rng = derive_rng(ctx.secret, TASK_ID, label)
+    return Variation(
+        friction=float(rng.uniform(0.85, 1.15)),
+        payload_com=tuple(float(v) for v in rng.uniform(-0.01, 0.01, 3)),
+    )
+
+
+def _evaluate_arm(design, root: Path, arm: str, ctx: VerifyContext, report: VerifierReport) -> dict:
+    quick = ctx.quick
+    out: dict = {"arm": arm}
+    scenes = {
+        kg: build_scene(design.fresh_spec, arm, kg, variation=_variation(ctx, f"{arm}/static/{kg}"))
+        for kg in (0, 1, 2)
+    }
+    sc0 = scenes[0]
+    d = sc0.rest_data()
+    bad = interpenetration(sc0.model, d, sc0.robot_geoms)
+    out["mount_ok"] = not bad
+    if bad:
+        report.add_error("f08.interpenetration", f"{arm}: at rest, {'; '.join(bad[:5])}")
+    targets = QUICK_TARGETS if quick else None
+    poses = battery_poses(
+        scenes[2], target_ids=targets, reach_dirs=("front", "left", "back") if quick else None
+    )
+    out["ik"] = {p.name: p.residual for p in poses if p.target is not None}
+    cases = [B.static_case(scenes[kg], p, kg) for kg in ((1, 2) if quick else (0, 1, 2)) for p in poses]
+    out["static"] = [c.__dict__ | {"passed": c.passed} for c in cases]
+    out["static_score"] = float(np.mean([c.passed for c in cases]))
+    out["required_load_ok"] = not any(c.tips for c in cases if c.payload_kg <= 1)
+    out["static_2kg_ok"] = all(c.passed for c in cases if c.payload_kg == 2)
+    dyn_scene = build_scene(design.fresh_spec, arm, 2, variation=_variation(ctx, f"{arm}/dynamic"))
+    dyn = B.dynamic_battery(dyn_scene, poses, derive_rng(ctx.secret, TASK_ID, f"{arm}/dynamic/rng"), quick)
+    out["dynamic"] = dyn
+    out["dynamic_score"] = float(np.mean([s["passed"] for s in dyn]))
+    out["shelf"] = _shelf(design, root, arm, ctx, report, poses)
+    out["poses"] = poses
+    return out
+
+
+def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: VerifierReport, poses) -> dict:
+    from rle_design.catalog import load_catalog
+
+    shelf = load_catalog("shelf")
+    ids = QUICK_TARGETS if ctx.quick else tuple(t.id for t in shelf.entries)
+    res: dict = {}
+    faults = 0
+    files = {"robot.xml": str(root / "robot.xml")}
+    for kg in (1, 2):
+        scene = build_scene(
+            design.fresh_spec, arm, kg, shelf=True, variation=_variation(ctx, f"{arm}/shelf/{kg}")
+        )
+        trials = {}
+        sb = None
+        for t in shelf.entries:
+            if t.id not in ids:
+                continue
+            rng = derive_rng(ctx.secret, TASK_ID, f"{arm}/shelf/{kg}/{t.id}")
+            target = np.array(t.pos) + rng.uniform(-0.01, 0.01, 3)
+            if faults >= MAX_FAULTS_PER_ARM:
+                trials[t.id] = {"success": False, "reason": "skipped after repeated controller faults"}
+                continue
+            try:
+                if sb is None:
+                    sb = Sandbox(
+                        str(root / "controller.py"),
+                        limits=SandboxLimits(call_timeout_s=30.0, cpu_seconds=600.0),
+                        workdir_files=files,
+                    )
+                    sb.start()
+                trials[t.id] = run_trial(scene, sb, target, float(kg))
+            except ParticipantFault as exc:
+                faults += 1
+                trials[t.id] = {"success": False, "reason": f"controller fault {exc.code}: {exc.message}"}
+                report.add_error(exc.code, f"{arm} {kg} kg {t.id}: {exc.message}", "controller.py")
+                if sb is not None:
+                    sb.close()
+                sb = None
+        if sb is not None:
+            sb.close()
+        res[kg] = trials
+    return res
+
+
+def _render(design, arm_out: dict, arm: str, out_dir: Path, report: VerifierReport) -> None:
+    try:
+        from rle_design.viz.render import render_png
+        from rle_tasks.f08_mobile_base.poses import park_x
+
+        out_dir.mkdir(parents=True, exist_ok=True)
+        sc = build_scene(design.fresh_spec, arm, 1, shelf=True)
+        poses = {p.name: p for p in arm_out["poses"]}
+        views = [
+            ("stowed", None, 0.0),
+            ("extended", "reach_front", 0.0),
+            ("integration", "T07" if "T07" in poses else "T01", park_x(sc)),
+        ]
+        for label, pname, x in views:
+            d = sc.rest_data(x)
+            if pname in poses:
+                d.qpos[sc.chain.qpos_adr] = poses[pname].q
+            mujoco.mj_forward(sc.model, d)
+            render_png(sc.model, d, out_dir / f"{arm}_{label}.png", lookat=[x + 0.3, 0, 0.5], distance=2.4)
+    except Exception as exc:  # noqa: BLE001 - renders accompany the report; their failure is not a score
+        report.add_error("render.failed", f"{arm}: {type(exc).__name__}: {exc}")
+
+
+def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
+    """Verify a submission directory (robot.xml, controller.py)."""
+    report = VerifierReport(task_id=TASK_ID, family="08", workflow="mechanical_design")
+    cps: dict[str, Checkpoint] = {}
+    problems: list[tuple[str, str]] = []
+    design = None
+    try:
+        design = load_design(root)
+        problems = check_validity(design)
+    except RleError as exc:
+        problems = [(exc.code, exc.message)]
+    for code, msg in problems:
+        report.add_error(code, msg, "robot.xml")
+    if not (root / "controller.py").is_file():
+        problems.append(("artifact.missing_file", "controller.py is missing"))
+        report.add_error("artifact.missing_file", "controller.py is missing", "controller.py")
+    arms: dict[str, dict] = {}
+    if design is not None and not any(
+        c.startswith(("mjcf", "contract", "artifact.unsafe")) for c, _ in problems
+    ):
+        for arm in ARMS:
+            try:
+                arms[arm] = _evaluate_arm(design, root, arm, ctx, report)
+            except RleError as exc:
+                problems.append((exc.code, f"{arm}: {exc.message}"))
+                report.add_error(exc.code, f"{arm}: {exc.message}", "robot.xml")
+    mount_ok = {a: bool(arms.get(a, {}).get("mount_ok", False)) for a in ARMS}
+    valid = not problems and all(mount_ok.values())
+    cps["validity"] = Checkpoint(
+        "validity",
+        WEIGHTS["validity"],
+        float(valid),
+        valid,
+        "valid"
+        if valid
+        else "; ".join(m for _, m in problems[:5]) or "an arm interpenetrates the base at rest",
+        measured={"findings": [c for c, _ in problems]},
+        per_variant={a: float(mount_ok[a] and not problems) for a in ARMS},
+    )
+    metrics, dscore, parts = {}, 0.0, {}
+    if design is not None and arms:
+        metrics = _design_metrics(design, design.compile())
+        dscore, parts = _design_score(metrics)
+    cps["design_resources"] = Checkpoint(
+        "design_resources",
+        WEIGHTS["design_resources"],
+        dscore,
+        dscore > 0,
+        "normalised resource use",
+        measured=metrics | {"subscores": parts},
+        threshold={k: {"good": g, "bad": b} for k, (g, b) in DESIGN_NORMS.items()},
+        per_variant={a: dscore for a in ARMS},
+    )
+
+    def per_arm(key: str, fn) -> dict:
+        return {a: (fn(arms[a]) if a in arms else 0.0) for a in ARMS}
+
+    st = per_arm("static", lambda o: o["static_score"])
+    cps["static_stability"] = Checkpoint(
+        "static_stability",
+        WEIGHTS["static_stability"],
+        min(st.values()),
+        min(st.values()) >= 1.0,
+        _static_message(arms),
+        threshold={
+            "margin_m": B.STATIC_MARGIN_MIN,
+            "force_angle_deg": B.FORCE_ANGLE_MIN_DEG,
+            "wheel_load_frac": B.LOSS_FRACTION,
+        },
+        measured={a: _static_summary(o) for a, o in arms.items()},
+        per_variant=st,
+    )
+    dy = per_arm("dynamic", lambda o: o["dynamic_score"])
+    cps["dynamic_stability"] = Checkpoint(
+        "dynamic_stability",
+        WEIGHTS["dynamic_stability"],
+        min(dy.values()),
+        min(dy.values()) >= 1.0,
+        "; ".join(
+            f"{a}: {', '.join(s['scenario'] for s in o['dynamic'] if not s['passed']) or 'all passed'}"
+            for a, o in arms.items()
+        ),
+        threshold={
+            "wheel_load_frac": B.LOSS_FRACTION,
+            "loss_duration_s": B.LOSS_DURATION_S,
+            "tilt_deg": B.TILT_MAX_DEG,
+        },
+        measured={a: o["dynamic"] for a, o in arms.items()},
+        per_variant=dy,
+    )
+    for kg in (1, 2):
+        cid = f"shelf_{kg}kg"
+        sh = per_arm(cid, lambda o, kg=kg: float(np.mean([t["success"] for t in o["shelf"][kg].values()])))
+        fails = {
+            a: {tid: t["reason"] for tid, t in o["shelf"][kg].items() if not t["success"]}
+            for a, o in arms.items()
+        }
+        msg = (
+            "; ".join(f"{a}: {len(f)} failed ({next(iter(f.values()))})" for a, f in fails.items() if f)
+            or "all targets held"
+        )
+        cps[cid] = Checkpoint(
+            cid,
+            WEIGHTS[cid],
+            min(sh.values()),
+            min(sh.values()) >= 1.0,
+            msg,
+            measured={a: o["shelf"][kg] for a, o in arms.items()},
+            per_variant=sh,
+        )
+    report.checkpoints = [cps[k] for k in WEIGHTS]
+    load_ok = all(arms.get(a, {}).get("required_load_ok", False) for a in ARMS)
+    report.valid = valid
+    score = report.weighted_score()
+    if not valid or not load_ok:
+        report.cap = CAP
+        score = min(score, CAP)
+    report.score = score
+    report.native_metrics = {
+        "quick": ctx.quick,
+        "design": metrics,
+        "required_load_ok": load_ok,
+        "ik_residual_m": {a: o["ik"] for a, o in arms.items()},
+    }
+    if ctx.out_dir is not None and design is not None:
+        for a, o in arms.items():
+            _render(design, o, a, Path(ctx.out_dir), report)
+    return report
+
+
+def _static_summary(o: dict) -> dict:
+    cases = o["static"]
+    worst = min(cases, key=lambda c: c["margin"])
+    return {
+        "min_margin_m": worst["margin"],
+        "worst_pose": f"{worst['pose']} @ {worst['payload_kg']} kg",
+        "min_force_angle_deg": min(c["force_angle_deg"] for c in cases),
+        "min_wheel_frac": min(c["min_wheel_frac"] for c in cases),
+        "failed": [f"{c['pose']}@{c['payload_kg']}kg" for c in cases if not c["passed"]],
+    }
+
+
+def _static_message(arms: dict) -> str:
+    parts = []
+    for a, o in arms.items():
+        failed = _static_summary(o)["failed"]
+        if failed:
+            parts.append(f"{a}: {len(failed)} poses fail ({', '.join(failed[:4])})")
+    return "; ".join(parts) or "all poses stable"
