@@ -3,7 +3,8 @@
 The submitted leader is recompiled with every geom colliding (``contype = conaffinity = 1``, so a
 part cannot opt out) and a table plane at z = 0 (the bottom of the base plate). A grid pose counts
 as a clearance failure when a geom of an added body penetrates any geom of another rigid group
-(MuJoCo already ignores pairs welded together and parent-child pairs).
+(MuJoCo already ignores pairs welded together and parent-child pairs). Poses where the stock arm
+itself is in the table are not reachable and are not counted.
 """
 
 from __future__ import annotations
@@ -41,14 +42,21 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
     d = mujoco.MjData(m)
     added = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in added_bodies}
     geom_added = np.isin(m.geom_bodyid, list(added))
-    hits, examples = 0, []
+    table = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "__table__")
+    base = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "base")
+    stock_arm = ~geom_added & (m.geom_bodyid != base)
+    hits, counted, examples = 0, 0, []
     for q in poses:
         d.qpos[:] = q
         mujoco.mj_kinematics(m, d)
         mujoco.mj_collision(m, d)
         n = d.ncon
         dist, g1, g2 = d.contact.dist[:n], d.contact.geom1[:n], d.contact.geom2[:n]
-        hit = (dist < -PENETRATION_M) & (geom_added[g1] | geom_added[g2])
+        deep = dist < -PENETRATION_M
+        if np.any(deep & (((g1 == table) & stock_arm[g2]) | ((g2 == table) & stock_arm[g1]))):
+            continue  # the stock arm itself is in the table: not a reachable pose
+        counted += 1
+        hit = deep & (geom_added[g1] | geom_added[g2])
         bad = bool(hit.any())
         if bad and len(examples) < 5:
             k = int(np.flatnonzero(hit)[0])
@@ -56,4 +64,4 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
             n2 = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, int(g2[k])) or f"geom{g2[k]}"
             examples.append(f"{n1}/{n2}")
         hits += bad
-    return hits / len(poses), examples
+    return (hits / counted if counted else 0.0), examples

@@ -59,7 +59,7 @@ CHECKPOINTS: tuple[Curve, ...] = (
     Curve("combined_backdrive", "combined (40 %)", _BACK + ", hidden copy, adapted, clipped", 0.03, SERVO_LIMIT),
     Curve("servo_headroom", "combined (40 %)",
           "servo utilisation: grid max of the hidden copy's worst-joint residual / 0.35 N m", 0.5, 1.5),
-    Curve("push_recovery", "combined (40 %)", "creep in the last 0.5 s after a 3 N, 0.1 s handle push [rad]",
+    Curve("push_recovery", "combined (40 %)", "creep in the last 0.5 s of 1 s after a 1 N, 50 ms horizontal handle push [rad]",
           0.005, 0.1),
 )
 WEIGHT = 1.0 / len(CHECKPOINTS)

@@ -54,9 +54,9 @@ class Battery:
 
 FULL = Battery()
 QUICK = Battery(grid=256, clearance=48, test_poses=2, copies=1, hold_s=0.5)
-PUSH_N = 3.0
-PUSH_S = 0.1
-PUSH_TOTAL_S = 1.2
+PUSH_N = 1.0
+PUSH_S = 0.05
+PUSH_TOTAL_S = 1.0
 
 
 @dataclass

@@ -1,0 +1,61 @@
+"""TaskSpec of 09-gello: instruction, budget, artifact contract and development environment."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+
+HERE = Path(__file__).resolve().parent
+BASELINES = ("uncompensated", "gravcomp_cheat", "over_mass", "hanging_trim")
+
+
+def instruction() -> str:
+    """The agent instruction (``instruction.md``), with the checkpoint table appended."""
+    from rle_tasks.f09_gello.scoring import markdown_table
+
+    return (HERE / "instruction.md").read_text() + "\n## Checkpoints (per robot)\n\n" + markdown_table() + "\n"
+
+
+def make_dev_env(workspace: Path) -> None:
+    """Lay out the workspace: stock leaders, helpers, instruction and an empty submission skeleton."""
+    ws = Path(workspace)
+    ws.mkdir(parents=True, exist_ok=True)
+    for robot in ("panda", "ur5e", "xarm7"):
+        dest = ws / "leaders" / robot
+        if dest.exists():
+            shutil.rmtree(dest)
+        shutil.copytree(HERE / "assets" / robot, dest)
+        sub = ws / "submission" / robot
+        if not sub.exists():
+            shutil.copytree(HERE / "assets" / robot, sub)
+            shutil.copy(HERE / "trim_templates" / "zero_trim.py", sub / "trim.py")
+    shutil.copy(HERE / "helpers.py", ws / "gello_helpers.py")
+    shutil.copy(HERE / "trim_templates" / "regressor_trim.py", ws / "example_trim.py")
+    (ws / "INSTRUCTION.md").write_text(instruction())
+
+
+def task_spec() -> TaskSpec:
+    from rle_tasks.f09_gello.verifier import verify
+
+    sols = [("reference", HERE / "reference")] + [(f"baseline/{b}", HERE / "baseline" / b) for b in BASELINES]
+    return TaskSpec(
+        id="09-gello",
+        family=9,
+        title="Multi-robot GELLO gravity-compensation co-design",
+        instruction=instruction(),
+        budget=Budget(wall_time_s=3 * 3600.0, cpus=4, verifier_timeout_s=600.0),
+        contract=ArtifactContract(
+            required=("panda/lead.xml", "panda/trim.py", "ur5e/lead.xml", "ur5e/trim.py", "xarm7/lead.xml",
+                      "xarm7/trim.py"),
+            optional=("*/meshes/*.stl", "*/meshes/*.obj", "*/*.xml", "*/*.py", "*/*.json", "*/*.npz"),
+            description="For each robot (panda, ur5e, xarm7): lead.xml (the modified leader with springs, "
+            "counterweights, supports; meshes it references inside the directory) and trim.py exposing "
+            "feedforward(q, params=None), plan_probe() and adapt(probes).",
+            max_total_bytes=32 * 1024 * 1024,
+        ),
+        make_dev_env=make_dev_env,
+        verify=verify,
+        solutions=tuple(sols),
+    )
