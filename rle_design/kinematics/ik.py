@@ -165,7 +165,7 @@ def _qp_step(h: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np
         eps_rel=1e-9,
         polishing=False,
     )
-    x = prob.solve().x
+    x = prob.solve(raise_error=False).x
     if x is None or not np.all(np.isfinite(x)):
         return np.zeros(n)
     return np.clip(x, lo, hi)

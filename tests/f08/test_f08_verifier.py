@@ -1,0 +1,101 @@
+"""Family 08: reference and baselines through the verifier (quick batteries), harness, determinism."""
+
+import functools
+from pathlib import Path
+
+import pytest
+
+from rle_tasks.core.registry import get_task
+from rle_tasks.core.secrets import Secret
+from rle_tasks.core.task import VerifyContext
+from rle_tasks.f08_mobile_base import HERE
+from rle_tasks.f08_mobile_base.verifier import CAP, WEIGHTS, verify
+
+SECRET = Secret(b"f08 test secret", public=False)
+
+
+@functools.cache
+def _report(name: str):
+    return verify(HERE / name, VerifyContext(secret=SECRET, quick=True))
+
+
+def test_task_registered_with_contract_and_budget():
+    t = get_task("08-mobile-base")
+    assert t.implemented and t.contract.required == ("robot.xml", "controller.py")
+    assert t.budget.wall_time_s == 7200 and t.budget.cpus == 4
+    assert {n for n, _ in t.solutions} >= {"reference", "baseline/tall_narrow", "baseline/raising_controller"}
+
+
+def test_weights_match_the_card():
+    assert WEIGHTS == {
+        "validity": 0.15,
+        "design_resources": 0.35,
+        "static_stability": 0.15,
+        "dynamic_stability": 0.20,
+        "shelf_1kg": 0.10,
+        "shelf_2kg": 0.05,
+    }
+
+
+@pytest.mark.physics
+def test_reference_report_has_every_checkpoint_per_arm():
+    r = _report("reference")
+    assert [c.id for c in r.checkpoints] == list(WEIGHTS)
+    for c in r.checkpoints:
+        assert set(c.per_variant) == {"panda", "ur5e", "xarm7"}
+        assert c.score == pytest.approx(min(c.per_variant.values()))
+    assert r.valid and r.cap is None
+    assert r.checkpoint("validity").score == 1.0
+
+
+@pytest.mark.physics
+def test_reference_scores_at_least_075():
+    assert _report("reference").score >= 0.75
+
+
+@pytest.mark.physics
+def test_tall_narrow_fails_static_stability_with_2kg():
+    r = _report("baseline/tall_narrow")
+    assert r.checkpoint("validity").score == 1.0
+    c = r.checkpoint("static_stability")
+    assert c.score < 0.5 and any("@2kg" in f for m in c.measured.values() for f in m["failed"])
+    assert r.score <= CAP
+
+
+@pytest.mark.physics
+def test_non_catalog_profile_fails_validity():
+    r = _report("baseline/non_catalog_profile")
+    assert r.checkpoint("validity").score == 0.0 and r.cap == CAP
+    assert any(
+        e.code == "catalog.unknown_profile"
+        and e.message == "geom 'profile_5050_rail_left': profile '5050' is not in the catalog. "
+        "Available profiles: 2020, 2040, 3030, 4040, 4080"
+        for e in r.errors
+    )
+
+
+@pytest.mark.physics
+def test_bad_mount_fails_shelf_integration():
+    r = _report("baseline/bad_mount")
+    assert r.checkpoint("shelf_1kg").score == 0.0 and r.checkpoint("shelf_2kg").score == 0.0
+
+
+@pytest.mark.physics
+def test_raising_controller_fails_shelf_with_exception_text():
+    r = _report("baseline/raising_controller")
+    assert r.checkpoint("shelf_1kg").score == 0.0
+    assert "RuntimeError: controller deliberately failed: no motion plan" in r.checkpoint("shelf_1kg").message
+    assert any(e.code == "sandbox.exception" for e in r.errors)
+
+
+def test_dev_env_lays_out_harness(tmp_path: Path):
+    get_task("08-mobile-base").make_dev_env(tmp_path)
+    for rel in ("instruction.md", "preview.py", "catalog/profiles.yaml", "catalog/shelf.yaml", "catalog/parts/mecanum_wheel.xml", "arms/panda/robot.xml", "arms/ur5e/robot.xml", "arms/xarm7/robot.xml"):
+        assert (tmp_path / rel).is_file(), rel
+    assert "arm_mount_site" in (tmp_path / "instruction.md").read_text()
+
+
+def test_missing_robot_xml_is_a_validity_failure(tmp_path: Path):
+    (tmp_path / "controller.py").write_text("def reset(*a): pass\ndef control(*a): return []\n")
+    r = verify(tmp_path, VerifyContext(secret=SECRET, quick=True))
+    assert r.checkpoint("validity").score == 0.0 and r.cap == CAP and r.score <= CAP
