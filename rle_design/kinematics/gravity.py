@@ -54,7 +54,7 @@ def static_torque(
     oMf = data.oMf[fid]
     off = np.zeros(3) if offset is None else np.asarray(offset, float)
     point = oMf.translation + oMf.rotation @ off
-    jac = pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
+    jac = np.reshape(pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))
     r = point - oMf.translation
     jlin = jac[:3] - np.cross(r, jac[3:].T).T  # linear velocity of the offset point
     return tau + jlin.T @ (-payload_mass * np.asarray(model.gravity.linear))

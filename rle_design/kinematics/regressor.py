@@ -37,6 +37,7 @@ def gravity_regressor(km: KinematicModel, q: np.ndarray) -> np.ndarray:
     model = km.model
     zero = np.zeros(model.nv)
     y = pin.computeJointTorqueRegressor(model, km.data, np.asarray(q, float), zero, zero)
+    y = np.reshape(y, (model.nv, 10 * (model.njoints - 1)))  # 1-row results come back flattened
     return np.array(y[:, _columns(model.njoints - 1)])
 
 

@@ -141,7 +141,7 @@ def _spatial(km: KinematicModel, sp: TendonSpring, q: np.ndarray) -> tuple[float
         if jid == 0:
             jac = np.zeros((3, model.nv))
         else:
-            j6 = pin.getJointJacobian(model, data, jid, pin.LOCAL_WORLD_ALIGNED)
+            j6 = np.reshape(pin.getJointJacobian(model, data, jid, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))
             jac = j6[:3] - np.cross(p - oMi.translation, j6[3:].T).T
         pts.append(p)
         jacs.append(jac)
@@ -195,16 +195,20 @@ def spring_torque(km: KinematicModel, springs: list[JointSpring | TendonSpring],
 
 
 def zero_length_spring_torque(
-    k: float, a: float, b: float, theta: np.ndarray, free_length: float = 0.0
+    k: float, a: float, b: float, theta: np.ndarray, free_length: float = 0.0, tension_only: bool = False
 ) -> np.ndarray:
     """Torque of a spring from a point ``a`` above a pivot to a point ``b`` along a link [N m].
 
     With theta the link angle from the upward vertical, L = sqrt(a^2 + b^2 - 2 a b cos(theta)) and
-    tension k (L - L0): tau = k a b sin(theta) (1 - L0 / L), pulling the link towards upright.
+    tension k (L - L0): tau = k a b sin(theta) (1 - L0 / L), pulling the link towards upright. A
+    tension-only spring (cable) carries no force while L < L0.
     """
     theta = np.asarray(theta, float)
     length = np.sqrt(a * a + b * b - 2 * a * b * np.cos(theta))
-    return k * a * b * np.sin(theta) * (1.0 - free_length / length)
+    stretch = 1.0 - free_length / length
+    if tension_only:
+        stretch = np.maximum(stretch, 0.0)
+    return k * a * b * np.sin(theta) * stretch
 
 
 def zero_length_spring_residual(

@@ -65,7 +65,7 @@ def _point_mass_columns(km, jid: int, local: np.ndarray, grid: np.ndarray) -> np
         pin.computeJointJacobians(model, data, q)
         oMi = data.oMi[jid]
         p = oMi.translation + oMi.rotation @ local
-        j6 = pin.getJointJacobian(model, data, jid, pin.LOCAL_WORLD_ALIGNED)
+        j6 = np.reshape(pin.getJointJacobian(model, data, jid, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))
         jl = j6[:3] - np.cross(p - oMi.translation, j6[3:].T).T
         out[k] = -jl.T @ gvec
     return out
