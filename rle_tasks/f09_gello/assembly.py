@@ -103,7 +103,7 @@ def build_assembly(robot: str) -> Assembly:
         '    <default class="servo">',
         f'      <joint frictionloss="{sv.coulomb_friction:.6g}" damping="{sv.viscous_friction:.6g}" '
         f'armature="{sv.reflected_inertia:.6g}"/>',
-        '      <geom type="box" size="{}" rgba="0.15 0.15 0.15 1" contype="0" conaffinity="0"/>'.format(
+        '      <geom type="box" size="{}" rgba="0.15 0.15 0.15 1"/>'.format(
             _fmt(np.array(sv.size)[[0, 2, 1]] / 2)
         ),
         "    </default>",

@@ -45,11 +45,11 @@ class Battery:
         hold_s: Hold duration after release [s].
     """
 
-    grid: int = 2048
-    clearance: int = 256
-    test_poses: int = 4
+    grid: int = 4096
+    clearance: int = 384
+    test_poses: int = 6
     copies: int = 2
-    hold_s: float = 1.0
+    hold_s: float = 2.0
 
 
 FULL = Battery()
