@@ -5,12 +5,18 @@ A record is one line of canonical JSON with the fields, in this order::
     {"seq": 0, "kind": "open", "task_id": "08-mobile-base", "prev": "<64 hex>",
      "digest": "<64 hex>", "payload": {...}, "mac": "<64 hex>"}
 
-- ``seq`` counts records from 0; ``kind`` is ``open`` (first record), ``reset``, ``step`` or ``seal``
-  (last record);
+- ``seq`` counts records from 0; ``kind`` is ``open`` (first record), ``reset`` (one charged step),
+  ``steps`` (a group of consecutive executed actions, each one charged step) or ``seal`` (last);
 - ``prev`` is SHA-256 of the previous line's bytes (64 zeros for the open record);
 - ``digest`` is SHA-256 of the payload's canonical JSON (sorted keys, no spaces);
 - ``mac`` is HMAC-SHA256(key, line without its ``,"mac":"..."`` member), so it covers every byte of
   every other field.
+
+A ``steps`` record's payload is ``{"actions": [hex, ...], "steps": n, "time": t}``: each action's
+float64 bytes in hex (native order, little-endian on x86-64 and arm64), the charged steps used after
+the last of them and the simulation time then [s]. Grouping consecutive actions in one record
+(group commit, ``actions_per_record``) keeps the per-action cost of the chain low; a reset or the
+seal always closes the open group first. A ``reset`` payload is ``{"steps": n, "time": t}``.
 
 The open record carries a random nonce; the seal records the number of records before it, the
 charged step count, the head hash (``prev`` of the seal) and the ledger id (SHA-256 of the open line),
@@ -20,7 +26,6 @@ so a seal cannot be moved to another ledger. The key never appears in the file.
 from __future__ import annotations
 
 import hashlib
-import hmac
 import json
 import os
 import secrets
@@ -31,8 +36,8 @@ from typing import Any
 from rle_design.errors import RleError
 
 GENESIS = "0" * 64
-KINDS = ("open", "reset", "step", "seal")
-CHARGED = ("reset", "step")
+KINDS = ("open", "reset", "steps", "seal")
+CHARGED = ("reset", "steps")
 MAC_SUFFIX_LEN = len(',"mac":""}') + 64
 
 
@@ -55,6 +60,23 @@ def mac_input(line: bytes) -> bytes:
 def line_hash(line: bytes) -> str:
     """SHA-256 (hex) of one record line without its newline."""
     return hashlib.sha256(line).hexdigest()
+
+
+class _Hmac:
+    """HMAC-SHA256 with the key's inner and outer pad states precomputed (RFC 2104; same output as ``hmac``)."""
+
+    def __init__(self, key: bytes) -> None:
+        block = key if len(key) <= 64 else hashlib.sha256(key).digest()
+        block = block.ljust(64, b"\0")
+        self._inner = hashlib.sha256(bytes(b ^ 0x36 for b in block))
+        self._outer = hashlib.sha256(bytes(b ^ 0x5C for b in block))
+
+    def hexdigest(self, message: bytes) -> str:
+        inner = self._inner.copy()
+        inner.update(message)
+        outer = self._outer.copy()
+        outer.update(inner.digest())
+        return outer.hexdigest()
 
 
 class LedgerWriter:
@@ -82,7 +104,7 @@ class LedgerWriter:
                 path=str(self.path),
             ) from None
         self._file = os.fdopen(fd, "wb", buffering=1 << 16)
-        self._key = key
+        self._mac = _Hmac(key)
         self._task_json = json.dumps(task_id)
         self.task_id = task_id
         self.seq = 0
@@ -97,7 +119,7 @@ class LedgerWriter:
             f'{{"seq":{self.seq},"kind":"{kind}","task_id":{self._task_json},"prev":"{self.prev}",'
             f'"digest":"{digest}","payload":{payload_json}'
         ).encode()
-        mac = hmac.digest(self._key, body + b"}", "sha256").hex()
+        mac = self._mac.hexdigest(body + b"}")
         line = body + b',"mac":"' + mac.encode() + b'"}'
         self._file.write(line + b"\n")
         self.prev = hashlib.sha256(line).hexdigest()
@@ -105,7 +127,7 @@ class LedgerWriter:
         return self.prev
 
     def append(self, kind: str, payload: dict[str, Any]) -> str:
-        """Append a ``reset`` or ``step`` record; returns the new head hash."""
+        """Append a ``reset`` or ``steps`` record (canonical payload); returns the new head hash."""
         if self.sealed:
             raise LedgerError(
                 f"ledger {self.path} is sealed; no records after the seal", code="ledger.sealed"
@@ -113,6 +135,25 @@ class LedgerWriter:
         if kind not in CHARGED:
             raise LedgerError(f"record kind '{kind}' cannot be appended. Kinds: {', '.join(CHARGED)}")
         return self._append(kind, canonical(payload))
+
+    def append_steps(self, action_hexes: list[str], steps: int, sim_time: float) -> str:
+        """Fast path of ``append("steps", {"actions": ..., "steps": ..., "time": ...})`` (same bytes).
+
+        Args:
+            action_hexes: Each action's float64 bytes in hex, in execution order (non-empty).
+            steps: Charged steps used after the last of them.
+            sim_time: Simulation time after the last of them [s].
+        """
+        if self.sealed:
+            raise LedgerError(
+                f"ledger {self.path} is sealed; no records after the seal", code="ledger.sealed"
+            )
+        if not action_hexes:
+            raise LedgerError("a steps record needs at least one action", code="ledger.error")
+        # Hex strings need no escaping, keys are sorted and json.dumps writes floats with
+        # float.__repr__: the bytes are identical to canonical().
+        actions = '","'.join(action_hexes)
+        return self._append("steps", f'{{"actions":["{actions}"],"steps":{steps:d},"time":{sim_time!r}}}')
 
     def seal(self, steps: int) -> str:
         """Write the seal (record count, step count, head, ledger id), flush and close; returns the seal hash."""

@@ -49,7 +49,7 @@ def decode(message: bytes) -> tuple[dict[str, Any], Any]:
 def _handle(session: MeteredSession, meta: dict[str, Any], value: Any) -> tuple[dict[str, Any], Any]:
     op = meta.get("op")
     if op == "step":
-        obs = session.step(value)
+        obs = session.step(value, defer_record=True)  # recorded right after the reply is sent
     elif op == "reset":
         obs = session.reset()
     elif op == "observe":
@@ -85,16 +85,19 @@ def _serve_connection(session: MeteredSession, conn: Connection) -> None:
             conn.send_bytes(reply)
         except OSError:
             return
+        finally:
+            session.commit(force=False)
 
 
 def serve(
     env: MeteredEnv,
     *,
-    key: bytes,
-    ledger_path: Path,
+    key: bytes | None,
+    ledger_path: Path | None,
     socket_path: Path,
     task_id: str,
     budget: int | None,
+    actions_per_record: int = 16,
     ready: Connection | None = None,
 ) -> None:
     """Serve one metered session until sealed or signalled (runs in the server process)."""
@@ -102,7 +105,14 @@ def serve(
     signal.signal(signal.SIGINT, _on_signal)
     session = None
     try:
-        session = MeteredSession(env, task_id=task_id, budget=budget, key=key, ledger_path=ledger_path)
+        session = MeteredSession(
+            env,
+            task_id=task_id,
+            budget=budget,
+            key=key,
+            ledger_path=ledger_path,
+            actions_per_record=actions_per_record,
+        )
         del key
         old_umask = os.umask(0o077)
         try:
@@ -132,28 +142,31 @@ class LedgerServer:
 
     Args:
         env: The metered environment.
-        key: Ledger HMAC key [bytes]; handed to the server process at start.
-        ledger_path: New ledger file written by the server.
+        key: Ledger HMAC key [bytes]; handed to the server process at start. None serves the same
+            environment unmetered, without a ledger (only to measure the metering overhead).
+        ledger_path: New ledger file written by the server (None when unmetered).
         socket_path: Unix socket the agent connects to (at most ~100 characters).
         task_id: Task the ledger belongs to.
         budget: Charged steps allowed, or None for unlimited.
+        actions_per_record: Executed actions grouped per ledger record (see ``MeteredSession``).
     """
 
     def __init__(
         self,
         env: MeteredEnv,
         *,
-        key: bytes,
-        ledger_path: Path,
+        key: bytes | None,
+        ledger_path: Path | None,
         socket_path: Path,
         task_id: str,
         budget: int | None,
+        actions_per_record: int = 16,
     ) -> None:
         if len(str(socket_path)) > 100:
             raise LedgerError(
                 f"socket path {socket_path} is longer than 100 characters", code="ledger.socket_path"
             )
-        self.ledger_path = Path(ledger_path)
+        self.ledger_path = Path(ledger_path) if ledger_path is not None else None
         self.socket_path = Path(socket_path)
         ctx = mp.get_context("spawn")
         parent, child = ctx.Pipe(duplex=False)
@@ -164,6 +177,7 @@ class LedgerServer:
             socket_path=self.socket_path,
             task_id=task_id,
             budget=budget,
+            actions_per_record=actions_per_record,
         )
         self._process = ctx.Process(
             target=serve,

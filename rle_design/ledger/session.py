@@ -52,6 +52,8 @@ class MeteredSession:
         budget: Charged steps allowed, or None for unlimited.
         key: Ledger HMAC key; None runs unmetered (no ledger; used to measure the overhead).
         ledger_path: New ledger file (required with ``key``).
+        actions_per_record: Consecutive executed actions grouped in one ``steps`` record (group
+            commit; 1 writes one record per action). Resets and the seal close the group.
     """
 
     def __init__(
@@ -62,7 +64,10 @@ class MeteredSession:
         budget: int | None,
         key: bytes | None = None,
         ledger_path: Path | None = None,
+        actions_per_record: int = 16,
     ) -> None:
+        if actions_per_record < 1:
+            raise ValueError(f"actions_per_record must be >= 1, got {actions_per_record}")
         try:
             self.model = mujoco.MjModel.from_xml_string(env.xml)
         except ValueError as exc:
@@ -93,6 +98,9 @@ class MeteredSession:
             }
             self.writer = LedgerWriter(ledger_path, key, task_id, meta)
         self._ctrl = np.empty(self.model.nu)
+        self.actions_per_record = actions_per_record
+        self._group: list[str] = []
+        self._group_end: tuple[int, float] = (0, 0.0)
         mujoco.mj_forward(self.model, self.data)
 
     @property
@@ -112,6 +120,7 @@ class MeteredSession:
 
     def reset(self) -> dict[str, Any]:
         """Reset the simulation (one charged step); returns the observation."""
+        self.commit()
         self._charge()
         if self._key_id >= 0:
             mujoco.mj_resetDataKeyframe(self.model, self.data, self._key_id)
@@ -122,8 +131,13 @@ class MeteredSession:
             self.writer.append("reset", {"steps": self.steps_used, "time": self.data.time})
         return self.observe()
 
-    def step(self, action: Any) -> dict[str, Any]:
+    def step(self, action: Any, *, defer_record: bool = False) -> dict[str, Any]:
         """Apply ``action`` as ``ctrl`` for ``n_substeps`` physics steps (one charged step).
+
+        The action joins the open group of the ledger, written as one ``steps`` record once it holds
+        ``actions_per_record`` actions. With ``defer_record`` even a full group waits for
+        ``commit(force=False)``: the server replies first and records while the agent reads the
+        reply. The step is charged either way.
 
         Raises:
             LedgerError: ``ledger.bad_action`` (wrong shape or non-finite; not charged),
@@ -146,9 +160,17 @@ class MeteredSession:
         self.data.ctrl[:] = self._ctrl
         mujoco.mj_step(self.model, self.data, self.env.n_substeps)
         if self.writer is not None:
-            digest = hashlib.sha256(self._ctrl.tobytes()).hexdigest()
-            self.writer.append("step", {"action": digest, "steps": self.steps_used, "time": self.data.time})
+            self._group.append(self._ctrl.tobytes().hex())
+            self._group_end = (self.steps_used, self.data.time)
+            if not defer_record and len(self._group) >= self.actions_per_record:
+                self.commit()
         return self.observe()
+
+    def commit(self, force: bool = True) -> None:
+        """Write the open group of actions as one ``steps`` record; without ``force``, only once full."""
+        if self._group and (force or len(self._group) >= self.actions_per_record):
+            group, self._group = self._group, []
+            self.writer.append_steps(group, *self._group_end)
 
     def observe(self) -> dict[str, Any]:
         """qpos, qvel, time and the extra observers (free)."""
@@ -180,5 +202,6 @@ class MeteredSession:
         if self.writer is None:
             return ""
         if not self.writer.sealed:
+            self.commit()
             self._head = self.writer.seal(self.steps_used)
         return self._head

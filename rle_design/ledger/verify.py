@@ -157,7 +157,20 @@ def verify_ledger(path: str | Path, key: bytes, task_id: str | None = None) -> L
         if rec["digest"] != _digest(rec["payload"]):
             return _fail("ledger.altered", f"{path.name}: line {i + 1} payload does not match its digest")
         prev = line_hash(raw)
-    steps = sum(r["kind"] in CHARGED for r in recs)
+    steps = 0
+    for i, rec in enumerate(recs):
+        if rec["kind"] in CHARGED:
+            actions = rec["payload"].get("actions") if rec["kind"] == "steps" else None
+            if rec["kind"] == "steps" and not (isinstance(actions, list) and actions):
+                return _fail(
+                    "ledger.malformed", f"{path.name}: line {i + 1} is a steps record without actions"
+                )
+            steps += 1 if actions is None else len(actions)
+            if rec["payload"].get("steps") != steps:
+                return _fail(
+                    "ledger.altered",
+                    f"{path.name}: line {i + 1} counts {rec['payload'].get('steps')} steps, the records before it {steps}",
+                )
     if (
         seal.get("records") != len(recs) - 1
         or seal.get("head") != recs[-1]["prev"]

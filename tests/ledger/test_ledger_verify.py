@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hmac
 import json
 import shutil
 from pathlib import Path
@@ -29,10 +30,16 @@ PENDULUM = """
 
 
 def _session_ledger(
-    path: Path, *, key: bytes = KEY, task: str = TASK, steps: int = 20, seal: bool = True
+    path: Path, *, key: bytes = KEY, task: str = TASK, steps: int = 20, seal: bool = True, group: int = 4
 ) -> None:
+    """open, reset, 20 actions in groups of 4 (5 steps records), seal: 8 lines, 21 charged steps."""
     session = MeteredSession(
-        MeteredEnv(PENDULUM, n_substeps=5), task_id=task, budget=None, key=key, ledger_path=path
+        MeteredEnv(PENDULUM, n_substeps=5),
+        task_id=task,
+        budget=None,
+        key=key,
+        ledger_path=path,
+        actions_per_record=group,
     )
     session.reset()
     for i in range(steps):
@@ -69,11 +76,32 @@ def test_clean_ledger_verifies(ledger):
 
 def test_records_have_the_chained_fields(ledger):
     recs = [json.loads(line) for line in _lines(ledger)]
-    assert [r["kind"] for r in recs[:3]] == ["open", "reset", "step"] and recs[-1]["kind"] == "seal"
+    assert [r["kind"] for r in recs] == ["open", "reset"] + ["steps"] * 5 + ["seal"]
     assert list(recs[0]) == ["seq", "kind", "task_id", "prev", "digest", "payload", "mac"]
     assert recs[0]["prev"] == "0" * 64
     assert recs[-1]["payload"]["steps"] == 21 and recs[-1]["payload"]["records"] == len(recs) - 1
+    assert [r["payload"]["steps"] for r in recs[1:-1]] == [1, 5, 9, 13, 17, 21]
+    first = np.frombuffer(bytes.fromhex(recs[2]["payload"]["actions"][1]), dtype=np.float64)
+    np.testing.assert_array_equal(first, [0.1 * np.sin(1)])  # the executed action, exactly
     assert KEY.hex() not in ledger.read_text() and KEY.decode() not in ledger.read_text()
+
+
+def test_one_record_per_action_when_not_grouped(tmp_path):
+    path = tmp_path / "single.jsonl"
+    _session_ledger(path, group=1, steps=7)
+    kinds = [json.loads(line)["kind"] for line in _lines(path)]
+    assert kinds == ["open", "reset"] + ["steps"] * 7 + ["seal"]
+    assert verify_ledger(path, KEY, TASK).steps == 8
+
+
+def test_inconsistent_counts_are_caught_even_with_the_key(tmp_path):
+    writer = LedgerWriter(tmp_path / "forged.jsonl", KEY, TASK)
+    writer.append("reset", {"steps": 1, "time": 0.0})
+    writer.append_steps(["00" * 8], 99, 0.01)  # claims 99 steps after 2
+    writer.seal(99)
+    verdict = verify_ledger(tmp_path / "forged.jsonl", KEY, TASK)
+    assert verdict.code == "ledger.altered"
+    assert verdict.message == "forged.jsonl: line 3 counts 99 steps, the records before it 2"
 
 
 def test_missing_file(tmp_path):
@@ -101,11 +129,11 @@ def test_truncation_keeping_the_seal(ledger):
     _write(ledger, lines[:5] + lines[-1:])  # records 5.. removed, seal kept
     verdict = verify_ledger(ledger, KEY, TASK)
     assert verdict.code == "ledger.truncated"
-    assert verdict.message == "ledger.jsonl: records missing before line 6 (seq 22, expected 5)"
+    assert verdict.message == "ledger.jsonl: records missing before line 6 (seq 7, expected 5)"
 
 
 def test_truncation_dropping_the_seal(ledger):
-    _write(ledger, _lines(ledger)[:-3])
+    _write(ledger, _lines(ledger)[:-2])
     assert verify_ledger(ledger, KEY, TASK).code == "ledger.unsealed"
 
 
@@ -120,7 +148,8 @@ def test_reordering(ledger):
 
 def test_altered_field(ledger):
     lines = _lines(ledger)
-    lines[3] = lines[3].replace(b'"steps":3', b'"steps":2')
+    assert b'"steps":9' in lines[3]
+    lines[3] = lines[3].replace(b'"steps":9', b'"steps":8')
     _write(ledger, lines)
     verdict = verify_ledger(ledger, KEY, TASK)
     assert verdict.code == "ledger.altered"
@@ -193,7 +222,7 @@ def test_a_record_written_after_the_seal_with_the_key_is_still_rejected(ledger):
     body = json.dumps(
         {
             "seq": rec["seq"] + 1,
-            "kind": "step",
+            "kind": "steps",
             "task_id": TASK,
             "prev": "0" * 64,
             "digest": "0" * 64,
@@ -201,8 +230,6 @@ def test_a_record_written_after_the_seal_with_the_key_is_still_rejected(ledger):
         },
         separators=(",", ":"),
     ).encode()[:-1]
-    import hmac
-
     mac = hmac.digest(KEY, mac_input(body + b',"mac":"' + b"0" * 64 + b'"}'), "sha256").hex()
     _write(ledger, lines + [body + b',"mac":"' + mac.encode() + b'"}'])
     assert verify_ledger(ledger, KEY, TASK).code == "ledger.after_seal"
