@@ -283,3 +283,20 @@ def test_segfault_is_a_crash(hostile):
     fault = _fault(hostile, "segfault")
     assert fault.code == "sandbox.crash"
     assert fault.message == "submission.segfault(): the child was killed by signal SIGSEGV"
+
+
+def test_import_that_hangs_times_out(tmp_path):
+    path = tmp_path / "slow.py"
+    path.write_text("import time\ntime.sleep(60)\n")
+    limits = SandboxLimits(startup_timeout_s=1.0)
+    t0 = time.monotonic()
+    with pytest.raises(ParticipantFault) as info, Sandbox(path, limits=limits):
+        pass
+    assert time.monotonic() - t0 < 4.0
+    assert info.value.code == "sandbox.timeout"
+    assert info.value.message == "submission (import of slow.py): no reply within 1 s; the child was killed"
+
+
+def test_has_reports_module_level_callables(hostile):
+    with Sandbox(hostile, limits=FAST) as box:
+        assert box.has("ok") and not box.has("absent") and not box.has("np.ones")

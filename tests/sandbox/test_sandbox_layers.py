@@ -1,0 +1,87 @@
+"""Each isolation layer on its own: the kernel layers stop a ctypes bypass of the audit hook (root),
+and the audit hook works without the kernel layers (as when not running as root)."""
+
+from __future__ import annotations
+
+import errno
+import os
+from pathlib import Path
+
+import pytest
+
+from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
+from rle_design.sandbox import process as sandbox_process
+
+FAST = SandboxLimits(call_timeout_s=3.0, startup_timeout_s=10.0)
+
+BYPASS = """
+import ctypes, os
+
+libc = ctypes.CDLL(None, use_errno=True)
+
+def _result(ret):
+    return [int(ret), ctypes.get_errno()]
+
+def raw_fork():
+    pid = libc.fork()
+    if pid == 0:
+        libc._exit(0)
+    return _result(pid)
+
+def raw_connect():
+    fd = libc.socket(2, 1, 0)  # AF_INET, SOCK_STREAM
+    addr = (2).to_bytes(2, "little") + (80).to_bytes(2, "big") + bytes([1, 1, 1, 1]) + bytes(8)
+    return _result(libc.connect(fd, addr, 16))
+
+def raw_write(path):
+    return _result(libc.open(path.encode(), os.O_WRONLY | os.O_CREAT, 0o644))
+
+def raw_read(path):
+    return _result(libc.open(path.encode(), os.O_RDONLY))
+
+def raw_kill_parent():
+    return _result(libc.kill(os.getppid(), 0))
+
+def py_socket():
+    import socket
+    socket.socket()
+
+def py_fork():
+    os.fork()
+"""
+
+
+@pytest.fixture(scope="module")
+def bypass(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("bypass") / "bypass.py"
+    path.write_text(BYPASS)
+    return path
+
+
+root_only = pytest.mark.skipif(os.geteuid() != 0, reason="the kernel layers need a root parent")
+
+
+@root_only
+def test_kernel_layers_stop_a_ctypes_bypass(bypass, tmp_path):
+    target = tmp_path / "pwned.txt"
+    with Sandbox(bypass, limits=FAST) as box:
+        assert box.call("raw_fork") == [-1, errno.EAGAIN]  # RLIMIT_NPROC = 0 for nobody
+        assert box.call("raw_connect") == [-1, errno.ENETUNREACH]  # empty network namespace
+        assert box.call("raw_write", str(target)) == [-1, errno.EACCES]  # uid nobody
+        assert box.call("raw_read", "/etc/shadow")[1] in (errno.EACCES, errno.ENOENT)
+        assert box.call("raw_kill_parent") == [-1, errno.EPERM]  # other uid
+    assert not target.exists()
+
+
+def test_audit_hook_alone_blocks_python_level_escapes(bypass, monkeypatch):
+    monkeypatch.setattr(sandbox_process, "drop_ids", lambda: None)  # as if not root: no kernel layers
+    with Sandbox(bypass, limits=FAST) as box:
+        assert box.layers["uid_drop"] is False and box.layers["netns"] is False
+        for fn, what in (
+            ("py_socket", "network access (socket.__new__)"),
+            ("py_fork", "creating processes (fork)"),
+        ):
+            with pytest.raises(ParticipantFault) as info:
+                box.call(fn)
+            assert info.value.code == "sandbox.forbidden"
+            assert f"rle-sandbox: {what} is not allowed in the sandbox" in info.value.message
