@@ -11,7 +11,7 @@ import pytest
 from rle_design.errors import RleError
 from rle_design.ledger import MeteredEnv, verify_ledger
 from rle_tasks.core.devenv import layout_workspace, ledger_key
-from rle_tasks.core.secrets import Secret, derive_seed
+from rle_tasks.core.secrets import PUBLIC_KEY, Secret, derive_seed
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 SECRET = Secret(b"private-verifier-secret-for-devenv-tests", public=False)
@@ -94,7 +94,7 @@ def test_metered_workspace_serves_a_verifiable_session_without_hidden_data(tmp_p
         ws.close()
     verdict = verify_ledger(ws.ledger_path, ledger_key(SECRET, TASK), task_id=TASK)
     assert verdict.valid and verdict.steps == 10
-    public = ledger_key(Secret(b"rle-bench public development key v1", public=True), TASK)
+    public = ledger_key(Secret(PUBLIC_KEY, public=True), TASK)
     assert verify_ledger(ws.ledger_path, public, TASK).code == "ledger.forged_key"
 
     hidden = [SECRET.key, ledger_key(SECRET, TASK), ledger_key(SECRET, TASK).hex().encode()]
@@ -125,3 +125,35 @@ def test_ledger_keys_differ_per_task_and_secret():
     assert ledger_key(SECRET, "09-gello") != ledger_key(SECRET, "08-mobile-base")
     assert ledger_key(SECRET, TASK) != ledger_key(Secret(b"other-secret", public=False), TASK)
     assert len(ledger_key(SECRET, TASK)) == 32
+
+
+def test_cli_dev_serves_in_the_foreground_until_the_agent_seals(tmp_path, monkeypatch, capsys):
+    import threading
+    import time
+
+    import rle_tasks.core.registry as registry
+    from rle_tasks.cli import main
+
+    monkeypatch.setattr(registry, "get_task", lambda task_id: _spec())
+    workspace = tmp_path / "ws"
+    steps: list[int] = []
+
+    def agent() -> None:
+        deadline = time.monotonic() + 60
+        while not (workspace / ".rle" / "ledger.sock").exists() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        with _client_module(workspace).connect() as env:
+            env.reset()
+            env.step([0.0])
+            steps.append(env.info()["steps_used"])
+            env.seal()
+
+    thread = threading.Thread(target=agent)
+    thread.start()
+    assert main(["dev", TASK, "--workspace", str(workspace)]) == 0  # returns once sealed
+    thread.join(10)
+    assert steps == [2]
+    out = capsys.readouterr().out
+    assert f"metered environment listening on {workspace / '.rle' / 'ledger.sock'}" in out
+    public = Secret(PUBLIC_KEY, public=True)  # no secret given: public key
+    assert verify_ledger(tmp_path / "ws.ledger" / "session-001.jsonl", ledger_key(public, TASK), TASK).valid
