@@ -1,0 +1,99 @@
+"""Structure and validity checks of a submitted leader against the stock assembly; hidden copies."""
+
+import shutil
+
+import mujoco
+import numpy as np
+import pytest
+
+from rle_tasks.f09_gello.device import (
+    ASSET_DIR,
+    DeviceVariation,
+    apply_variation,
+    battery_model,
+    load_submission,
+    stock_model,
+)
+
+
+def _variant(tmp_path, old: str, new: str, robot: str = "ur5e"):
+    d = tmp_path / robot
+    shutil.copytree(ASSET_DIR / robot, d)
+    text = (d / "lead.xml").read_text()
+    assert old in text
+    (d / "lead.xml").write_text(text.replace(old, new, 1))
+    return load_submission(robot, d)
+
+
+def _codes(sub) -> list[str]:
+    return [f.code for f in sub.structure + sub.validity]
+
+
+def test_stock_leader_is_clean():
+    for robot in ("panda", "ur5e", "xarm7"):
+        sub = load_submission(robot, ASSET_DIR / robot)
+        assert sub.usable and not sub.validity
+        assert sub.mass < 0.6
+
+
+@pytest.mark.parametrize(
+    "old, new, code",
+    [
+        ('<body name="link3" pos="-0.23375', '<body name="link3" pos="-0.2', "contract.joint_frame"),
+        ('range="-2.8 2.8"', 'range="-2.8 2.0"', "contract.joint_frame"),
+        ('frictionloss="0.0128"', 'frictionloss="0.05"', "contract.stock_servo"),
+        ('<body name="link2"', '<body name="link2" gravcomp="1"', "contract.gravcomp"),
+        ("<worldbody>", '<option gravity="0 0 -1"/><worldbody>', "contract.option_changed"),
+        ("</worldbody>", '</worldbody><actuator><motor joint="j2"/></actuator>', "contract.actuator"),
+        ("</worldbody>", '</worldbody><equality><weld body1="link2"/></equality>', "contract.world_weld"),
+        ('<geom name="link2_shell" class="printed" mesh="link2"/>', "", "contract.stock_geometry"),
+        (
+            '<site name="handle_site"',
+            '<body name="x"><joint name="extra" axis="1 0 0"/><geom size="0.01"/></body><site name="handle_site"',
+            "contract.extra_joint",
+        ),
+        ('<mesh name="base" file="base.stl"/>', '<mesh name="base" file="../../base.stl"/>', "artifact.path_escape"),
+    ],
+)
+def test_structure_violations_are_named(tmp_path, old, new, code):
+    sub = _variant(tmp_path, old, new)
+    assert code in [f.code for f in sub.structure], _codes(sub)
+    assert not sub.usable
+
+
+def test_inertial_change_of_a_stock_link_is_refused(tmp_path):
+    sub = _variant(tmp_path, 'mass="0.086338"', 'mass="0.050000"')
+    assert [f.code for f in sub.structure] == ["contract.stock_inertia"]
+    assert "stock body 'link2' inertial changed" in sub.structure[0].message
+
+
+def test_point_mass_and_over_mass_are_validity_findings(tmp_path):
+    block = '<body name="lead" pos="0 0 0.05"><inertial pos="0 0 0" mass="2.5" diaginertia="1e-4 1e-4 1e-4"/></body>'
+    sub = _variant(tmp_path, '<site name="mount_site"', block + '<site name="mount_site"')
+    assert sub.usable
+    assert sorted(f.code for f in sub.validity) == ["contract.over_mass", "contract.point_mass"]
+    assert sub.validity[0].message.startswith("device mass 2.947 kg exceeds 2.30 kg")
+
+
+def test_hidden_copy_scales_link_masses_and_adds_the_payload():
+    m = stock_model("panda")
+    var = DeviceVariation(link_scale=(1.1, 0.9, 1.0, 1.15, 0.85, 1.0, 1.05), payload=0.03)
+    h = apply_variation(m, var)
+    expected = m.body_mass[1] + sum(f * m.body_mass[k + 2] for k, f in enumerate(var.link_scale)) + 0.03
+    assert h.body_mass.sum() == pytest.approx(expected, rel=1e-12)
+    # the payload sits at the handle site: static torque check against a model with an explicit mass
+    d = mujoco.MjData(h)
+    mujoco.mj_forward(h, d)
+    sid = mujoco.mj_name2id(h, mujoco.mjtObj.mjOBJ_SITE, "handle_site")
+    b = h.site_bodyid[sid]
+    c_expected = (m.body_mass[b] * 1.05 * m.body_ipos[b] + 0.03 * m.site_pos[sid]) / (m.body_mass[b] * 1.05 + 0.03)
+    assert np.allclose(h.body_ipos[b], c_expected, atol=1e-12)
+    assert m.body_mass.sum() != h.body_mass.sum()  # the stock model is untouched
+    assert stock_model("panda").body_mass[b] == m.body_mass[b]
+
+
+def test_battery_model_sets_noslip_and_disables_contacts():
+    b = battery_model(stock_model("ur5e"))
+    assert b.opt.noslip_iterations == 10 and b.opt.timestep == 0.002
+    assert b.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CONTACT
+    assert stock_model("ur5e").opt.noslip_iterations == 0
