@@ -120,7 +120,9 @@ class GravityMap:
         axw: list = [None] * n
         for i in range(n):
             a0, a1, a2 = self._a0[i], self._a1[i], self._a2[i]
-            local = [[a0[r, col] + a1[r, col] * s[i] + a2[r, col] * c[i] for col in range(3)] for r in range(3)]
+            local = [
+                [a0[r, col] + a1[r, col] * s[i] + a2[r, col] * c[i] for col in range(3)] for r in range(3)
+            ]
             p = self.parents[i]
             t, ax = self._t[i], self._axis[i]
             if p < 0:
@@ -129,15 +131,22 @@ class GravityMap:
                 axw[i] = [np.full(qt.shape[1], ax[r]) for r in range(3)]
                 continue
             rp = rot[p]
-            rot[i] = [[rp[r][0] * local[0][col] + rp[r][1] * local[1][col] + rp[r][2] * local[2][col]
-                       for col in range(3)] for r in range(3)]
+            rot[i] = [
+                [
+                    rp[r][0] * local[0][col] + rp[r][1] * local[1][col] + rp[r][2] * local[2][col]
+                    for col in range(3)
+                ]
+                for r in range(3)
+            ]
             pos[i] = [pos[p][r] + rp[r][0] * t[0] + rp[r][1] * t[1] + rp[r][2] * t[2] for r in range(3)]
             axw[i] = [rp[r][0] * ax[0] + rp[r][1] * ax[1] + rp[r][2] * ax[2] for r in range(3)]
         moment: list = [None] * n
         msub = np.zeros(n)
         for i in reversed(range(n)):
             m, lv, ri = self.mass[i], self.lever[i], rot[i]
-            moment[i] = [m * (pos[i][r] + ri[r][0] * lv[0] + ri[r][1] * lv[1] + ri[r][2] * lv[2]) for r in range(3)]
+            moment[i] = [
+                m * (pos[i][r] + ri[r][0] * lv[0] + ri[r][1] * lv[1] + ri[r][2] * lv[2]) for r in range(3)
+            ]
             msub[i] = m
             for ch in self.children[i]:
                 moment[i] = [moment[i][r] + moment[ch][r] for r in range(3)]

@@ -59,7 +59,11 @@ def precheck_mjcf(xml: str | bytes | etree._Element) -> list[DroppedConstruct]:
     Returns:
         One entry per dropped construct, in document order.
     """
-    root = xml if isinstance(xml, etree._Element) else etree.fromstring(xml.encode() if isinstance(xml, str) else xml)
+    root = (
+        xml
+        if isinstance(xml, etree._Element)
+        else etree.fromstring(xml.encode() if isinstance(xml, str) else xml)
+    )
     out: list[DroppedConstruct] = []
 
     def add(code: str, el, msg: str) -> None:
@@ -138,10 +142,14 @@ def skeleton_xml(m: mujoco.MjModel) -> str:
         return mujoco.mj_id2name(m, kind, i) or f"{prefix}{i}"
 
     def emit(b: int) -> None:
-        lines.append(f'<body name="{name(mujoco.mjtObj.mjOBJ_BODY, b, "body")}" pos="{_fmt(m.body_pos[b])}" '
-                     f'quat="{_fmt(m.body_quat[b])}">')
-        lines.append(f'<inertial pos="{_fmt(m.body_ipos[b])}" quat="{_fmt(m.body_iquat[b])}" '
-                     f'mass="{m.body_mass[b]:.17g}" diaginertia="{_fmt(m.body_inertia[b])}"/>')
+        lines.append(
+            f'<body name="{name(mujoco.mjtObj.mjOBJ_BODY, b, "body")}" pos="{_fmt(m.body_pos[b])}" '
+            f'quat="{_fmt(m.body_quat[b])}">'
+        )
+        lines.append(
+            f'<inertial pos="{_fmt(m.body_ipos[b])}" quat="{_fmt(m.body_iquat[b])}" '
+            f'mass="{m.body_mass[b]:.17g}" diaginertia="{_fmt(m.body_inertia[b])}"/>'
+        )
         for j in range(m.body_jntadr[b], m.body_jntadr[b] + m.body_jntnum[b]):
             jt = int(m.jnt_type[j])
             if jt not in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
@@ -152,12 +160,16 @@ def skeleton_xml(m: mujoco.MjModel) -> str:
                     element="joint",
                 )
             kind = "hinge" if jt == mujoco.mjtJoint.mjJNT_HINGE else "slide"
-            lines.append(f'<joint name="{name(mujoco.mjtObj.mjOBJ_JOINT, j, "joint")}" type="{kind}" '
-                         f'pos="{_fmt(m.jnt_pos[j])}" axis="{_fmt(m.jnt_axis[j])}"/>')
+            lines.append(
+                f'<joint name="{name(mujoco.mjtObj.mjOBJ_JOINT, j, "joint")}" type="{kind}" '
+                f'pos="{_fmt(m.jnt_pos[j])}" axis="{_fmt(m.jnt_axis[j])}"/>'
+            )
         for s in range(m.nsite):
             if m.site_bodyid[s] == b:
-                lines.append(f'<site name="{name(mujoco.mjtObj.mjOBJ_SITE, s, "site")}" pos="{_fmt(m.site_pos[s])}" '
-                             f'quat="{_fmt(m.site_quat[s])}"/>')
+                lines.append(
+                    f'<site name="{name(mujoco.mjtObj.mjOBJ_SITE, s, "site")}" pos="{_fmt(m.site_pos[s])}" '
+                    f'quat="{_fmt(m.site_quat[s])}"/>'
+                )
         for c in children.get(b, []):
             emit(c)
         lines.append("</body>")
@@ -184,7 +196,11 @@ def model_from_mujoco(m: mujoco.MjModel, *, check_tol: float = 1e-9) -> Kinemati
     """
     # Pinocchio keeps only the first root body and ignores its placement: wrap every root in one
     # massless carrier body at the world origin.
-    xml = skeleton_xml(m).replace("<worldbody>", '<worldbody><body name="__root__"><inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/>', 1)
+    xml = skeleton_xml(m).replace(
+        "<worldbody>",
+        '<worldbody><body name="__root__"><inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/>',
+        1,
+    )
     xml = xml.replace("</worldbody>", "</body></worldbody>", 1)
     with tempfile.TemporaryDirectory(prefix="rle_pin_") as tmp:
         path = os.path.join(tmp, "skeleton.xml")
@@ -248,8 +264,13 @@ def model_from_mjcf(path: str | os.PathLike, *, allow: frozenset[str] = _SPRINGS
     dropped = precheck_mjcf(text)
     for dc in dropped:
         if dc.code not in allow:
-            raise MjcfError(f"{dc.message} (name '{dc.name}')", code=dc.code, element=dc.element, line=dc.line,
-                            path=str(path))
+            raise MjcfError(
+                f"{dc.message} (name '{dc.name}')",
+                code=dc.code,
+                element=dc.element,
+                line=dc.line,
+                path=str(path),
+            )
     model = _build(str(path))
     names = [model.names[j] for j in range(1, model.njoints)]
     return KinematicModel(model, model.createData(), names, [], dropped)

@@ -87,7 +87,9 @@ class BaseParameters:
         return np.asarray(y)[:, self.independent]
 
 
-def base_parameters(km: KinematicModel, n_poses: int = 64, seed: int = 0, tol: float = 1e-8) -> BaseParameters:
+def base_parameters(
+    km: KinematicModel, n_poses: int = 64, seed: int = 0, tol: float = 1e-8
+) -> BaseParameters:
     """Base parameters by QR with column pivoting of a stacked regressor at random poses.
 
     Args:
@@ -106,7 +108,11 @@ def base_parameters(km: KinematicModel, n_poses: int = 64, seed: int = 0, tol: f
     rank = int(np.sum(diag > tol * diag[0]))
     indep = live[piv[:rank]]
     dep_local = piv[rank:]
-    k = scipy.linalg.solve_triangular(r[:rank, :rank], r[:rank, rank:]) if dep_local.size else np.zeros((rank, 0))
+    k = (
+        scipy.linalg.solve_triangular(r[:rank, :rank], r[:rank, rank:])
+        if dep_local.size
+        else np.zeros((rank, 0))
+    )
     order = np.argsort(indep)
     return BaseParameters(indep[order], live[dep_local], k[order], zero)
 

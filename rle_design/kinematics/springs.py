@@ -81,7 +81,9 @@ def springs_from_mujoco(m: mujoco.MjModel, km: KinematicModel) -> list[JointSpri
     qindex = {j: k for k, j in enumerate(km.mj_joint_ids)}
     for j in range(m.njnt):
         if m.jnt_stiffness[j] != 0.0:
-            springs.append(JointSpring(qindex[j], float(m.jnt_stiffness[j]), float(m.qpos_spring[m.jnt_qposadr[j]])))
+            springs.append(
+                JointSpring(qindex[j], float(m.jnt_stiffness[j]), float(m.qpos_spring[m.jnt_qposadr[j]]))
+            )
     if m.ntendon == 0:
         return springs
     d = mujoco.MjData(m)
@@ -212,13 +214,22 @@ def zero_length_spring_torque(
 
 
 def zero_length_spring_residual(
-    mass: float, lever: float, k: float, a: float, b: float, theta: np.ndarray, free_length: float = 0.0, g: float = 9.81
+    mass: float,
+    lever: float,
+    k: float,
+    a: float,
+    b: float,
+    theta: np.ndarray,
+    free_length: float = 0.0,
+    g: float = 9.81,
 ) -> np.ndarray:
     """Gravity torque minus spring torque of a balanced link [N m]: m g l sin(theta) - tau_spring.
 
     With k a b = m g l the residual is k a b sin(theta) L0 / L: exactly zero for a zero-length spring.
     """
-    return mass * g * lever * np.sin(np.asarray(theta, float)) - zero_length_spring_torque(k, a, b, theta, free_length)
+    return mass * g * lever * np.sin(np.asarray(theta, float)) - zero_length_spring_torque(
+        k, a, b, theta, free_length
+    )
 
 
 def torsion_spring_residual(mgl: float, k: float, theta: np.ndarray, theta0: float) -> np.ndarray:

@@ -103,9 +103,7 @@ def build_assembly(robot: str) -> Assembly:
         '    <default class="servo">',
         f'      <joint frictionloss="{sv.coulomb_friction:.6g}" damping="{sv.viscous_friction:.6g}" '
         f'armature="{sv.reflected_inertia:.6g}"/>',
-        '      <geom type="box" size="{}" rgba="0.15 0.15 0.15 1"/>'.format(
-            _fmt(np.array(sv.size)[[0, 2, 1]] / 2)
-        ),
+        f'      <geom type="box" size="{_fmt(np.array(sv.size)[[0, 2, 1]] / 2)}" rgba="0.15 0.15 0.15 1"/>',
         "    </default>",
         '    <default class="printed">',
         '      <geom type="mesh" rgba="0.95 0.55 0.1 1"/>',
@@ -134,14 +132,18 @@ def build_assembly(robot: str) -> Assembly:
         )
         depth += 1
         body_lines.append(f"{ind * depth}{_inertial(mass, com, inertia)}")
-        body_lines.append(f'{ind * depth}<joint name="j{k + 1}" class="servo" axis="0 0 1" range="{lo:.6g} {hi:.6g}"/>')
+        body_lines.append(
+            f'{ind * depth}<joint name="j{k + 1}" class="servo" axis="0 0 1" range="{lo:.6g} {hi:.6g}"/>'
+        )
         body_lines.append(f'{ind * depth}<geom name="servo{k + 1}" class="servo"/>')
         if mesh is not None:
             meshes[f"{name}.stl"] = mesh
             lines.append(f'    <mesh name="{name}" file="{name}.stl"/>')
             body_lines.append(f'{ind * depth}<geom name="{name}_shell" class="printed" mesh="{name}"/>')
         if k == ld.dof - 1:
-            body_lines.append(f'{ind * depth}<site name="{HANDLE_SITE}" pos="{_fmt(handle_point(ld))}" size="0.006"/>')
+            body_lines.append(
+                f'{ind * depth}<site name="{HANDLE_SITE}" pos="{_fmt(handle_point(ld))}" size="0.006"/>'
+            )
     for _ in range(ld.dof + 1):
         depth -= 1
         body_lines.append(f"{ind * depth}</body>")

@@ -29,7 +29,9 @@ HELD_FRICTION = 100.0
 CREEP_WINDOW_S = 0.5
 
 
-def residual_map(km: KinematicModel, springs: list, poses: np.ndarray, gmap: GravityMap | None = None) -> np.ndarray:
+def residual_map(
+    km: KinematicModel, springs: list, poses: np.ndarray, gmap: GravityMap | None = None
+) -> np.ndarray:
     """Analytic residual r(q) = g(q) - tau_spring(q) over poses (N, n) [N m]."""
     g = (gmap or GravityMap(km))(poses)
     if springs:
@@ -69,7 +71,9 @@ def hold_drift(m: mujoco.MjModel, q0: np.ndarray, tau_ff: np.ndarray, hold_s: fl
     return worst
 
 
-def _moves(m: mujoco.MjModel, d: mujoco.MjData, q0: np.ndarray, tau: np.ndarray, joint: int, sign: float) -> bool:
+def _moves(
+    m: mujoco.MjModel, d: mujoco.MjData, q0: np.ndarray, tau: np.ndarray, joint: int, sign: float
+) -> bool:
     """Whether ``joint`` moves by more than ``MOVE_RAD`` in direction ``sign`` within ``PROBE_S``."""
     _reset(m, d, q0, tau)
     for _ in range(int(round(PROBE_S / m.opt.timestep))):
@@ -150,7 +154,9 @@ def push_recovery(
     for k in range(steps):
         qfrc[:] = 0.0
         if k < pulse:
-            mujoco.mj_applyFT(m, d, np.asarray(force, float), np.zeros(3), d.site_xpos[sid].copy(), body, qfrc)
+            mujoco.mj_applyFT(
+                m, d, np.asarray(force, float), np.zeros(3), d.site_xpos[sid].copy(), body, qfrc
+            )
         d.qfrc_applied[:] = tau_ff + qfrc
         mujoco.mj_step(m, d)
         if k == steps - window - 1:

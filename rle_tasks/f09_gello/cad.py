@@ -36,7 +36,9 @@ class ShellPart:
 
 def _to_trimesh(solid: manifold3d.Manifold) -> trimesh.Trimesh:
     m = solid.to_mesh()
-    return trimesh.Trimesh(vertices=np.asarray(m.vert_properties)[:, :3], faces=np.asarray(m.tri_verts), process=True)
+    return trimesh.Trimesh(
+        vertices=np.asarray(m.vert_properties)[:, :3], faces=np.asarray(m.tri_verts), process=True
+    )
 
 
 def _align_z(direction: np.ndarray) -> np.ndarray:

@@ -109,7 +109,11 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
         bad("contract.equality", f"{m.neq} equality constraint(s): none are allowed in a leader", "equality")
     if m.njnt != s.njnt:
         extra = [mujoco.mj_id2name(m, OBJ.mjOBJ_JOINT, j) for j in range(m.njnt)]
-        bad("contract.extra_joint", f"leader has {m.njnt} joints {extra}; the stock leader has {s.njnt}", "joint")
+        bad(
+            "contract.extra_joint",
+            f"leader has {m.njnt} joints {extra}; the stock leader has {s.njnt}",
+            "joint",
+        )
         return out
     for b in range(1, s.nbody):
         name = mujoco.mj_id2name(s, OBJ.mjOBJ_BODY, b)
@@ -118,26 +122,51 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
             continue  # reported by the required-names check
         parent = mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, int(m.body_parentid[mb])) or "world"
         sparent = mujoco.mj_id2name(s, OBJ.mjOBJ_BODY, int(s.body_parentid[b])) or "world"
-        if parent != sparent or not (_close(m.body_pos[mb], s.body_pos[b]) and _close(m.body_quat[mb], s.body_quat[b])):
-            bad("contract.joint_frame", f"stock body '{name}' moved (parent '{parent}', pos {m.body_pos[mb]}, "
+        if parent != sparent or not (
+            _close(m.body_pos[mb], s.body_pos[b]) and _close(m.body_quat[mb], s.body_quat[b])
+        ):
+            bad(
+                "contract.joint_frame",
+                f"stock body '{name}' moved (parent '{parent}', pos {m.body_pos[mb]}, "
                 f"quat {m.body_quat[mb]}); expected parent '{sparent}', pos {s.body_pos[b]}, quat {s.body_quat[b]}",
-                "body")
-        if not (_close(m.body_mass[mb], s.body_mass[b]) and _close(m.body_ipos[mb], s.body_ipos[b])
-                and _close(m.body_inertia[mb], s.body_inertia[b])):
-            bad("contract.stock_inertia", f"stock body '{name}' inertial changed (mass {m.body_mass[mb]:.6g} kg, "
-                f"stock {s.body_mass[b]:.6g} kg); add mass as new welded child bodies", "body")
+                "body",
+            )
+        if not (
+            _close(m.body_mass[mb], s.body_mass[b])
+            and _close(m.body_ipos[mb], s.body_ipos[b])
+            and _close(m.body_inertia[mb], s.body_inertia[b])
+        ):
+            bad(
+                "contract.stock_inertia",
+                f"stock body '{name}' inertial changed (mass {m.body_mass[mb]:.6g} kg, "
+                f"stock {s.body_mass[b]:.6g} kg); add mass as new welded child bodies",
+                "body",
+            )
     for j in range(s.njnt):
         name = mujoco.mj_id2name(s, OBJ.mjOBJ_JOINT, j)
         mj = mujoco.mj_name2id(m, OBJ.mjOBJ_JOINT, name)
         if mj < 0:
             continue
-        if not (_close(m.jnt_pos[mj], s.jnt_pos[j]) and _close(m.jnt_axis[mj], s.jnt_axis[j])
-                and _close(m.jnt_range[mj], s.jnt_range[j]) and m.jnt_type[mj] == s.jnt_type[j]):
-            bad("contract.joint_frame", f"stock joint '{name}' changed position, axis, type or range", "joint")
-        if not (_close(m.dof_frictionloss[mj], s.dof_frictionloss[j]) and _close(m.dof_damping[mj], s.dof_damping[j])
-                and _close(m.dof_armature[mj], s.dof_armature[j])):
-            bad("contract.stock_servo", f"stock joint '{name}' servo friction/damping/armature changed "
-                f"(frictionloss {m.dof_frictionloss[mj]:.6g}, stock {s.dof_frictionloss[j]:.6g} N m)", "joint")
+        if not (
+            _close(m.jnt_pos[mj], s.jnt_pos[j])
+            and _close(m.jnt_axis[mj], s.jnt_axis[j])
+            and _close(m.jnt_range[mj], s.jnt_range[j])
+            and m.jnt_type[mj] == s.jnt_type[j]
+        ):
+            bad(
+                "contract.joint_frame", f"stock joint '{name}' changed position, axis, type or range", "joint"
+            )
+        if not (
+            _close(m.dof_frictionloss[mj], s.dof_frictionloss[j])
+            and _close(m.dof_damping[mj], s.dof_damping[j])
+            and _close(m.dof_armature[mj], s.dof_armature[j])
+        ):
+            bad(
+                "contract.stock_servo",
+                f"stock joint '{name}' servo friction/damping/armature changed "
+                f"(frictionloss {m.dof_frictionloss[mj]:.6g}, stock {s.dof_frictionloss[j]:.6g} N m)",
+                "joint",
+            )
     for g in range(s.ngeom):
         name = mujoco.mj_id2name(s, OBJ.mjOBJ_GEOM, g)
         mg = mujoco.mj_name2id(m, OBJ.mjOBJ_GEOM, name)
@@ -151,8 +180,12 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
             and _close(m.geom_rbound[mg], s.geom_rbound[g])
         )
         if not same:
-            bad("contract.stock_geometry", f"stock geom '{name}' removed or changed (link geometry, servo bodies "
-                "and the base mount must be preserved)", "geom")
+            bad(
+                "contract.stock_geometry",
+                f"stock geom '{name}' removed or changed (link geometry, servo bodies "
+                "and the base mount must be preserved)",
+                "geom",
+            )
     return out
 
 
@@ -187,23 +220,39 @@ def _validity(robot: str, m: mujoco.MjModel, added: list[int], path: str) -> tup
     out: list[Finding] = []
     mass = float(m.body_mass[1:].sum())
     if mass > MAX_MASS_KG:
-        out.append(Finding("contract.over_mass", f"device mass {mass:.3f} kg exceeds {MAX_MASS_KG:.2f} kg", path=path))
+        out.append(
+            Finding(
+                "contract.over_mass", f"device mass {mass:.3f} kg exceeds {MAX_MASS_KG:.2f} kg", path=path
+            )
+        )
     for b in added:
         name = mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) or f"body{b}"
         geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] == b]
         vol = sum(_geom_volume(m, g) for g in geoms)
         if m.body_mass[b] > STEEL_DENSITY * vol * 1.01 + 1e-6:
-            out.append(Finding("contract.point_mass", f"added body '{name}' has {m.body_mass[b]:.4g} kg in "
-                               f"{vol * 1e6:.3g} cm^3 of geometry: denser than steel ({STEEL_DENSITY:.0f} kg/m^3)",
-                               element="body", path=path))
+            out.append(
+                Finding(
+                    "contract.point_mass",
+                    f"added body '{name}' has {m.body_mass[b]:.4g} kg in "
+                    f"{vol * 1e6:.3g} cm^3 of geometry: denser than steel ({STEEL_DENSITY:.0f} kg/m^3)",
+                    element="body",
+                    path=path,
+                )
+            )
         for g in geoms:
             if m.geom_type[g] != mujoco.mjtGeom.mjGEOM_MESH:
                 continue
             rep = printability_report(mesh_of(m, int(m.geom_dataid[g])), material="pla", n_samples=400)
             if not rep.passed:
                 gname = mujoco.mj_id2name(m, OBJ.mjOBJ_GEOM, g) or f"geom{g}"
-                out.append(Finding("contract.printability", f"added part '{gname}' is not printable: "
-                                   + "; ".join(rep.reasons), element="geom", path=path))
+                out.append(
+                    Finding(
+                        "contract.printability",
+                        f"added part '{gname}' is not printable: " + "; ".join(rep.reasons),
+                        element="geom",
+                        path=path,
+                    )
+                )
     return out, mass
 
 
@@ -219,13 +268,16 @@ def load_submission(robot: str, directory: Path) -> Submission:
         ]
         m = sub.design.compile()
     except MjcfError as exc:
-        sub.structure.append(Finding(exc.code, exc.message, getattr(exc, "element", None), getattr(exc, "line", None),
-                                     rel))
+        sub.structure.append(
+            Finding(exc.code, exc.message, getattr(exc, "element", None), getattr(exc, "line", None), rel)
+        )
         return sub
     sub.model = m
     sub.structure += _structure(robot, m, rel)
     stock_bodies = set(stock_names(robot)[0])
-    sub.added_bodies = [b for b in range(1, m.nbody) if mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) not in stock_bodies]
+    sub.added_bodies = [
+        b for b in range(1, m.nbody) if mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) not in stock_bodies
+    ]
     sub.validity, sub.mass = _validity(robot, m, sub.added_bodies, rel)
     return sub
 
@@ -258,7 +310,9 @@ class DeviceVariation:
     payload: float
 
 
-def draw_variation(rng: np.random.Generator, dof: int, spread: float = 0.15, payload=(0.01, 0.04)) -> DeviceVariation:
+def draw_variation(
+    rng: np.random.Generator, dof: int, spread: float = 0.15, payload=(0.01, 0.04)
+) -> DeviceVariation:
     """Link masses uniformly within +-``spread``, payload uniform in ``payload`` [kg]."""
     scale = tuple(float(x) for x in rng.uniform(1 - spread, 1 + spread, dof))
     return DeviceVariation(scale, float(rng.uniform(*payload)))

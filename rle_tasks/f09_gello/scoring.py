@@ -46,21 +46,48 @@ class Curve:
 _HOLD = "drift after release with the frozen feedforward, per test pose [rad]"
 _BACK = "worst-joint breakaway torque, per test pose [N m]"
 CHECKPOINTS: tuple[Curve, ...] = (
-    Curve("motion_clearance", "motion clearance (10 %)",
-          "fraction of workspace-grid poses where added parts collide with the arm, base or table", 0.0, 0.05),
-    Curve("passive_residual", "passive (30 %)",
-          "95th percentile over the grid of the worst-joint residual |g - tau_spring| [N m]", 0.02, SERVO_LIMIT),
+    Curve(
+        "motion_clearance",
+        "motion clearance (10 %)",
+        "fraction of workspace-grid poses where added parts collide with the arm, base or table",
+        0.0,
+        0.05,
+    ),
+    Curve(
+        "passive_residual",
+        "passive (30 %)",
+        "95th percentile over the grid of the worst-joint residual |g - tau_spring| [N m]",
+        0.02,
+        SERVO_LIMIT,
+    ),
     Curve("passive_hold", "passive (30 %)", _HOLD + ", no feedforward", 0.005, 0.1),
     Curve("passive_backdrive", "passive (30 %)", _BACK + ", no feedforward", 0.03, SERVO_LIMIT),
     Curve("reference_hold", "adapted reference arm (20 %)", _HOLD + ", stock arm copy, adapted", 0.005, 0.1),
-    Curve("reference_backdrive", "adapted reference arm (20 %)", _BACK + ", stock arm copy, adapted", 0.03,
-          SERVO_LIMIT),
+    Curve(
+        "reference_backdrive",
+        "adapted reference arm (20 %)",
+        _BACK + ", stock arm copy, adapted",
+        0.03,
+        SERVO_LIMIT,
+    ),
     Curve("combined_hold", "combined (40 %)", _HOLD + ", hidden copy, adapted, clipped", 0.005, 0.1),
-    Curve("combined_backdrive", "combined (40 %)", _BACK + ", hidden copy, adapted, clipped", 0.03, SERVO_LIMIT),
-    Curve("servo_headroom", "combined (40 %)",
-          "servo utilisation: grid max of the hidden copy's worst-joint residual / 0.35 N m", 0.5, 1.5),
-    Curve("push_recovery", "combined (40 %)", "creep in the last 0.5 s of 1 s after a 1 N, 50 ms horizontal handle push [rad]",
-          0.005, 0.1),
+    Curve(
+        "combined_backdrive", "combined (40 %)", _BACK + ", hidden copy, adapted, clipped", 0.03, SERVO_LIMIT
+    ),
+    Curve(
+        "servo_headroom",
+        "combined (40 %)",
+        "servo utilisation: grid max of the hidden copy's worst-joint residual / 0.35 N m",
+        0.5,
+        1.5,
+    ),
+    Curve(
+        "push_recovery",
+        "combined (40 %)",
+        "creep in the last 0.5 s of 1 s after a 1 N, 50 ms horizontal handle push [rad]",
+        0.005,
+        0.1,
+    ),
 )
 WEIGHT = 1.0 / len(CHECKPOINTS)
 BY_ID = {c.id: c for c in CHECKPOINTS}
@@ -81,7 +108,12 @@ def deduction(codes: list[str]) -> float:
 
 def markdown_table() -> str:
     """Checkpoint table for the README."""
-    rows = ["| checkpoint | group | weight | metric | pass (score 1) | fail (score 0) |", "|---|---|---|---|---|---|"]
+    rows = [
+        "| checkpoint | group | weight | metric | pass (score 1) | fail (score 0) |",
+        "|---|---|---|---|---|---|",
+    ]
     for c in CHECKPOINTS:
-        rows.append(f"| `{c.id}` | {c.group} | {WEIGHT:.2f} | {c.metric} | {c.pass_value:g} | {c.fail_value:g} |")
+        rows.append(
+            f"| `{c.id}` | {c.group} | {WEIGHT:.2f} | {c.metric} | {c.pass_value:g} | {c.fail_value:g} |"
+        )
     return "\n".join(rows)

@@ -129,18 +129,28 @@ def solve_design(robot: str, n_grid: int = 600, seed: int = 7, verbose: bool = F
             break
         if verbose:
             res = (a @ x + g0.ravel()).reshape(g0.shape)
-            print(f"  lambda {lam:.3g}: mass {base_mass + x[is_cw].sum():.3f} kg, "
-                  f"p95 {np.percentile(np.abs(res).max(1), 95):.4f} N m")
+            print(
+                f"  lambda {lam:.3g}: mass {base_mass + x[is_cw].sum():.3f} kg, "
+                f"p95 {np.percentile(np.abs(res).max(1), 95):.4f} N m"
+            )
     if verbose:
         res = (a @ x + g0.ravel()).reshape(g0.shape)
-        print(f"  final: mass {base_mass + x[is_cw].sum():.3f} kg, p95 {np.percentile(np.abs(res).max(1), 95):.4f}, "
-              f"max {np.abs(res).max(0).round(3)} N m")
+        print(
+            f"  final: mass {base_mass + x[is_cw].sum():.3f} kg, p95 {np.percentile(np.abs(res).max(1), 95):.4f}, "
+            f"max {np.abs(res).max(0).round(3)} N m"
+        )
     cws, torsion, spring, kk = [], [], None, {}
     for val, kind in zip(x, kinds):
         if kind[0] == "cw" and val > 1e-3:
             cws.append((kind[1], tuple(float(v) for v in kind[2]), float(val)))
         elif kind[0] == "spring" and val > 1e-6:
-            spring = ("link1", tuple(float(v) for v in kind[1]), "link2", tuple(float(v) for v in kind[2]), float(val))
+            spring = (
+                "link1",
+                tuple(float(v) for v in kind[1]),
+                "link2",
+                tuple(float(v) for v in kind[2]),
+                float(val),
+            )
         elif kind[0] in ("k", "kref"):
             kk.setdefault(kind[1], {})[kind[0]] = float(val)
     for j, v in sorted(kk.items()):
@@ -169,15 +179,29 @@ def apply_design(robot: str, design: Design, out_dir: Path) -> Path:
     for k, (link, pos, mass) in enumerate(design.counterweights):
         radius = (3 * mass / (4 * np.pi * STEEL_DENSITY)) ** (1 / 3)
         cw = etree.SubElement(body(link), "body", name=f"counterweight{k + 1}", pos=_fmt(pos))
-        etree.SubElement(cw, "geom", name=f"counterweight{k + 1}_steel", type="sphere", size=f"{radius:.9g}",
-                         mass=f"{mass:.9g}", rgba="0.5 0.5 0.55 1")
+        etree.SubElement(
+            cw,
+            "geom",
+            name=f"counterweight{k + 1}_steel",
+            type="sphere",
+            size=f"{radius:.9g}",
+            mass=f"{mass:.9g}",
+            rgba="0.5 0.5 0.55 1",
+        )
     if design.spring is not None:
         l1, p1, l2, p2, k = design.spring
         etree.SubElement(body(l1), "site", name="spring_anchor", pos=_fmt(p1), size="0.004")
         etree.SubElement(body(l2), "site", name="spring_attach", pos=_fmt(p2), size="0.004")
         tendon = etree.SubElement(root, "tendon")
-        sp = etree.SubElement(tendon, "spatial", name="shoulder_spring", stiffness=f"{k:.9g}", springlength="0",
-                              width="0.002", rgba="0.2 0.6 0.9 1")
+        sp = etree.SubElement(
+            tendon,
+            "spatial",
+            name="shoulder_spring",
+            stiffness=f"{k:.9g}",
+            springlength="0",
+            width="0.002",
+            rgba="0.2 0.6 0.9 1",
+        )
         etree.SubElement(sp, "site", site="spring_anchor")
         etree.SubElement(sp, "site", site="spring_attach")
     for jname, k, ref in design.torsion:
@@ -216,8 +240,15 @@ def build_all(target: Path = PKG) -> None:
         tree = etree.parse(str(heavy / "lead.xml"))
         base_body = next(b for b in tree.getroot().iter("body") if b.get("name") == "base")
         ballast = etree.SubElement(base_body, "body", name="ballast", pos="0.1 0 0.01")
-        etree.SubElement(ballast, "geom", name="ballast_steel", type="box", size="0.04 0.04 0.02", mass="2.0",
-                         rgba="0.4 0.4 0.4 1")
+        etree.SubElement(
+            ballast,
+            "geom",
+            name="ballast_steel",
+            type="box",
+            size="0.04 0.04 0.02",
+            mass="2.0",
+            rgba="0.4 0.4 0.4 1",
+        )
         etree.indent(tree, space="  ")
         tree.write(str(heavy / "lead.xml"), encoding="utf-8")
         shutil.copy(TRIM_TEMPLATES / "regressor_trim.py", heavy / "trim.py")

@@ -15,7 +15,9 @@ def instruction() -> str:
     """The agent instruction (``instruction.md``), with the checkpoint table appended."""
     from rle_tasks.f09_gello.scoring import markdown_table
 
-    return (HERE / "instruction.md").read_text() + "\n## Checkpoints (per robot)\n\n" + markdown_table() + "\n"
+    return (
+        (HERE / "instruction.md").read_text() + "\n## Checkpoints (per robot)\n\n" + markdown_table() + "\n"
+    )
 
 
 def make_dev_env(workspace: Path) -> None:
@@ -47,8 +49,14 @@ def task_spec() -> TaskSpec:
         instruction=instruction(),
         budget=Budget(wall_time_s=3 * 3600.0, cpus=4, verifier_timeout_s=600.0),
         contract=ArtifactContract(
-            required=("panda/lead.xml", "panda/trim.py", "ur5e/lead.xml", "ur5e/trim.py", "xarm7/lead.xml",
-                      "xarm7/trim.py"),
+            required=(
+                "panda/lead.xml",
+                "panda/trim.py",
+                "ur5e/lead.xml",
+                "ur5e/trim.py",
+                "xarm7/lead.xml",
+                "xarm7/trim.py",
+            ),
             optional=("*/meshes/*.stl", "*/meshes/*.obj", "*/*.xml", "*/*.py", "*/*.json", "*/*.npz"),
             description="For each robot (panda, ur5e, xarm7): lead.xml (the modified leader with springs, "
             "counterweights, supports; meshes it references inside the directory) and trim.py exposing "

@@ -80,7 +80,12 @@ def _test_poses(ranges: np.ndarray, n: int, rng: np.random.Generator) -> np.ndar
 
 
 def _adapted_ff(
-    trim: TrimRunner, plan: np.ndarray | None, arm: str, dev: mujoco.MjModel, home: np.ndarray, poses: np.ndarray,
+    trim: TrimRunner,
+    plan: np.ndarray | None,
+    arm: str,
+    dev: mujoco.MjModel,
+    home: np.ndarray,
+    poses: np.ndarray,
     rng: np.random.Generator,
 ) -> np.ndarray | None:
     """Feedforward at ``poses`` after adapting to device copy ``dev``; None when trim failed."""
@@ -100,7 +105,11 @@ def _adapted_ff(
 
 
 def _hold_back_push(
-    dev: mujoco.MjModel, poses: np.ndarray, ff: np.ndarray, net: np.ndarray, hold_s: float,
+    dev: mujoco.MjModel,
+    poses: np.ndarray,
+    ff: np.ndarray,
+    net: np.ndarray,
+    hold_s: float,
     push_dirs: np.ndarray | None,
 ) -> dict[str, list[float]]:
     bm = device.battery_model(dev)
@@ -109,11 +118,15 @@ def _hold_back_push(
         out["drift"].append(battery.hold_drift(bm, q, ff[k], hold_s))
         out["backdrive"].append(float(np.max(battery.backdrive(bm, q, ff[k], net[k]))))
         if push_dirs is not None:
-            out["push"].append(battery.push_recovery(bm, q, ff[k], PUSH_N * push_dirs[k], PUSH_S, PUSH_TOTAL_S))
+            out["push"].append(
+                battery.push_recovery(bm, q, ff[k], PUSH_N * push_dirs[k], PUSH_S, PUSH_TOTAL_S)
+            )
     return out
 
 
-def _residuals(m: mujoco.MjModel, poses: np.ndarray, report: VerifierReport, robot: str) -> tuple[np.ndarray, float]:
+def _residuals(
+    m: mujoco.MjModel, poses: np.ndarray, report: VerifierReport, robot: str
+) -> tuple[np.ndarray, float]:
     """Analytic residual over poses, cross-checked in MuJoCo (MuJoCo wins on disagreement)."""
     try:
         km = model_from_mujoco(m)
@@ -125,8 +138,11 @@ def _residuals(m: mujoco.MjModel, poses: np.ndarray, report: VerifierReport, rob
     check = battery.residual_mujoco(m, poses[:16])
     err = float(np.max(np.abs(check - r[:16])))
     if err > CROSSCHECK_TOL:
-        report.add_error("kinematics.crosscheck", f"analytic and MuJoCo residuals differ by {err:.3g} N m; "
-                         "MuJoCo values used", f"{robot}/lead.xml")
+        report.add_error(
+            "kinematics.crosscheck",
+            f"analytic and MuJoCo residuals differ by {err:.3g} N m; MuJoCo values used",
+            f"{robot}/lead.xml",
+        )
         return battery.residual_mujoco(m, poses), err
     return r, err
 
@@ -165,8 +181,15 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierR
         var = device.draw_variation(derive_rng(ctx.secret, TASK_ID, f"{robot}/reference"), dof)
         ref_dev = device.apply_variation(stock, var)
         ref_r = battery.residual_mujoco(ref_dev, poses)
-        ff = _adapted_ff(trim, plan, "reference", ref_dev, home, poses,
-                         derive_rng(ctx.secret, TASK_ID, f"{robot}/reference/probe"))
+        ff = _adapted_ff(
+            trim,
+            plan,
+            "reference",
+            ref_dev,
+            home,
+            poses,
+            derive_rng(ctx.secret, TASK_ID, f"{robot}/reference/probe"),
+        )
         if ff is not None:
             out = _hold_back_push(ref_dev, poses, ff, ref_r - ff, size.hold_s, None)
             res.scores["reference_hold"] = scoring.mean_score("reference_hold", out["drift"])
@@ -214,14 +237,27 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
 
     nominal = trim.feedforward(home, None) if plan is not None else None
     if nominal is not None:
-        res.measured["nominal_ff_error_home_Nm"] = float(np.max(np.abs(nominal - battery.residual_mujoco(m, home[None])[0])))
+        res.measured["nominal_ff_error_home_Nm"] = float(
+            np.max(np.abs(nominal - battery.residual_mujoco(m, home[None])[0]))
+        )
     drift, back, push, util = [], [], [], []
     for c in range(size.copies):
         var = device.draw_variation(derive_rng(ctx.secret, TASK_ID, f"{robot}/device/{c}"), m.nv)
         dev = device.apply_variation(m, var)
-        ff = _adapted_ff(trim, plan, "submitted", dev, home, poses,
-                         derive_rng(ctx.secret, TASK_ID, f"{robot}/device/{c}/probe"))
-        ff = np.zeros((len(poses), m.nv)) if ff is None else np.clip(ff, -scoring.SERVO_LIMIT, scoring.SERVO_LIMIT)
+        ff = _adapted_ff(
+            trim,
+            plan,
+            "submitted",
+            dev,
+            home,
+            poses,
+            derive_rng(ctx.secret, TASK_ID, f"{robot}/device/{c}/probe"),
+        )
+        ff = (
+            np.zeros((len(poses), m.nv))
+            if ff is None
+            else np.clip(ff, -scoring.SERVO_LIMIT, scoring.SERVO_LIMIT)
+        )
         r_dev = battery.residual_mujoco(dev, poses)
         out = _hold_back_push(dev, poses, ff, r_dev - ff, size.hold_s, push_dirs)
         drift += out["drift"]
@@ -233,8 +269,13 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
     res.scores["combined_backdrive"] = scoring.mean_score("combined_backdrive", back)
     res.scores["servo_headroom"] = scoring.mean_score("servo_headroom", util)
     res.scores["push_recovery"] = scoring.mean_score("push_recovery", push)
-    res.measured.update(combined_drift_rad=drift, combined_backdrive_Nm=back, push_creep_rad=push,
-                        servo_utilisation=util, headroom=[1.0 - u for u in util])
+    res.measured.update(
+        combined_drift_rad=drift,
+        combined_backdrive_Nm=back,
+        push_creep_rad=push,
+        servo_utilisation=util,
+        headroom=[1.0 - u for u in util],
+    )
 
 
 def _render(m: mujoco.MjModel, home: np.ndarray, path: Path, res: VariantResult) -> None:

@@ -52,7 +52,11 @@ def test_stock_leader_is_clean():
             '<body name="x"><joint name="extra" axis="1 0 0"/><geom size="0.01"/></body><site name="handle_site"',
             "contract.extra_joint",
         ),
-        ('<mesh name="base" file="base.stl"/>', '<mesh name="base" file="../../base.stl"/>', "artifact.path_escape"),
+        (
+            '<mesh name="base" file="base.stl"/>',
+            '<mesh name="base" file="../../base.stl"/>',
+            "artifact.path_escape",
+        ),
     ],
 )
 def test_structure_violations_are_named(tmp_path, old, new, code):
@@ -86,7 +90,9 @@ def test_hidden_copy_scales_link_masses_and_adds_the_payload():
     mujoco.mj_forward(h, d)
     sid = mujoco.mj_name2id(h, mujoco.mjtObj.mjOBJ_SITE, "handle_site")
     b = h.site_bodyid[sid]
-    c_expected = (m.body_mass[b] * 1.05 * m.body_ipos[b] + 0.03 * m.site_pos[sid]) / (m.body_mass[b] * 1.05 + 0.03)
+    c_expected = (m.body_mass[b] * 1.05 * m.body_ipos[b] + 0.03 * m.site_pos[sid]) / (
+        m.body_mass[b] * 1.05 + 0.03
+    )
     assert np.allclose(h.body_ipos[b], c_expected, atol=1e-12)
     assert m.body_mass.sum() != h.body_mass.sum()  # the stock model is untouched
     assert stock_model("panda").body_mass[b] == m.body_mass[b]

@@ -109,8 +109,14 @@ def test_full_verification_of_the_reference_from_the_cli(tmp_path: Path):
     out = tmp_path / "r.json"
     t0 = time.perf_counter()
     proc = subprocess.run(
-        [str(Path(sys.executable).with_name("rle")), "verify", "09-gello", str(SOLUTIONS["reference"]), "--json",
-         str(out)],
+        [
+            str(Path(sys.executable).with_name("rle")),
+            "verify",
+            "09-gello",
+            str(SOLUTIONS["reference"]),
+            "--json",
+            str(out),
+        ],
         capture_output=True,
         text=True,
         timeout=120,

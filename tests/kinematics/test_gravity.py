@@ -30,7 +30,9 @@ def test_single_link_gravity_is_m_g_l_sin():
 
 
 def test_static_torque_equals_gravity_of_the_model_with_the_payload_added(branching_arm_xml):
-    plain = branching_arm_xml.replace('<joint name="j3" axis="1 0 0"/>', '<joint name="j3" axis="1 0 0"/><site name="tool" pos="0.05 0 0"/>')
+    plain = branching_arm_xml.replace(
+        '<joint name="j3" axis="1 0 0"/>', '<joint name="j3" axis="1 0 0"/><site name="tool" pos="0.05 0 0"/>'
+    )
     heavy = plain.replace(
         '<site name="tool" pos="0.05 0 0"/>',
         '<site name="tool" pos="0.05 0 0"/><body pos="0.05 0 0"><inertial pos="0 0 0" mass="0.07" '

@@ -9,7 +9,6 @@ from rle_design.errors import MjcfError
 from rle_design.kinematics import model_from_mjcf, model_from_mujoco, precheck_mjcf
 
 
-
 def test_gravity_matches_mujoco_on_a_branching_tree_with_offsets(branching_arm_xml):
     m = mujoco.MjModel.from_xml_string(branching_arm_xml)
     d = mujoco.MjData(m)
@@ -77,4 +76,6 @@ def test_ball_joint_is_refused_with_its_name():
     with pytest.raises(MjcfError) as err:
         model_from_mujoco(m)
     assert err.value.code == "kinematics.joint_type"
-    assert "joint 'shoulder' has type mjJNT_BALL; only hinge and slide joints are supported" in err.value.message
+    assert (
+        "joint 'shoulder' has type mjJNT_BALL; only hinge and slide joints are supported" in err.value.message
+    )

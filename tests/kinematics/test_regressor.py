@@ -82,7 +82,10 @@ def test_sixteen_noiseless_probes_recover_injected_mass_scalings(km):
     est = fit_base(y, tau)
     assert np.max(np.abs(est - bp.project(true))) < 1e-6
     test = np.random.default_rng(5).uniform(-np.pi, np.pi, (50, 7))
-    err = max(np.max(np.abs(bp.reduce(gravity_regressor(km, p)) @ est - gravity_regressor(km, p) @ true)) for p in test)
+    err = max(
+        np.max(np.abs(bp.reduce(gravity_regressor(km, p)) @ est - gravity_regressor(km, p) @ true))
+        for p in test
+    )
     assert err < 1e-6
 
 
@@ -99,7 +102,10 @@ def test_noise_degrades_the_fit_gracefully(km):
         rng = np.random.default_rng(7)
         est = fit_base(y, tau + rng.normal(0, sigma, tau.shape))
         errors.append(
-            max(np.max(np.abs(bp.reduce(gravity_regressor(km, p)) @ est - gravity_regressor(km, p) @ true)) for p in test)
+            max(
+                np.max(np.abs(bp.reduce(gravity_regressor(km, p)) @ est - gravity_regressor(km, p) @ true))
+                for p in test
+            )
         )
     assert errors[0] < errors[1] < errors[2] < 10 * 1e-2  # prediction error below 10x the noise
     assert 3 < errors[2] / errors[1] < 30

@@ -75,7 +75,9 @@ def test_free_length_leaves_the_closed_form_error_k_a_b_sin_l0_over_l():
     m = mujoco.MjModel.from_xml_string(_link(springlength=f"{l0} {l0}"))
     length = np.sqrt(A * A + B * B - 2 * A * B * np.cos(THETA))
     expected = K * A * B * np.sin(THETA) * l0 / length  # m g l sin - k a b sin (1 - L0/L)
-    assert np.allclose(zero_length_spring_residual(M, L, K, A, B, THETA, free_length=l0), expected, atol=1e-12)
+    assert np.allclose(
+        zero_length_spring_residual(M, L, K, A, B, THETA, free_length=l0), expected, atol=1e-12
+    )
     assert np.allclose(-_mujoco_residual(m), expected, atol=1e-9)
     assert np.allclose(-_analytic_residual(m), expected, atol=1e-9)
     assert np.max(np.abs(expected)) > 1e-2  # the error is not negligible

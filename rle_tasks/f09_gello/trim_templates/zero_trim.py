@@ -6,7 +6,13 @@ import numpy as np
 from lxml import etree
 
 # joint count from lead.xml without compiling (no MuJoCo needed in the sandbox)
-_NV = sum(1 for _ in etree.parse(str(Path(__file__).resolve().parent / "lead.xml")).getroot().find("worldbody").iter("joint"))
+_NV = sum(
+    1
+    for _ in etree.parse(str(Path(__file__).resolve().parent / "lead.xml"))
+    .getroot()
+    .find("worldbody")
+    .iter("joint")
+)
 
 
 def feedforward(q, params=None):

@@ -5,7 +5,13 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
-_NV = sum(1 for _ in etree.parse(str(Path(__file__).resolve().parent / "lead.xml")).getroot().find("worldbody").iter("joint"))
+_NV = sum(
+    1
+    for _ in etree.parse(str(Path(__file__).resolve().parent / "lead.xml"))
+    .getroot()
+    .find("worldbody")
+    .iter("joint")
+)
 
 
 def feedforward(q, params=None):
