@@ -81,6 +81,9 @@ def _serve_connection(session: MeteredSession, conn: Connection) -> None:
             reply = encode(
                 {"ok": False, "code": "ledger.bad_request", "message": f"malformed request: {exc}"}
             )
+        except Exception as exc:  # noqa: BLE001 - a server-side bug (e.g. an observer) must not end the session
+            text = f"server error: {type(exc).__name__}: {exc}"
+            reply = encode({"ok": False, "code": "ledger.internal", "message": text})
         try:
             conn.send_bytes(reply)
         except OSError:

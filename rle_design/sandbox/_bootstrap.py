@@ -100,6 +100,15 @@ def _inside(path):
     return real == _WORKDIR or real.startswith(_WORKDIR + os.sep) or real == os.devnull
 
 
+def _other_process(path):
+    """True for ``/proc/<pid>/...`` of another process (e.g. the parent's environ)."""
+    real = os.path.realpath(os.fsdecode(path))
+    if not real.startswith("/proc/"):
+        return False
+    head = real[6:].split("/", 1)[0]
+    return head.isdigit() and int(head) != os.getpid()
+
+
 def _audit(event, args):
     if event == "open":
         path, mode, flags = args
@@ -108,6 +117,8 @@ def _audit(event, args):
         )
         if writing and not _inside(path):
             _forbid(f"opening '{os.fsdecode(path)}' for writing (outside the working directory)")
+        if not isinstance(path, int) and _other_process(path):
+            _forbid(f"reading '{os.fsdecode(path)}' (another process's /proc entry)")
     elif event.startswith("socket.") and not _CONFIG["network"]:
         _forbid(f"network access ({event})")
     elif event in _PROCESS_EVENTS:

@@ -153,3 +153,26 @@ def test_client_without_server(tmp_path):
     with pytest.raises(LedgerError) as info:
         LedgerClient(tmp_path / "nobody.sock")
     assert info.value.code == "ledger.no_server"
+
+
+def broken_observer(model, data) -> float:
+    """An observer with a bug: the server reports it and keeps serving."""
+    raise RuntimeError("observer bug")
+
+
+def test_a_failing_observer_does_not_end_the_session(tmp_path):
+    env = MeteredEnv(SLIDER, observers=(("bad", broken_observer),))
+    srv = LedgerServer(
+        env,
+        key=KEY,
+        ledger_path=tmp_path / "l.jsonl",
+        socket_path=tmp_path / "s.sock",
+        task_id=TASK,
+        budget=None,
+    )
+    with srv, LedgerClient(srv.socket_path) as client:
+        with pytest.raises(LedgerError) as info:
+            client.observe()
+        assert info.value.code == "ledger.internal"
+        assert str(info.value) == "server error: RuntimeError: observer bug"
+        assert client.info()["steps_used"] == 0

@@ -90,6 +90,12 @@ def kill_parent():
     os.kill(os.getppid(), 9)
     return "parent killed"
 
+def parent_environ():
+    return open(f"/proc/{os.getppid()}/environ", "rb").read().decode(errors="replace")
+
+def own_status():
+    return open("/proc/self/status").read()[:5]
+
 def big_reply():
     return np.zeros(1 << 20)
 
@@ -267,6 +273,16 @@ def test_killing_the_parent_is_forbidden_and_the_parent_lives(hostile):
     fault = _fault(hostile, "kill_parent")
     assert fault.code == "sandbox.forbidden"
     assert f"sending signals to other processes (pid {os.getpid()})" in fault.message
+
+
+def test_reading_the_parents_proc_entries_is_forbidden(hostile, monkeypatch):
+    monkeypatch.setenv("RLE_SECRET", "top-secret-key")
+    with Sandbox(hostile, limits=FAST) as box:
+        assert box.call("own_status") == "Name:"
+        with pytest.raises(ParticipantFault) as info:
+            box.call("parent_environ")
+    assert info.value.code == "sandbox.forbidden"
+    assert f"reading '/proc/{os.getpid()}/environ' (another process's /proc entry)" in info.value.message
 
 
 def test_reply_over_the_cap(hostile):
