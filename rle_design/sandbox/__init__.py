@@ -34,14 +34,24 @@ no privilege regain         prctl(PR_SET_NO_NEW_PRIVS)                  always (
 
 The audit hook is a tripwire, not a boundary: code that loads ``ctypes`` (allowed, since libraries
 such as torch need it) can call libc directly and bypass it. The kernel layers are the boundary,
-and most of them need the parent to run as root (as in the evaluation container). Not running as
-root, the child keeps the caller's uid: the kernel still enforces the rlimits (RLIMIT_NPROC=0 stops
-fork and thread creation), but a ctypes-level bypass could open sockets, write wherever the
-caller's user can, read files the caller can read (put the secret in a file the verifier's user
-reads only before starting sandboxes, or pass it through the environment, which is scrubbed), and
-signal the parent (same uid). As root, files readable only by root stay unreadable, world-writable
-directories (/tmp, /dev/shm) stay writable by ``nobody`` (size capped by RLIMIT_FSIZE), and all
-concurrent sandboxes share the ``nobody`` uid, so RLIMIT_NPROC counts their processes together.
+and most of them need the parent to run as root (as in the evaluation container); the test
+``test_kernel_layers_stop_a_ctypes_bypass`` checks them against raw libc calls. The hook also
+refuses reading another process's ``/proc/<pid>/`` entries (the parent's environ).
+
+Not running as root, the child keeps the caller's uid: the kernel still enforces the rlimits
+(RLIMIT_NPROC=0 stops fork and thread creation for an unprivileged uid), but a ctypes-level bypass
+could open sockets, write wherever the caller's user can, read files the caller can read (the
+secret file, ``/proc/<parent>/environ`` holding ``RLE_SECRET``) and signal the parent (same uid).
+Run verifiers of untrusted code as root in a container, or keep the secret out of reach of the
+verifier's user before starting sandboxes.
+
+As root: files readable only by root stay unreadable; world-writable directories (/tmp, /dev/shm)
+stay writable by ``nobody`` (file size capped by RLIMIT_FSIZE); all concurrent sandboxes share the
+``nobody`` uid, so RLIMIT_NPROC counts their processes together (``max_processes`` > 0 is a shared
+allowance). An interpreter installed under a private directory (``/root/.pyenv``) stays importable
+after the uid drop through directory descriptors opened before it (``/proc/self/fd/N`` entries on
+``sys.path``), which exposes that install tree, and nothing else under the private directory, to
+the child.
 
 If the parent dies abruptly, an orphaned child exits at its next read of the closed request pipe, or
 at its CPU-time limit if it is spinning.
