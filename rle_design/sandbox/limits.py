@@ -15,16 +15,17 @@ class SandboxLimits:
         memory_bytes: Address space of the child (``RLIMIT_AS``); allocations beyond it raise
             ``MemoryError`` [B].
         file_bytes: Largest file the child may write (``RLIMIT_FSIZE``) [B].
-        max_processes: Processes and threads the child's uid may create (``RLIMIT_NPROC``); 0 forbids
-            fork. Enforced by the kernel only for an unprivileged uid (see the package docstring).
+        max_processes: Processes and threads the child's uid may have (``RLIMIT_NPROC``); 0 forbids
+            fork and thread creation (compile MuJoCo models with ``usethread=False``). Enforced by
+            the kernel only for an unprivileged uid (see the package docstring).
         call_timeout_s: Wall-clock cap of one call; on expiry the child is killed [s].
         startup_timeout_s: Wall-clock cap of the import of the submitted module [s].
         max_output_bytes: Bytes of the child's stdout and stderr kept (the last ones); the rest is
             dropped, which is not an error [B].
-        max_reply_bytes: Largest reply (encoded return value) accepted from the child; larger
-            replies fault with ``sandbox.output_too_large`` [B].
         network: Allow network access. False puts the child in a new network namespace (root only)
             and blocks socket creation with an audit hook (always).
+        max_reply_bytes: Largest reply (encoded return value) accepted from the child; larger
+            replies fault with ``sandbox.output_too_large`` [B].
     """
 
     cpu_seconds: float = 120.0
@@ -34,8 +35,8 @@ class SandboxLimits:
     call_timeout_s: float = 30.0
     startup_timeout_s: float = 30.0
     max_output_bytes: int = 1 << 20
-    max_reply_bytes: int = 256 << 20
     network: bool = False
+    max_reply_bytes: int = 256 << 20
 
     def __post_init__(self) -> None:
         for name in ("cpu_seconds", "call_timeout_s", "startup_timeout_s"):
