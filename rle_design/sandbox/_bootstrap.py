@@ -221,6 +221,20 @@ def _classify(exc):
     return "sandbox.exception"
 
 
+class _VerifierBlocker:
+    """Meta-path finder refusing the verifier package: submitted code may use the public toolkit
+    (``rle_design``) but never imports verifier internals (``rle_tasks``). A tripwire only: the
+    verifier runs in the parent process, which nothing in the child can patch."""
+
+    @staticmethod
+    def find_spec(name, path=None, target=None):
+        if name == "rle_tasks" or name.startswith("rle_tasks."):
+            raise ImportError(
+                f"{_MARK} importing the verifier package '{name}' is not allowed in the sandbox"
+            )
+        return None
+
+
 def _flush():
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):  # a closed or replaced stream must not kill the loop
@@ -268,6 +282,7 @@ def main():
         _send({"ok": False, "code": "internal", "message": f"{type(exc).__name__}: {exc}"})
         os._exit(0)
     sys.addaudithook(_audit)
+    sys.meta_path.insert(0, _VerifierBlocker)
     sys.path.insert(0, _WORKDIR)
     try:
         module = _load()

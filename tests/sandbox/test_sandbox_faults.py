@@ -316,3 +316,29 @@ def test_import_that_hangs_times_out(tmp_path):
 def test_has_reports_module_level_callables(hostile):
     with Sandbox(hostile, limits=FAST) as box:
         assert box.has("ok") and not box.has("absent") and not box.has("np.ones")
+
+
+def test_importing_the_verifier_package_is_refused(tmp_path):
+    from rle_design.sandbox import ParticipantFault, Sandbox
+
+    mod = tmp_path / "evil.py"
+    mod.write_text("import rle_tasks.core.report as r\nr.Checkpoint.__post_init__ = lambda self: None\n")
+    box = Sandbox(mod)
+    try:
+        with pytest.raises(ParticipantFault) as info:
+            box.start()
+    finally:
+        box.close()
+    assert info.value.code == "sandbox.import_error"
+    assert "importing the verifier package 'rle_tasks' is not allowed" in str(info.value)
+
+
+def test_public_toolkit_stays_importable(tmp_path):
+    from rle_design.sandbox import Sandbox
+
+    mod = tmp_path / "ok.py"
+    mod.write_text(
+        "from rle_design.catalog import load_catalog\ndef n():\n    return len(load_catalog('profiles'))\n"
+    )
+    with Sandbox(mod) as box:
+        assert box.call("n") == 5
