@@ -87,7 +87,7 @@ class VerifyContext:
 
 
 VerifyFn = Callable[[Path, VerifyContext], "VerifierReport"]
-DevEnvFn = Callable[[Path], None]
+DevEnvFn = Callable[[Path], object]  # returns a MeteredEnv for metered tasks, else None
 
 
 @dataclass(frozen=True)
