@@ -1,20 +1,19 @@
 """Builds the shipped solutions: ``python -m rle_tasks.f09_gello.solutions``.
 
-Reference (``reference/<robot>/``), derivation:
+Reference (``reference/<robot>/``), derivation (``exact_design``):
 
-1. Candidate passive elements, each linear in one unknown: steel counterweights behind joints 2..n
-   (point mass at ``CW_RADIUS`` opposite the link, ``CW_AXIAL`` to either side along the joint axis so
-   it sweeps free space; the torque is linear in the mass),
-   an ideal zero-length spring across the shoulder (anchor ``SPRING_ARM`` straight above joint 2 on
-   link 1, attachment ``SPRING_ARM`` along the upper arm; torque linear in the stiffness; exact for a
-   rigid upper arm since k a b = m g l), and torsion springs on joints 2..n (stiffness and
-   stiffness x rest angle).
-2. The residual r(q) = g(q) + sum m_c G_c(q) - k T(q) - ... over a public workspace grid is linear in
-   those unknowns: bounded least squares (masses and stiffnesses >= 0) with a mass penalty raised
-   until the device stays under ``MASS_TARGET``.
+1. Counterweights tip-first: for joints n..3 the subtree beyond the joint (already balanced) has
+   mass M and centre-of-mass offset d from the joint axis; a steel sphere of m_c = M |d| / r_c at
+   r_c = ``EXACT_RADIUS`` opposite d (shifted ``CW_AXIAL`` along the axis to sweep free space) puts
+   the subtree's centre of mass on the axis, so the joint carries no gravity torque at any pose.
+2. Joint 1 is vertical; joint 2 then carries a rigid body of fixed centre of mass: an ideal
+   zero-length spring (tendon ``springlength="0"``) from ``SPRING_ARM`` above joint 2 on link 1 to
+   ``SPRING_ARM`` along the centre-of-mass direction on link 2 with k a b = M g |d| balances it
+   exactly at every angle (residual ~1e-8 N m from the 9-digit XML numbers).
 3. ``trim.py`` (shared by the three robots) fits the identifiable gravity parameters (QR base
    parameters of the Pinocchio regressor) to the 16 probes with a small ridge to the nominal values,
-   after a greedy D-optimal probe plan over a candidate grid.
+   after a greedy D-optimal probe plan over a candidate grid; hidden link-mass and payload changes
+   are then carried by the servos.
 
 Baselines (``baseline/<name>/<robot>/``): ``uncompensated`` (stock leader, zero feedforward),
 ``gravcomp_cheat`` (stock leader with ``gravcomp="1"`` on every link), ``over_mass`` (reference plus a
@@ -29,135 +28,93 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
-import pinocchio as pin
-import scipy.optimize
 from lxml import etree
 
-from rle_design.kinematics import GravityMap, TendonSpring, model_from_mujoco, spring_torque
 from rle_tasks.f09_gello.device import ASSET_DIR, STEEL_DENSITY
-from rle_tasks.f09_gello.helpers import workspace_grid
 from rle_tasks.f09_gello.leaders import ROBOTS
 
 PKG = Path(__file__).resolve().parent
-CW_RADIUS = 0.06
 CW_AXIAL = 0.055
+EXACT_RADIUS = 0.10
 SPRING_ARM = 0.05
 SPRING_OFFSET = 0.03
-MASS_TARGET = 2.0
 TRIM_TEMPLATES = PKG / "trim_templates"
 
 
 @dataclass(frozen=True)
 class Design:
-    """Solved passive elements of one leader (body-frame positions [m], masses [kg], stiffnesses)."""
+    """Passive elements of one leader.
+
+    Attributes:
+        counterweights: ``(link body, position in its frame [m], mass [kg])`` per steel sphere.
+        spring: ``(body, anchor [m], body, attachment [m], stiffness [N/m])`` of a zero-length spring.
+        torsion: ``(joint, stiffness [N m/rad], rest angle [rad])`` per torsion spring.
+    """
 
     counterweights: tuple[tuple[str, tuple[float, float, float], float], ...]
     spring: tuple[str, tuple[float, ...], str, tuple[float, ...], float] | None
     torsion: tuple[tuple[str, float, float], ...]
 
 
-def _point_mass_columns(km, jid: int, local: np.ndarray, grid: np.ndarray) -> np.ndarray:
-    """Holding torque of a 1 kg point at ``local`` in joint ``jid``'s frame, over the grid."""
-    model, data = km.model, km.data
-    gvec = np.asarray(model.gravity.linear)
-    out = np.empty_like(grid)
-    for k, q in enumerate(grid):
-        pin.computeJointJacobians(model, data, q)
-        oMi = data.oMi[jid]
-        p = oMi.translation + oMi.rotation @ local
-        j6 = np.reshape(pin.getJointJacobian(model, data, jid, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))
-        jl = j6[:3] - np.cross(p - oMi.translation, j6[3:].T).T
-        out[k] = -jl.T @ gvec
-    return out
+def _rot(quat: np.ndarray) -> np.ndarray:
+    r = np.zeros(9)
+    mujoco.mju_quat2Mat(r, quat)
+    return r.reshape(3, 3)
 
 
-def solve_design(robot: str, n_grid: int = 600, seed: int = 7, verbose: bool = False) -> Design:
-    """Counterweights, shoulder spring and torsion springs minimising the grid residual."""
+def exact_design(robot: str, radius: float = EXACT_RADIUS, axial: float = CW_AXIAL) -> Design:
+    """Exact static balance: counterweights tip-first on joints 3..n, zero-length spring on joint 2.
+
+    Working from the handle towards the base, the subtree beyond joint k (its link, everything
+    distal, already balanced) has mass M and first moment S in link k's frame. A steel counterweight
+    of mass m_c = M |d| / r_c at -r_c d/|d| (d = S_xy / M, the centre of mass's offset from the joint
+    axis; shifted ``axial`` along the axis so it sweeps free space) puts the subtree's centre of mass
+    on the axis: joint k then carries no gravity torque at any pose, and the subtree acts on the
+    joints above it as a point mass fixed on axis k. Joint 1 is vertical (never loaded). Joint 2 is
+    horizontal and carries a rigid body of fixed centre of mass: a zero-length spring from a point
+    ``SPRING_ARM`` straight above joint 2 (on link 1) to a point ``SPRING_ARM`` along the centre-of-mass
+    direction (on link 2) with k a b = M g |d| balances it exactly at every angle.
+    """
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
-    km = model_from_mujoco(m)
     n = m.nv
-    grid = workspace_grid(m.jnt_range, n_grid, seed=seed)
-    g0 = GravityMap(km)(grid)
-    cols, kinds = [], []
-    d = mujoco.MjData(m)
-    mujoco.mj_kinematics(m, d)
-    for j in range(2, n + 1):  # counterweights behind joints 2..n, opposite the link's own COM / child
-        body = m.body(f"link{j}").id
-        ref = m.body_ipos[body].copy() if j == n else m.body_pos[body + 1].copy()
-        ref[2] = 0.0
-        if np.linalg.norm(ref) < 1e-4:
-            continue
-        for side in (1.0, -1.0):  # beside the links (axial offset) so the weight sweeps free space
-            local = -CW_RADIUS * ref / np.linalg.norm(ref) + np.array([0.0, 0.0, side * CW_AXIAL])
-            cols.append(_point_mass_columns(km, j, local, grid))
-            kinds.append(("cw", f"link{j}", local))
-    # shoulder zero-length spring: link1 anchor above joint 2, link2 attachment along the upper arm
-    b1, b2 = m.body("link1").id, m.body("link2").id
-    r12 = np.zeros(9)
-    mujoco.mju_quat2Mat(r12, m.body_quat[b2])
-    r12 = r12.reshape(3, 3)
-    axis1 = r12[:, 2]
-    up = np.array([0.0, 0.0, 1.0]) - axis1 * axis1[2]
-    up /= np.linalg.norm(up)
-    anchor = m.body_pos[b2] + SPRING_ARM * up + SPRING_OFFSET * axis1
-    along = m.body_pos[b2 + 1].copy()
-    along[2] = 0.0
-    attach = SPRING_ARM * along / np.linalg.norm(along) + np.array([0.0, 0.0, SPRING_OFFSET])
-    unit = TendonSpring("s", 1.0, (0.0, 0.0), points=((1, tuple(anchor)), (2, tuple(attach))))
-    cols.append(-np.array([spring_torque(km, [unit], q) for q in grid]))
-    kinds.append(("spring", anchor, attach))
-    for j in range(2, n + 1):  # torsion springs: r += k q_j - (k ref)_j
-        c = np.zeros_like(grid)
-        c[:, j - 1] = grid[:, j - 1]
-        cols.append(c)
-        kinds.append(("k", j))
-        c = np.zeros_like(grid)
-        c[:, j - 1] = -1.0
-        cols.append(c)
-        kinds.append(("kref", j))
-    a = np.stack([c.ravel() for c in cols], axis=1)
-    lb = np.array([-np.inf if k[0] == "kref" else 0.0 for k in kinds])
-    base_mass = float(m.body_mass.sum())
-    is_cw = np.array([k[0] == "cw" for k in kinds])
-    x = None
-    for lam in (0.0, *np.geomspace(1e-3, 1e4, 22)):
-        pen = np.sqrt(lam) * np.diag(is_cw.astype(float))[is_cw]
-        aa = np.vstack([a, pen])
-        bb = np.concatenate([-g0.ravel(), np.zeros(pen.shape[0])])
-        x = scipy.optimize.lsq_linear(aa, bb, bounds=(lb, np.inf), method="bvls").x
-        if base_mass + x[is_cw].sum() <= MASS_TARGET:
-            break
-        if verbose:
-            res = (a @ x + g0.ravel()).reshape(g0.shape)
-            print(
-                f"  lambda {lam:.3g}: mass {base_mass + x[is_cw].sum():.3f} kg, "
-                f"p95 {np.percentile(np.abs(res).max(1), 95):.4f} N m"
-            )
-    if verbose:
-        res = (a @ x + g0.ravel()).reshape(g0.shape)
-        print(
-            f"  final: mass {base_mass + x[is_cw].sum():.3f} kg, p95 {np.percentile(np.abs(res).max(1), 95):.4f}, "
-            f"max {np.abs(res).max(0).round(3)} N m"
-        )
-    cws, torsion, spring, kk = [], [], None, {}
-    for val, kind in zip(x, kinds):
-        if kind[0] == "cw" and val > 1e-3:
-            cws.append((kind[1], tuple(float(v) for v in kind[2]), float(val)))
-        elif kind[0] == "spring" and val > 1e-6:
+    child_m, child_s = 0.0, np.zeros(3)
+    cws = []
+    spring = None
+    for k in range(n, 1, -1):
+        b = m.body(f"link{k}").id
+        mass = float(m.body_mass[b]) + child_m
+        first = m.body_mass[b] * m.body_ipos[b]
+        if k < n:
+            c = m.body(f"link{k + 1}").id
+            first = first + _rot(m.body_quat[c]) @ child_s + child_m * m.body_pos[c]
+        d = first[:2] / mass
+        off = float(np.linalg.norm(d))
+        if k >= 3 and off > 1e-9:
+            u = np.array([d[0], d[1], 0.0]) / off
+            mc = mass * off / radius
+            pos = -radius * u + np.array([0.0, 0.0, axial])
+            cws.append((f"link{k}", tuple(float(x) for x in pos), mc))
+            first = first + mc * pos
+            mass += mc
+        elif k == 2:
+            g = float(np.linalg.norm(m.opt.gravity))
+            b1, b2 = m.body("link1").id, m.body("link2").id
+            axis1 = _rot(m.body_quat[b2])[:, 2]
+            up = np.array([0.0, 0.0, 1.0]) - axis1 * axis1[2]
+            up /= np.linalg.norm(up)
+            anchor = m.body_pos[b2] + SPRING_ARM * up + SPRING_OFFSET * axis1
+            attach = SPRING_ARM * np.array([d[0], d[1], 0.0]) / off + np.array([0.0, 0.0, SPRING_OFFSET])
+            stiffness = mass * g * off / (SPRING_ARM * SPRING_ARM)
             spring = (
                 "link1",
-                tuple(float(v) for v in kind[1]),
+                tuple(float(x) for x in anchor),
                 "link2",
-                tuple(float(v) for v in kind[2]),
-                float(val),
+                tuple(float(x) for x in attach),
+                stiffness,
             )
-        elif kind[0] in ("k", "kref"):
-            kk.setdefault(kind[1], {})[kind[0]] = float(val)
-    for j, v in sorted(kk.items()):
-        if v.get("k", 0.0) > 1e-6:
-            torsion.append((f"j{j}", v["k"], v["kref"] / v["k"]))
-    _ = b1
-    return Design(tuple(cws), spring, tuple(torsion))
+            del b1
+        child_m, child_s = mass, first
+    return Design(tuple(cws), spring, ())
 
 
 def _fmt(v) -> str:
@@ -217,7 +174,7 @@ def apply_design(robot: str, design: Design, out_dir: Path) -> Path:
 def build_all(target: Path = PKG) -> None:
     """Reference and baselines for every robot."""
     for robot in ROBOTS:
-        des = solve_design(robot, verbose=True)
+        des = exact_design(robot)
         ref = target / "reference" / robot
         apply_design(robot, des, ref)
         shutil.copy(TRIM_TEMPLATES / "regressor_trim.py", ref / "trim.py")
