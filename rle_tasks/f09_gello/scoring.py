@@ -43,7 +43,7 @@ class Curve:
         return float(np.clip(s, 0.0, 1.0))
 
 
-_HOLD = "drift after release with the frozen feedforward, per test pose [rad]"
+_HOLD = "largest joint drift within the hold time after release at rest, per test pose [rad]"
 _BACK = "worst-joint breakaway torque, per test pose [N m]"
 CHECKPOINTS: tuple[Curve, ...] = (
     Curve(
@@ -56,23 +56,41 @@ CHECKPOINTS: tuple[Curve, ...] = (
     Curve(
         "passive_residual",
         "passive (30 %)",
-        "95th percentile over the grid of the worst-joint residual |g - tau_spring| [N m]",
+        "95th percentile over the grid of the worst-joint residual abs(g - tau_spring) [N m]",
         0.02,
         SERVO_LIMIT,
     ),
-    Curve("passive_hold", "passive (30 %)", _HOLD + ", no feedforward", 0.005, 0.1),
-    Curve("passive_backdrive", "passive (30 %)", _BACK + ", no feedforward", 0.03, SERVO_LIMIT),
-    Curve("reference_hold", "adapted reference arm (20 %)", _HOLD + ", stock arm copy, adapted", 0.005, 0.1),
+    Curve("passive_hold", "passive (30 %)", _HOLD + "; nominal leader, no feedforward", 0.005, 0.1),
+    Curve(
+        "passive_backdrive", "passive (30 %)", _BACK + "; nominal leader, no feedforward", 0.03, SERVO_LIMIT
+    ),
+    Curve(
+        "reference_hold",
+        "adapted reference arm (20 %)",
+        _HOLD + "; stock-leader copy, adapted feedforward",
+        0.005,
+        0.1,
+    ),
     Curve(
         "reference_backdrive",
         "adapted reference arm (20 %)",
-        _BACK + ", stock arm copy, adapted",
+        _BACK + "; stock-leader copy, adapted feedforward",
         0.03,
         SERVO_LIMIT,
     ),
-    Curve("combined_hold", "combined (40 %)", _HOLD + ", hidden copy, adapted, clipped", 0.005, 0.1),
     Curve(
-        "combined_backdrive", "combined (40 %)", _BACK + ", hidden copy, adapted, clipped", 0.03, SERVO_LIMIT
+        "combined_hold",
+        "combined (40 %)",
+        _HOLD + "; hidden copies, adapted feedforward clipped to 0.35 N m",
+        0.005,
+        0.1,
+    ),
+    Curve(
+        "combined_backdrive",
+        "combined (40 %)",
+        _BACK + "; hidden copies, adapted feedforward clipped to 0.35 N m",
+        0.03,
+        SERVO_LIMIT,
     ),
     Curve(
         "servo_headroom",

@@ -4,7 +4,8 @@ Per variant: load and check the submitted leader (``device``), run ``trim.py`` i
 (``trim_runner``), then the batteries (``battery``, ``clearance``) on
 
 * the nominal submitted leader (motion clearance, passive residual/hold/backdrive),
-* a hidden copy of the stock reference leader with the adapted feedforward (unclipped),
+* a hidden copy of the stock reference leader with the adapted feedforward (not limited to the
+  servo torque, bounded at +-2 N m),
 * hidden copies of the submitted leader with the adapted feedforward clipped to 0.35 N m
   (hold, backdrive, servo headroom, push recovery).
 
@@ -31,6 +32,9 @@ from rle_tasks.f09_gello.trim_runner import TrimRunner
 
 TASK_ID = "09-gello"
 CROSSCHECK_TOL = 1e-6
+REFERENCE_FF_BOUND = 2.0
+"""Feedforward bound on the reference arm [N m]: not a servo limit (about 2x its peak gravity torque),
+only a guard that keeps the simulation finite for absurd outputs."""
 
 
 @dataclass(frozen=True)
@@ -191,6 +195,7 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierR
             derive_rng(ctx.secret, TASK_ID, f"{robot}/reference/probe"),
         )
         if ff is not None:
+            ff = np.clip(ff, -REFERENCE_FF_BOUND, REFERENCE_FF_BOUND)
             out = _hold_back_push(ref_dev, poses, ff, ref_r - ff, size.hold_s, None)
             res.scores["reference_hold"] = scoring.mean_score("reference_hold", out["drift"])
             res.scores["reference_backdrive"] = scoring.mean_score("reference_backdrive", out["backdrive"])
