@@ -23,7 +23,7 @@ from rle_tasks.f08_mobile_base.batteries import LOSS_DURATION_S, LOSS_FRACTION, 
 from rle_tasks.f08_mobile_base.scene import Scene
 
 CONTROL_HZ = 50
-EPISODE_S = 7.0
+EPISODE_S = 8.0
 CALL_TIMEOUT_S = 30.0
 
 

@@ -1,84 +1,255 @@
 """Reference controller of family 08: drive to the shelf, then IK + PD with gravity compensation.
 
-It rebuilds its own model (this directory's robot.xml with the verifier's public wheel model, the
-arm and the payload), parks the base so that its front stops 5 cm before the shelf, solves IK
-(Pinocchio + OSQP, rle_design.kinematics.ik) for a pre-grasp point 15 cm in front of the target and for
-the target with the tool axis horizontal, and tracks a joint-space path with a critically damped PD
-plus the model's gravity and Coriolis torques. Wheels follow a proportional position controller.
+Self-contained (numpy, mujoco, pinocchio and the rle_design toolkit only). It builds its own model:
+this directory's robot.xml with the arm and payload attached at ``arm_mount_site`` and the shelf of
+the catalog (no wheel joints: base and arm states are copied through the ``layout`` indices). Per
+target it picks an approach pitch whose straight entry path (IK waypoints from 22 cm in front of the
+target, Pinocchio + OSQP via rle_design.kinematics.ik) keeps 1.5 cm of clearance to the shelf, then:
+0-1 s arm from stowed to the pre-entry pose while the base is far from the shelf; 1-~2.8 s base
+driven to the park position (front 5 cm before the shelf) by a P controller with mecanum wheel
+speeds; 2.8-4 s straight entry; then hold. Arm torque: the model's gravity/Coriolis torque plus a
+critically damped PD scaled by each joint's effective inertia (stable under the 50 Hz hold) plus
+dry-friction compensation, with a damped least-squares correction for the base's actual pose.
 """
 
 import mujoco
 import numpy as np
+import pinocchio as pin
 
+from rle_design.catalog import load_catalog
+from rle_design.kinematics.ik import chain_from_mujoco, solve_ik
 from rle_design.mjcf import load_design
-from rle_tasks.f08_mobile_base.poses import PARK_GAP, _ik
-from rle_tasks.f08_mobile_base.scene import build_scene
-from rle_tasks.f08_mobile_base.wheels import WHEELS, mecanum_speeds
+from rle_design.mjcf.compose import compose
 
-SHELF_FRONT_X = 1.10
-V_MAX, A_MAX, K_POS = 0.5, 0.8, 2.0
-T_DRIVE, T_ENTER = 2.6, 1.2
-OMEGA = 12.0  # PD natural frequency [rad/s] (50 Hz zero-order hold)
+V_MAX, A_MAX, K_POS = 0.5, 0.8, 3.0
+T_ARM, T_ENTRY, T_ENTER = 1.0, 2.8, 1.2
+OMEGA = 12.0  # closed-loop natural frequency [rad/s] (omega dt = 0.24 at 50 Hz)
+ENTRY, N_WAY, CLEARANCE, PARK_GAP = 0.22, 6, 0.015, 0.05
+PITCHES = (0.0, 0.3, 0.6, -0.2, 0.9, -0.4)  # approach axis pitch candidates (down positive) [rad]
+WHEEL_R = 0.0762
+ROLLER = {"wheel_fl": (1, -1), "wheel_fr": (1, 1), "wheel_rl": (1, 1), "wheel_rr": (1, -1)}  # roller axis s
+STOWED = {
+    "panda": (0.0, np.pi / 16.0, 0.0, -np.pi / 2.0 - np.pi / 3.0, 0.0, np.pi - 0.2, np.pi / 4),
+    "ur5e": (-0.470, -1.735, 2.480, -2.275, -1.590, -1.991),
+    "xarm7": (0.0, 0.0, 0.0, 0.39 * np.pi, 0.0, 0.39 * np.pi, 0.0),
+}
+
+
+def mecanum_speeds(vx, vy, wz, wheel_xy):
+    """Wheel speeds [rad/s] for a chassis twist: omega_i = sqrt2 (v_i . s_i) / r (instruction.md)."""
+    out = []
+    for (name, s), (px, py) in zip(ROLLER.items(), wheel_xy):
+        s = np.array(s, dtype=float) / np.sqrt(2.0)
+        out.append(np.sqrt(2.0) * float(np.array([vx - wz * py, vy + wz * px]) @ s) / WHEEL_R)
+    return np.array(out)
+
+
+class _Model:
+    """Own model: base + arm + payload + shelf, without wheel joints."""
+
+    def __init__(self, arm, payload_kg):
+        spec = load_design(".").fresh_spec()
+        compose(spec, arm, {1: "payload_1kg", 2: "payload_2kg"}.get(payload_kg))
+        shelf = load_catalog("shelf").extra
+        x0, w, dep, t = shelf["front_x"], shelf["width"], shelf["depth"], shelf["board_thickness"]
+        top = max(shelf["level_heights"]) + 0.30
+        body = spec.worldbody.add_body(name="shelf", pos=[x0 + dep / 2, 0, 0])
+        box = mujoco.mjtGeom.mjGEOM_BOX
+        for i, z in enumerate(shelf["level_heights"]):
+            body.add_geom(
+                name=f"shelf_board_{i}", type=box, size=[dep / 2, w / 2, t / 2], pos=[0, 0, z - t / 2]
+            )
+        for side in (-1, 1):
+            body.add_geom(
+                name=f"shelf_side_{side}",
+                type=box,
+                size=[dep / 2, t / 2, top / 2],
+                pos=[0, side * (w / 2 + t / 2), top / 2],
+            )
+        body.add_geom(
+            name="shelf_back", type=box, size=[t / 2, w / 2 + t, top / 2], pos=[dep / 2 + t / 2, 0, top / 2]
+        )
+        spec.compiler.usethread = False
+        m = self.model = spec.compile()
+        self.data = mujoco.MjData(m)
+        joints = [m.joint(j).name for j in range(m.njnt) if m.joint(j).name.startswith(f"{arm}/")]
+        self.chain = chain_from_mujoco(m, joints, f"{arm}/tool_site")
+        self.shelf = {g for g in range(m.ngeom) if m.geom(g).name.startswith("shelf_")}
+        m.geom_margin[list(self.shelf)] = CLEARANCE
+        chassis = m.body("chassis").id
+        self.robot = {g for g in range(m.ngeom) if self._under(m, int(m.geom_bodyid[g]), chassis)}
+        arm_geoms = {
+            g for g in self.robot if m.body(m.geom_bodyid[g]).name.startswith((f"{arm}/", "payload/"))
+        }
+        d = self.rest(0.0, STOWED[arm])
+        mujoco.mj_kinematics(m, d)
+        self.front = max(self._aabb_max_x(d, g) for g in self.robot - arm_geoms)
+        self.wheel_xy = np.array([d.xpos[m.body(w).id][:2] for w in ROLLER])
+        self.arm = arm
+
+    @staticmethod
+    def _under(m, b, root):
+        while b > 0:
+            if b == root:
+                return True
+            b = int(m.body_parentid[b])
+        return False
+
+    def _aabb_max_x(self, d, g):
+        c, h = self.model.geom_aabb[g][:3], self.model.geom_aabb[g][3:]
+        corners = c + h * np.array([[a, b, e] for a in (-1, 1) for b in (-1, 1) for e in (-1, 1)])
+        return float((d.geom_xpos[g] + corners @ d.geom_xmat[g].reshape(3, 3).T)[:, 0].max())
+
+    def rest(self, x, q_arm):
+        m, d = self.model, self.data
+        d.qpos[:] = m.qpos0
+        d.qpos[0] = x
+        d.qpos[1] = 0.0
+        d.qpos[2] = WHEEL_R
+        d.qpos[3:7] = [1, 0, 0, 0]
+        d.qpos[self.chain.qpos_adr] = q_arm
+        mujoco.mj_kinematics(m, d)
+        return d
+
+
+def _ik(mdl, d, target_world, axis_world):
+    ch = mdl.chain
+    tgt = ch.to_base(d, target_world)
+    _, rot = ch.base_pose(d)
+    axis = rot.T @ axis_world
+    seeds = [np.array(STOWED[mdl.arm])]
+    seeds.append(solve_ik(ch, tgt, seeds[0], max_iter=60).q)
+    rng = np.random.default_rng(7)
+    lo, hi = np.maximum(ch.lower, -np.pi), np.minimum(ch.upper, np.pi)
+    seeds += [rng.uniform(lo, hi) for _ in range(6)]
+    best = None
+    for q0 in seeds:
+        r = solve_ik(ch, tgt, q0, axis=axis, max_iter=120)
+        if best is None or (r.position_error, r.axis_error) < (best.position_error, best.axis_error):
+            best = r
+        if best.converged:
+            break
+    return best
+
 
 _S = {}
+
+
+def _collides(mdl, d, q):
+    d.qpos[mdl.chain.qpos_adr] = q
+    mujoco.mj_kinematics(mdl.model, d)
+    mujoco.mj_collision(mdl.model, d)
+    rob, sh = mdl.robot, mdl.shelf
+    return any(
+        (c.geom1 in rob and c.geom2 in sh) or (c.geom2 in rob and c.geom1 in sh) for c in d.contact[: d.ncon]
+    )
+
+
+def _plan(mdl, x_park, target):
+    best = None
+    for pitch in PITCHES:
+        d = mdl.rest(x_park, STOWED[mdl.arm])
+        _, rot = mdl.chain.base_pose(d)
+        axis = np.array([np.cos(pitch), 0.0, -np.sin(pitch)])
+        r = _ik(mdl, d, target - ENTRY * axis, axis)
+        path, err = [r.q], r.position_error
+        for a in np.linspace(0.0, 1.0, N_WAY + 1)[1:]:
+            p = target - (1.0 - a) * ENTRY * axis
+            r = solve_ik(
+                mdl.chain, mdl.chain.to_base(d, p), path[-1], axis=rot.T @ axis, max_iter=80, posture=1e-2
+            )
+            path.append(r.q)
+            err = max(err, r.position_error)
+        dense = [path[i] + f * (path[i + 1] - path[i]) for i in range(N_WAY) for f in (0.0, 0.5)] + [path[-1]]
+        hits = sum(_collides(mdl, d, q) for q in dense)
+        cost = (hits, err > 0.01, err)
+        if best is None or cost < best[0]:
+            best = (cost, axis, np.array(path))
+        if hits == 0 and err < 0.01:
+            break
+    return best[1], best[2]
 
 
 def reset(arm, target, payload_kg, layout):
     key = (arm, int(round(payload_kg)))
     if key not in _S:
-        design = load_design(".")
-        _S[key] = build_scene(design.fresh_spec, arm, int(round(payload_kg)))
-    sc = _S[key]
+        _S[key] = _Model(arm, int(round(payload_kg)))
+    mdl = _S[key]
     target = np.asarray(target, dtype=float)
-    x_park = SHELF_FRONT_X - PARK_GAP - sc.front_extent()
-    d = sc.rest_data(x_park)
-    pre = _ik(sc, d, target - np.array([0.22, 0.0, 0.0]), np.array([1.0, 0.0, 0.0])).q
-    goal = _ik(sc, d, target, np.array([1.0, 0.0, 0.0])).q
-    ids = [mujoco.mj_name2id(sc.model, mujoco.mjtObj.mjOBJ_BODY, w) for w in WHEELS]
-    wheel_xy = np.array([d.xpos[i][:2] for i in ids]) - d.xpos[sc.chassis][:2]
+    x_park = load_catalog("shelf").extra["front_x"] - PARK_GAP - mdl.front
+    axis, path = _plan(mdl, x_park, target)
     _S["cur"] = dict(
-        sc=sc,
-        data=mujoco.MjData(sc.model),
+        mdl=mdl,
         x_park=x_park,
-        pre=pre,
-        goal=goal,
+        path=path,
+        target=target,
+        axis=axis,
+        pd=mdl.chain.model.createData(),
         layout=layout,
-        wheel_xy=wheel_xy,
         q0=None,
         v=0.0,
     )
 
 
-def _arm_path(s, t, q_now):
+def _smooth(a):
+    a = min(1.0, max(0.0, a))
+    return a * a * (3 - 2 * a)
+
+
+def _arm_target(s, t, q_now):
     if s["q0"] is None:
         s["q0"] = q_now.copy()
-    if t < T_DRIVE:
-        a = min(1.0, t / T_DRIVE)
-        a = a * a * (3 - 2 * a)
-        return s["q0"] + a * (s["pre"] - s["q0"])
-    a = min(1.0, (t - T_DRIVE) / T_ENTER)
-    a = a * a * (3 - 2 * a)
-    return s["pre"] + a * (s["goal"] - s["pre"])
+    path = s["path"]
+    if t < T_ARM:
+        return s["q0"] + _smooth(t / T_ARM) * (path[0] - s["q0"])
+    a = _smooth((t - T_ENTRY) / T_ENTER)
+    x = a * (len(path) - 1)
+    i = min(int(x), len(path) - 2)
+    q_ref = path[i] + (x - i) * (path[i + 1] - path[i])
+    if t < T_ENTRY - 0.5:
+        return q_ref
+    # correct for the base's actual pose: damped least-squares steps toward the world point
+    ch = s["mdl"].chain
+    p_base = ch.to_base(s["mdl"].data, s["target"] - (1.0 - a) * ENTRY * s["axis"])
+    q = q_ref.copy()
+    for _ in range(2):
+        pin.framesForwardKinematics(ch.model, s["pd"], q)
+        pin.computeJointJacobians(ch.model, s["pd"], q)
+        jac = pin.getFrameJacobian(ch.model, s["pd"], ch.tool_frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[
+            :3
+        ]
+        e = p_base - s["pd"].oMf[ch.tool_frame].translation
+        q = np.clip(q + jac.T @ np.linalg.solve(jac @ jac.T + 1e-3 * np.eye(3), e), ch.lower, ch.upper)
+    return q
 
 
 def control(t, qpos, qvel, ctrl):
     s = _S["cur"]
-    sc, d, lay = s["sc"], s["data"], s["layout"]
-    d.qpos[:] = qpos
-    d.qvel[:] = qvel
-    mujoco.mj_forward(sc.model, d)
-    out = np.zeros(sc.model.nu)
-    # base: P control on x with speed and acceleration limits, heading and y held
-    x, y = qpos[0], qpos[1]
-    yaw = 2.0 * np.arctan2(qpos[6], qpos[3])
-    v_des = float(np.clip(K_POS * (s["x_park"] - x), -V_MAX, V_MAX))
-    s["v"] = float(np.clip(v_des, s["v"] - A_MAX / 50.0, s["v"] + A_MAX / 50.0))
-    out[lay["wheel_actuators"]] = mecanum_speeds(s["v"], -2.0 * y, -2.0 * yaw, s["wheel_xy"])
-    # arm: gravity/Coriolis compensation + critically damped PD toward the path
+    mdl, lay = s["mdl"], s["layout"]
+    m, d, ch = mdl.model, mdl.data, mdl.chain
     aq, av = lay["arm_qpos"], lay["arm_qvel"]
-    q_des = _arm_path(s, t, qpos[aq])
-    m = sc.model
-    inertia = d.M[m.M_rowadr[av] + m.M_rownnz[av] - 1]
-    tau = d.qfrc_bias[av] + inertia * OMEGA**2 * (q_des - qpos[aq]) - 2.0 * inertia * OMEGA * qvel[av]
+    d.qpos[:7] = qpos[lay["chassis_qpos"]]
+    d.qvel[:6] = qvel[lay["chassis_qvel"]]
+    d.qpos[ch.qpos_adr] = qpos[aq]
+    d.qvel[ch.dof_adr] = qvel[av]
+    mujoco.mj_forward(m, d)
+    out = np.zeros(len(lay["actuators"]))
+    # base: waits for the arm, then P control on x with speed/acceleration limits; y and heading held
+    x, y = qpos[lay["chassis_qpos"][0]], qpos[lay["chassis_qpos"][1]]
+    qw, qz = qpos[lay["chassis_qpos"][3]], qpos[lay["chassis_qpos"][6]]
+    yaw = 2.0 * np.arctan2(qz, qw)
+    v_des = float(np.clip(K_POS * (s["x_park"] - x), -V_MAX, V_MAX)) if t >= T_ARM else 0.0
+    s["v"] = float(np.clip(v_des, s["v"] - A_MAX / 50.0, s["v"] + A_MAX / 50.0))
+    out[lay["wheel_actuators"]] = mecanum_speeds(s["v"], -4.0 * y, -4.0 * yaw, mdl.wheel_xy)
+    # arm
+    q_des = _arm_target(s, t, qpos[aq])
+    dofs = ch.dof_adr
+    full = np.zeros((m.nv, m.nv))
+    mujoco.mj_fullM(m, d, full)
+    m_arm = full[np.ix_(dofs, dofs)]
+    e = q_des - qpos[aq]
+    # computed torque: decoupled critically damped joints at OMEGA, gravity/Coriolis compensated
+    tau = d.qfrc_bias[dofs] + m_arm @ (OMEGA**2 * e - 2.0 * OMEGA * qvel[av])
+    tau = tau + m.dof_frictionloss[dofs] * np.tanh(e / 0.02)
     out[lay["arm_actuators"]] = tau
     return out
