@@ -3,13 +3,14 @@
 Static: for every pose and payload, the static margin (wheel centres as support polygon, COM of the
 whole machine) and the force-angle angle must exceed ``STATIC_MARGIN_MIN`` and
 ``FORCE_ANGLE_MIN_DEG``, and a settled simulation (``SETTLE_S``, arm held by gravity compensation +
-PD, wheels braked) must keep every wheel loaded above ``LOSS_FRACTION`` m g / 4 without tilting.
+PD, wheels braked) must keep every wheel supported (no load below ``LOSS_FRACTION`` m g / 4 for longer than
+``LOSS_DURATION_S``) without tilting beyond ``TILT_MAX_DEG``.
 
 Dynamic (2 kg payload): with the arm stowed (transport), base accelerations (equivalent gravity)
 forward, backward and sideways, an emergency stop from driving speed and turning in place; with the
-arm extended forward and the wheels braked, a fast swing of the first joint. A scenario passes when no wheel loses support for longer than ``LOSS_DURATION_S``, the
-smallest wheel load (averaged over 50 ms) stays above ``LOSS_FRACTION`` m g / 4, and the peak tilt
-stays under ``TILT_MAX_DEG``.
+arm extended forward and the wheels braked, a fast swing of the first joint. A scenario passes when no wheel stays below ``LOSS_FRACTION`` m g / 4 (loads averaged over 50 ms)
+for longer than ``LOSS_DURATION_S`` and the peak tilt stays under ``TILT_MAX_DEG``; the smallest
+wheel load is reported.
 """
 
 from __future__ import annotations
@@ -26,16 +27,16 @@ from rle_tasks.f08_mobile_base.wheels import WHEELS, mecanum_speeds
 
 STATIC_MARGIN_MIN = 0.04  # [m]
 FORCE_ANGLE_MIN_DEG = 8.0  # [deg]
-SETTLE_S = 0.3  # [s]
+SETTLE_S = 0.5  # [s]
 LOSS_FRACTION = 0.05  # [1] of m g / 4
 LOSS_DURATION_S = 0.25  # [s]
 TILT_MAX_DEG = 2.0  # [deg]
 ACCEL = 2.5  # nominal base acceleration of the dynamic battery [m/s^2]
 DRIVE_SPEED = 1.0  # speed before the emergency stop [m/s]
-STOP_DECEL = 3.0  # emergency-stop deceleration ramp of the wheel commands [m/s^2]
+STOP_DECEL = 2.0  # emergency-stop deceleration ramp of the wheel commands [m/s^2]
 TURN_RATE = 1.0  # turning in place [rad/s]
-SWING_AMPLITUDE = 0.6  # first-joint swing amplitude [rad]
-SWING_FREQ = 0.5  # [Hz]
+SWING_AMPLITUDE = 0.5  # first-joint swing amplitude [rad]
+SWING_FREQ = 0.4  # [Hz]
 
 
 @dataclass(frozen=True)
@@ -47,6 +48,7 @@ class StaticCase:
     margin: float
     force_angle_deg: float
     min_wheel_frac: float
+    longest_loss_s: float
     tilt_deg: float
     ik_residual: float
 
@@ -55,14 +57,14 @@ class StaticCase:
         return (
             self.margin >= STATIC_MARGIN_MIN
             and self.force_angle_deg >= FORCE_ANGLE_MIN_DEG
-            and self.min_wheel_frac >= LOSS_FRACTION
+            and self.longest_loss_s <= LOSS_DURATION_S
             and self.tilt_deg < TILT_MAX_DEG
         )
 
     @property
     def tips(self) -> bool:
         """The machine cannot stand in this pose (COM outside, or a wheel lifts)."""
-        return self.margin <= 0 or self.min_wheel_frac < LOSS_FRACTION or self.tilt_deg >= TILT_MAX_DEG
+        return self.margin <= 0 or self.longest_loss_s > LOSS_DURATION_S or self.tilt_deg >= TILT_MAX_DEG
 
 
 def _wheel_points(scene: Scene, data: mujoco.MjData) -> np.ndarray:
@@ -101,6 +103,7 @@ def static_case(scene: Scene, pose: Pose, payload_kg: int, settle_s: float = SET
         margin,
         float(np.degrees(fa.min_theta)),
         res.min_normal / share if res.normal.size else 0.0,
+        res.longest_loss,
         res.peak_tilt_deg if not res.tipped else 90.0,
         pose.residual,
     )
@@ -211,10 +214,6 @@ def dynamic_battery(
             "longest_loss_s": res.longest_loss,
             "peak_tilt_deg": 90.0 if res.tipped and res.peak_tilt_deg < TILT_MAX_DEG else res.peak_tilt_deg,
         }
-        s["passed"] = bool(
-            s["longest_loss_s"] <= LOSS_DURATION_S
-            and min_frac >= LOSS_FRACTION
-            and s["peak_tilt_deg"] < TILT_MAX_DEG
-        )
+        s["passed"] = bool(s["longest_loss_s"] <= LOSS_DURATION_S and s["peak_tilt_deg"] < TILT_MAX_DEG)
         out.append(s)
     return out

@@ -21,6 +21,7 @@ BATTERY = "battery"
 ADAPTER = "universal_adapter"
 MOUNT_SITE = "arm_mount_site"
 PAYLOADS = {0: None, 1: "payload_1kg", 2: "payload_2kg"}
+TIP_TILT_DEG = 2.0  # chassis tilt that counts as tipping [deg]
 # Stowed arm postures (robosuite's init_qpos of each model) [rad].
 STOWED = {
     "panda": (0.0, np.pi / 16.0, 0.0, -np.pi / 2.0 - np.pi / 3.0, 0.0, np.pi - 0.2, np.pi / 4),
@@ -173,7 +174,7 @@ def build_scene(
     model = compile_spec(spec)
     chassis = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, CHASSIS)
     supports = SupportSet.from_names(model, {w: [f"{w}_contact"] for w in WHEELS})
-    probe = StabilityProbe(root_body=chassis, supports=supports)
+    probe = StabilityProbe(root_body=chassis, supports=supports, tip_tilt=np.radians(TIP_TILT_DEG))
     wheel_act = np.array([mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, n) for n in wheel_names])
     chain, arm_act, tool = None, np.zeros(0, dtype=int), -1
     qpos = model.qpos0.copy()
@@ -244,18 +245,18 @@ def hold_torque(
     data: mujoco.MjData,
     q_des: np.ndarray,
     qd_des: np.ndarray | None = None,
-    omega: float = 30.0,
+    omega: float = 20.0,
 ) -> np.ndarray:
-    """Verifier arm controller: bias (gravity, Coriolis) compensation plus a critically damped joint PD
-    whose gains follow each joint's effective inertia (natural frequency ``omega`` [rad/s]) [N m]."""
+    """Verifier arm controller: computed torque, bias (gravity, Coriolis) + M_arm (kp e + kd e_dot) with
+    critically damped decoupled joints at natural frequency ``omega`` [rad/s], clipped to the limits [N m]."""
     ch = scene.chain
+    m = scene.model
     q = data.qpos[ch.qpos_adr]
     qd = data.qvel[ch.dof_adr]
-    m = scene.model
-    inertia = data.M[m.M_rowadr[ch.dof_adr] + m.M_rownnz[ch.dof_adr] - 1]  # diagonal of the CSR rows
-    kp = inertia * omega**2
-    kd = 2.0 * inertia * omega
+    full = scene.extra.setdefault("_fullM", np.zeros((m.nv, m.nv)))
+    mujoco.mj_fullM(m, data, full)
+    m_arm = full[np.ix_(ch.dof_adr, ch.dof_adr)]
     qd_des = np.zeros_like(q) if qd_des is None else qd_des
-    tau = data.qfrc_bias[ch.dof_adr] + kp * (q_des - q) + kd * (qd_des - qd)
-    lo, hi = scene.model.actuator_ctrlrange[scene.arm_act].T
+    tau = data.qfrc_bias[ch.dof_adr] + m_arm @ (omega**2 * (q_des - q) + 2.0 * omega * (qd_des - qd))
+    lo, hi = m.actuator_ctrlrange[scene.arm_act].T
     return np.clip(tau, lo, hi)

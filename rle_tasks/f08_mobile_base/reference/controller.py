@@ -38,7 +38,7 @@ STOWED = {
 def mecanum_speeds(vx, vy, wz, wheel_xy):
     """Wheel speeds [rad/s] for a chassis twist: omega_i = sqrt2 (v_i . s_i) / r (instruction.md)."""
     out = []
-    for (name, s), (px, py) in zip(ROLLER.items(), wheel_xy):
+    for s, (px, py) in zip(ROLLER.values(), wheel_xy):
         s = np.array(s, dtype=float) / np.sqrt(2.0)
         out.append(np.sqrt(2.0) * float(np.array([vx - wz * py, vy + wz * px]) @ s) / WHEEL_R)
     return np.array(out)
