@@ -1,10 +1,11 @@
 """Motion clearance: do the added parts collide with the arm, the base or the table over the workspace?
 
-The submitted leader is recompiled with every geom colliding (``contype = conaffinity = 1``, so a
-part cannot opt out) and a table plane at z = 0 (the bottom of the base plate). A grid pose counts
+The submitted leader is recompiled with every geom colliding (``contype = conaffinity = 1``, no
+margin, every ``<exclude>`` removed, so a part cannot opt out) and a table plane at z = 0 (the bottom of the base plate). A grid pose counts
 as a clearance failure when a geom of an added body penetrates any geom of another rigid group
 (MuJoCo already ignores pairs welded together and parent-child pairs). Poses where the stock arm
-itself is in the table are not reachable and are not counted.
+itself (beyond link 1, which sits on the base plate) comes within ``TABLE_MARGIN_M`` of the table are
+not working poses and are not counted.
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ import numpy as np
 from rle_design.mjcf.loader import Design
 
 PENETRATION_M = 1e-4
+TABLE_MARGIN_M = 0.03
+"""Poses that bring the stock arm (beyond link 1) this close to the table are not counted [m]."""
 
 
 def clearance_model(design: Design) -> mujoco.MjModel:
@@ -24,6 +27,9 @@ def clearance_model(design: Design) -> mujoco.MjModel:
         g.contype = 1
         g.conaffinity = 1
         g.margin = 0.0
+        g.gap = 0.0
+    for e in list(spec.excludes):  # a submitted <exclude> cannot hide a collision
+        spec.delete(e)
     spec.worldbody.add_geom(name="__table__", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[2.0, 2.0, 0.1])
     return spec.compile()
 
@@ -42,19 +48,18 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
     d = mujoco.MjData(m)
     added = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in added_bodies}
     geom_added = np.isin(m.geom_bodyid, list(added))
-    table = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "__table__")
-    base = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "base")
-    stock_arm = ~geom_added & (m.geom_bodyid != base)
+    fixed = [0] + [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in ("base", "link1")]
+    stock_arm = ~geom_added & ~np.isin(m.geom_bodyid, fixed)  # stock parts that can reach the table
     hits, counted, examples = 0, 0, []
     for q in poses:
         d.qpos[:] = q
         mujoco.mj_kinematics(m, d)
         mujoco.mj_collision(m, d)
+        if _lowest_point(m, d, stock_arm) < TABLE_MARGIN_M:
+            continue  # the stock arm itself scrapes the table: not a working pose
         n = d.ncon
         dist, g1, g2 = d.contact.dist[:n], d.contact.geom1[:n], d.contact.geom2[:n]
         deep = dist < -PENETRATION_M
-        if np.any(deep & (((g1 == table) & stock_arm[g2]) | ((g2 == table) & stock_arm[g1]))):
-            continue  # the stock arm itself is in the table: not a reachable pose
         counted += 1
         hit = deep & (geom_added[g1] | geom_added[g2])
         bad = bool(hit.any())
@@ -65,3 +70,12 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
             examples.append(f"{n1}/{n2}")
         hits += bad
     return (hits / counted if counted else 0.0), examples
+
+
+def _lowest_point(m: mujoco.MjModel, d: mujoco.MjData, geoms: np.ndarray) -> float:
+    """Lowest world z of the selected geoms' oriented bounding boxes [m]."""
+    ids = np.flatnonzero(geoms)
+    centre, half = m.geom_aabb[ids, :3], m.geom_aabb[ids, 3:]
+    rot = d.geom_xmat[ids].reshape(-1, 3, 3)
+    z = d.geom_xpos[ids, 2] + np.einsum("nj,nj->n", rot[:, 2, :], centre)
+    return float(np.min(z - np.einsum("nj,nj->n", np.abs(rot[:, 2, :]), half)))

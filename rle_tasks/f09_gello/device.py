@@ -7,7 +7,7 @@ failure that skips the submitted-arm battery):
   connect to the world, no actuator, one root body, no body inside ``<frame>``;
 * ``contract.equality``: no equality constraint at all; ``contract.extra_joint``: no new joint;
 * ``contract.joint_frame``: every stock body keeps its parent, position and orientation, every stock
-  joint its position, axis and range (1e-6);
+  joint its position, axis, range and reference angle ``ref`` (1e-6);
 * ``contract.stock_servo``: stock joint frictionloss, damping and armature unchanged;
 * ``contract.stock_geometry`` / ``contract.stock_inertia``: stock geoms (type, size, placement) and
   stock body inertials (mass, centre of mass, inertia) unchanged: add mass as new welded bodies.
@@ -151,10 +151,13 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
             _close(m.jnt_pos[mj], s.jnt_pos[j])
             and _close(m.jnt_axis[mj], s.jnt_axis[j])
             and _close(m.jnt_range[mj], s.jnt_range[j])
+            and _close(m.qpos0[m.jnt_qposadr[mj]], s.qpos0[s.jnt_qposadr[j]])
             and m.jnt_type[mj] == s.jnt_type[j]
         ):
             bad(
-                "contract.joint_frame", f"stock joint '{name}' changed position, axis, type or range", "joint"
+                "contract.joint_frame",
+                f"stock joint '{name}' changed position, axis, type, range or reference angle",
+                "joint",
             )
         if not (
             _close(m.dof_frictionloss[mj], s.dof_frictionloss[j])

@@ -36,6 +36,7 @@ from rle_tasks.f09_gello.leaders import ROBOTS
 PKG = Path(__file__).resolve().parent
 CW_AXIAL = 0.055
 EXACT_RADIUS = 0.10
+MASS_CAP = 2.1
 SPRING_ARM = 0.05
 SPRING_OFFSET = 0.03
 TRIM_TEMPLATES = PKG / "trim_templates"
@@ -62,7 +63,7 @@ def _rot(quat: np.ndarray) -> np.ndarray:
     return r.reshape(3, 3)
 
 
-def exact_design(robot: str, radius: float = EXACT_RADIUS, axial: float = CW_AXIAL) -> Design:
+def exact_design(robot: str, placement: dict[int, tuple[float, float]] | None = None) -> Design:
     """Exact static balance: counterweights tip-first on joints 3..n, zero-length spring on joint 2.
 
     Working from the handle towards the base, the subtree beyond joint k (its link, everything
@@ -74,7 +75,13 @@ def exact_design(robot: str, radius: float = EXACT_RADIUS, axial: float = CW_AXI
     horizontal and carries a rigid body of fixed centre of mass: a zero-length spring from a point
     ``SPRING_ARM`` straight above joint 2 (on link 1) to a point ``SPRING_ARM`` along the centre-of-mass
     direction (on link 2) with k a b = M g |d| balances it exactly at every angle.
+
+    Args:
+        robot: Follower id.
+        placement: Joint k -> (r_c [m], axial shift [m]) of its counterweight; default
+            (``EXACT_RADIUS``, ``CW_AXIAL``).
     """
+    placement = placement or {}
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
     n = m.nv
     child_m, child_s = 0.0, np.zeros(3)
@@ -91,6 +98,7 @@ def exact_design(robot: str, radius: float = EXACT_RADIUS, axial: float = CW_AXI
         off = float(np.linalg.norm(d))
         if k >= 3 and off > 1e-9:
             u = np.array([d[0], d[1], 0.0]) / off
+            radius, axial = placement.get(k, (EXACT_RADIUS, CW_AXIAL))
             mc = mass * off / radius
             pos = -radius * u + np.array([0.0, 0.0, axial])
             cws.append((f"link{k}", tuple(float(x) for x in pos), mc))
@@ -171,10 +179,51 @@ def apply_design(robot: str, design: Design, out_dir: Path) -> Path:
     return path
 
 
+PLACEMENTS = ((0.05, 0.0), (0.08, 0.0)) + tuple(
+    (r, s * a) for r in (0.05, 0.08, 0.10, 0.12) for a in (0.035, CW_AXIAL) for s in (1, -1)
+)
+
+
+def clear_design(robot: str, n_poses: int = 256, passes: int = 2, verbose: bool = False) -> Design:
+    """``exact_design`` with each counterweight's radius and side chosen to clear the workspace.
+
+    Greedy passes from the tip: for joint k = n..3 keep the placement (``PLACEMENTS``) of least
+    collision fraction over the public grid (ties: lighter device; devices over ``MASS_CAP`` lose),
+    the others fixed.
+    """
+    import tempfile
+
+    from rle_tasks.f09_gello.clearance import collision_fraction
+    from rle_tasks.f09_gello.device import load_submission
+    from rle_tasks.f09_gello.helpers import workspace_grid
+
+    m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
+    grid = workspace_grid(m.jnt_range, n_poses)
+    placement: dict[int, tuple[float, float]] = {}
+
+    def cost(pl) -> tuple[float, float]:
+        des = exact_design(robot, pl)
+        with tempfile.TemporaryDirectory() as tmp:
+            sub = load_submission(robot, apply_design(robot, des, Path(tmp) / robot).parent)
+            names = [mujoco.mj_id2name(sub.model, mujoco.mjtObj.mjOBJ_BODY, b) for b in sub.added_bodies]
+            frac = collision_fraction(sub.design, names, grid)[0]
+            return frac + (1.0 if sub.mass > MASS_CAP else 0.0), sub.mass
+
+    for _ in range(passes):
+        for k in range(m.nv, 2, -1):
+            best = min(PLACEMENTS, key=lambda opt, k=k: cost({**placement, k: opt}))
+            placement[k] = best
+            if verbose:
+                print(
+                    f"  {robot} joint {k}: r_c {best[0]:.2f} m, axial {best[1]:+.3f} m -> {cost(placement)}"
+                )
+    return exact_design(robot, placement)
+
+
 def build_all(target: Path = PKG) -> None:
     """Reference and baselines for every robot."""
     for robot in ROBOTS:
-        des = exact_design(robot)
+        des = clear_design(robot, verbose=True)
         ref = target / "reference" / robot
         apply_design(robot, des, ref)
         shutil.copy(TRIM_TEMPLATES / "regressor_trim.py", ref / "trim.py")

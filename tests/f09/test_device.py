@@ -41,6 +41,7 @@ def test_stock_leader_is_clean():
     [
         ('<body name="link3" pos="-0.23375', '<body name="link3" pos="-0.2', "contract.joint_frame"),
         ('range="-2.8 2.8"', 'range="-2.8 2.0"', "contract.joint_frame"),
+        ('range="-2.8 2.8"', 'range="-2.8 2.8" ref="0.3"', "contract.joint_frame"),
         ('frictionloss="0.0128"', 'frictionloss="0.05"', "contract.stock_servo"),
         ('<body name="link2"', '<body name="link2" gravcomp="1"', "contract.gravcomp"),
         ("<worldbody>", '<option gravity="0 0 -1"/><worldbody>', "contract.option_changed"),
@@ -103,3 +104,54 @@ def test_battery_model_sets_noslip_and_disables_contacts():
     assert b.opt.noslip_iterations == 10 and b.opt.timestep == 0.002
     assert b.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CONTACT
     assert stock_model("ur5e").opt.noslip_iterations == 0
+
+
+def test_thin_added_part_is_not_printable(tmp_path):
+    import trimesh
+
+    d = tmp_path / "ur5e"
+    shutil.copytree(ASSET_DIR / "ur5e", d)
+    plate = trimesh.creation.box(extents=(0.05, 0.05, 0.0004))
+    (d / "meshes" / "fin.stl").write_bytes(trimesh.exchange.stl.export_stl(plate))
+    text = (d / "lead.xml").read_text()
+    text = text.replace(
+        '<mesh name="base" file="base.stl"/>',
+        '<mesh name="base" file="base.stl"/><mesh name="fin" file="fin.stl"/>',
+    )
+    text = text.replace(
+        '<site name="handle_site"',
+        '<body name="fin" pos="0 0.05 0"><geom name="fin" type="mesh" mesh="fin" density="1240"/></body><site name="handle_site"',
+    )
+    (d / "lead.xml").write_text(text)
+    sub = load_submission("ur5e", d)
+    assert sub.usable
+    assert [f.code for f in sub.validity] == ["contract.printability"]
+    assert "added part 'fin' is not printable: minimum wall 0.400 mm < 0.800 mm" in sub.validity[0].message
+
+
+def test_exclude_cannot_hide_a_counterweight_collision(tmp_path):
+    from rle_tasks.f09_gello.clearance import collision_fraction
+    from rle_tasks.f09_gello.helpers import workspace_grid
+
+    d = tmp_path / "ur5e"
+    shutil.copytree(ASSET_DIR / "ur5e", d)
+    text = (d / "lead.xml").read_text()
+    # a steel ball on a 12 cm arm at the shoulder sweeps through the table and the base
+    ball = (
+        '<body name="ball" pos="0.12 0 0"><geom name="ball" type="sphere" size="0.03" density="7850"/></body>'
+    )
+    text = text.replace('<joint name="j2"', ball + '<joint name="j2"', 1)
+    excluded = text.replace(
+        "</worldbody>",
+        '</worldbody><contact><exclude body1="ball" body2="world"/><exclude body1="ball" body2="base"/></contact>',
+    )
+    grid = workspace_grid(
+        np.array([[-3.14, 3.14], [-3.14, 0.0], [-2.8, 2.8], [-3.14, 3.14], [-3.14, 3.14], [-3.14, 3.14]]), 64
+    )
+    fractions = []
+    for t in (text, excluded):
+        (d / "lead.xml").write_text(t)
+        sub = load_submission("ur5e", d)
+        assert sub.usable, sub.structure
+        fractions.append(collision_fraction(sub.design, ["ball"], grid)[0])
+    assert fractions[0] > 0.0 and fractions[0] == fractions[1]
