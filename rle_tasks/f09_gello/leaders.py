@@ -97,10 +97,6 @@ def _modified_dh(rows: list[tuple[float, float, float]], flange: float) -> tuple
     return pos, rot, np.array([0.0, 0.0, flange])
 
 
-def _first_link_height(rows_d1: float) -> np.ndarray:
-    return np.array([0.0, 0.0, rows_d1])
-
-
 _PI = np.pi
 _TABLES = {
     "panda": dict(
