@@ -53,8 +53,8 @@ support. All 12 targets count, for each arm, with 1 kg and with 2 kg.
 | shelf integration, 1 kg | 10 % |
 | shelf integration, 2 kg | 5 % |
 
-A failed validity checkpoint, or a pose in which the machine cannot stand with the required 1 kg
-load, caps the reward at 0.15. The evaluation varies physical details (target positions by up to a
+A failed validity checkpoint, or a failed required load (a pose in which the machine cannot stand
+with 1 kg, or fewer than half of the targets held with 1 kg by some arm), caps the reward at 0.15. The evaluation varies physical details (target positions by up to a
 centimetre, payload centre of mass, floor friction).
 
 ## Workspace

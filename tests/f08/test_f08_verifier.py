@@ -77,7 +77,11 @@ def test_non_catalog_profile_fails_validity():
 @pytest.mark.physics
 def test_bad_mount_fails_shelf_integration():
     r = _report("baseline/bad_mount")
+    assert r.checkpoint("validity").score == 1.0
     assert r.checkpoint("shelf_1kg").score == 0.0 and r.checkpoint("shelf_2kg").score == 0.0
+    # the targets are out of reach: IK residuals of several decimetres for every arm
+    assert all(max(res.values()) > 0.2 for res in r.native_metrics["ik_residual_m"].values())
+    assert r.cap == CAP and r.native_metrics["cap_reason"] == "required 1 kg load"
 
 
 @pytest.mark.physics
@@ -86,6 +90,7 @@ def test_raising_controller_fails_shelf_with_exception_text():
     assert r.checkpoint("shelf_1kg").score == 0.0
     assert "RuntimeError: controller deliberately failed: no motion plan" in r.checkpoint("shelf_1kg").message
     assert any(e.code == "sandbox.exception" for e in r.errors)
+    assert r.cap == CAP and r.score <= CAP
 
 
 def test_dev_env_lays_out_harness(tmp_path: Path):
@@ -99,3 +104,20 @@ def test_missing_robot_xml_is_a_validity_failure(tmp_path: Path):
     (tmp_path / "controller.py").write_text("def reset(*a): pass\ndef control(*a): return []\n")
     r = verify(tmp_path, VerifyContext(secret=SECRET, quick=True))
     assert r.checkpoint("validity").score == 0.0 and r.cap == CAP and r.score <= CAP
+
+
+@pytest.mark.physics
+def test_same_artifact_and_secret_give_identical_report():
+    a = verify(HERE / "baseline/raising_controller", VerifyContext(secret=SECRET, quick=True)).to_dict()
+    b = _report("baseline/raising_controller").to_dict()
+    a.pop("elapsed_s"), b.pop("elapsed_s")
+    assert a == b
+
+
+def test_hidden_variations_follow_the_secret():
+    from rle_tasks.f08_mobile_base.verifier import _variation
+
+    ctx_a = VerifyContext(secret=SECRET)
+    ctx_b = VerifyContext(secret=Secret(b"other", public=False))
+    assert _variation(ctx_a, "panda/static/1") == _variation(ctx_a, "panda/static/1")
+    assert _variation(ctx_a, "panda/static/1") != _variation(ctx_b, "panda/static/1")

@@ -153,6 +153,8 @@ def _plan(mdl, x_park, target):
         axis = np.array([np.cos(pitch), 0.0, -np.sin(pitch)])
         r = _ik(mdl, d, target - ENTRY * axis, axis)
         path, err = [r.q], r.position_error
+        if err > 0.05 and best is not None:
+            continue  # this approach is out of reach
         for a in np.linspace(0.0, 1.0, N_WAY + 1)[1:]:
             p = target - (1.0 - a) * ENTRY * axis
             r = solve_ik(
