@@ -151,24 +151,41 @@ def chain_from_mujoco(model: mujoco.MjModel, joint_names: Sequence[str], site_na
     )
 
 
-def _qp_step(h: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    n = len(g)
-    prob = osqp.OSQP()
-    prob.setup(
-        P=sparse.csc_matrix(np.triu(h)),
-        q=g,
-        A=sparse.identity(n, format="csc"),
-        l=lo,
-        u=hi,
-        verbose=False,
-        eps_abs=1e-9,
-        eps_rel=1e-9,
-        polishing=False,
-    )
-    x = prob.solve(raise_error=False).x
-    if x is None or not np.all(np.isfinite(x)):
-        return np.zeros(n)
-    return np.clip(x, lo, hi)
+class _BoxQP:
+    """min 1/2 x'Hx + g'x s.t. lo <= x <= hi with one OSQP workspace whose sparsity never changes
+    (dense upper triangle of H, identity constraints): later steps only update the numbers."""
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.rows, self.cols = np.triu_indices(n)
+        order = np.lexsort((self.rows, self.cols))  # CSC order: by column, then row
+        self.rows, self.cols = self.rows[order], self.cols[order]
+        self.pattern = sparse.csc_matrix((np.ones(len(self.rows)), (self.rows, self.cols)), shape=(n, n))
+        self.prob: osqp.OSQP | None = None
+
+    def solve(self, h: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        px = h[self.rows, self.cols]
+        if self.prob is None:
+            self.prob = osqp.OSQP()
+            p = self.pattern.copy()
+            p.data = px.copy()
+            self.prob.setup(
+                P=p,
+                q=g,
+                A=sparse.identity(self.n, format="csc"),
+                l=lo,
+                u=hi,
+                verbose=False,
+                eps_abs=1e-9,
+                eps_rel=1e-9,
+                polishing=False,
+            )
+        else:
+            self.prob.update(Px=px, q=g, l=lo, u=hi)
+        x = self.prob.solve(raise_error=False).x
+        if x is None or not np.all(np.isfinite(x)):
+            return np.zeros(self.n)
+        return np.clip(x, lo, hi)
 
 
 def solve_ik(
@@ -211,6 +228,7 @@ def solve_ik(
     target = np.asarray(target, dtype=float)
     want = None if axis is None else np.asarray(axis, dtype=float) / np.linalg.norm(axis)
     pos_err = axis_err = float("inf")
+    qp = _BoxQP(len(q))
     it = 0
     for it in range(1, max_iter + 1):
         pin.framesForwardKinematics(m, d, q)
@@ -235,7 +253,7 @@ def solve_ik(
         g = -(jm.T @ e) - posture * (q_ref - q)
         step_lo = np.maximum(lo_q - q, -max_step)
         step_hi = np.minimum(hi_q - q, max_step)
-        dq = _qp_step(h, g, step_lo, step_hi)
+        dq = qp.solve(h, g, step_lo, step_hi)
         if np.linalg.norm(dq) < 1e-7:
             break
         q = np.clip(q + dq, lo_q, hi_q)

@@ -65,26 +65,49 @@ class ContactSample:
     cop: np.ndarray
 
 
+def _owner_table(model: mujoco.MjModel, supports: SupportSet) -> tuple[np.ndarray, np.ndarray]:
+    owner = np.full(model.ngeom, -1, dtype=int)
+    for i, gs in enumerate(supports.geom_ids):
+        owner[list(gs)] = i
+    ground = np.zeros(model.ngeom, dtype=bool)
+    ground[list(supports.ground_ids)] = True
+    return owner, ground
+
+
 def sample_contacts(model: mujoco.MjModel, data: mujoco.MjData, supports: SupportSet) -> ContactSample:
-    """Normal force and contact point of each support from ``data.contact`` (after mj_step/mj_forward)."""
+    """Normal force and contact point of each support from ``data.contact`` (after mj_step/mj_forward).
+
+    Vectorised over contacts: with elliptic cones the normal force is the first row of each contact's
+    constraint block (``efc_force[efc_address]``), which is what ``mj_contactForce`` returns; with
+    pyramidal cones ``mj_contactForce`` is called per contact.
+    """
     k = len(supports.names)
-    owner = {g: i for i, gs in enumerate(supports.geom_ids) for g in gs}
-    ground = set(supports.ground_ids)
+    owner, ground = _owner_table(model, supports)
+    n = data.ncon
     normal = np.zeros(k)
     moment = np.zeros((k, 3))
-    wrench = np.zeros(6)
-    for c in range(data.ncon):
-        con = data.contact[c]
-        g1, g2 = int(con.geom1), int(con.geom2)
-        if g1 in ground:
-            g1, g2 = g2, g1
-        if g2 not in ground or g1 not in owner or con.efc_address < 0:
-            continue
-        mujoco.mj_contactForce(model, data, c, wrench)
-        fn = max(0.0, float(wrench[0]))
-        i = owner[g1]
-        normal[i] += fn
-        moment[i] += fn * np.asarray(con.pos)
+    if n:
+        con = data.contact
+        g1, g2 = con.geom1[:n], con.geom2[:n]
+        adr = con.efc_address[:n]
+        swap = ground[g1]
+        body_g = np.where(swap, g2, g1)
+        other = np.where(swap, g1, g2)
+        sel = ground[other] & (owner[body_g] >= 0) & (adr >= 0)
+        idx = np.nonzero(sel)[0]
+        if idx.size:
+            if model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC:
+                fn = data.efc_force[adr[idx]]
+            else:
+                wrench = np.zeros(6)
+                fn = np.empty(idx.size)
+                for j, c in enumerate(idx):
+                    mujoco.mj_contactForce(model, data, int(c), wrench)
+                    fn[j] = wrench[0]
+            fn = np.maximum(fn, 0.0)
+            who = owner[body_g[idx]]
+            np.add.at(normal, who, fn)
+            np.add.at(moment, who, fn[:, None] * con.pos[:n][idx])
     points = np.full((k, 3), np.nan)
     loaded = normal > 0
     points[loaded] = moment[loaded] / normal[loaded, None]

@@ -210,6 +210,7 @@ def dynamic_battery(
         min_frac = res.min_normal / share if res.normal.size else 0.0
         s = {
             "scenario": sc.name,
+            "duration_s": float(sc.duration),
             "min_wheel_frac": min_frac,
             "longest_loss_s": res.longest_loss,
             "peak_tilt_deg": 90.0 if res.tipped and res.peak_tilt_deg < TILT_MAX_DEG else res.peak_tilt_deg,

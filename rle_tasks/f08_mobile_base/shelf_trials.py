@@ -25,6 +25,7 @@ from rle_tasks.f08_mobile_base.scene import Scene
 CONTROL_HZ = 50
 EPISODE_S = 8.0
 CALL_TIMEOUT_S = 30.0
+SAMPLE_EVERY = 5  # physics steps between wheel-load samples
 
 
 def layout(scene: Scene) -> dict:
@@ -63,8 +64,10 @@ def run_trial(scene: Scene, sandbox, target: np.ndarray, payload_kg: float) -> d
     target = np.asarray(target, dtype=float)
     sandbox.call("reset", scene.arm, target, float(payload_kg), layout(scene), timeout=CALL_TIMEOUT_S)
     monitor = SupportLossMonitor(scene.mass * 9.81, 4, LOSS_FRACTION, LOSS_DURATION_S)
-    robot = set(int(g) for g in scene.robot_geoms)
-    shelf_g = set(int(g) for g in scene.shelf_geoms)
+    robot_mask = np.zeros(m.ngeom, dtype=bool)
+    robot_mask[scene.robot_geoms] = True
+    shelf_mask = np.zeros(m.ngeom, dtype=bool)
+    shelf_mask[scene.shelf_geoms] = True
     held, best, peak_tilt = 0.0, math.inf, 0.0
     window: list[np.ndarray] = []
     reason = "timeout: the target was not held long enough"
@@ -81,19 +84,17 @@ def run_trial(scene: Scene, sandbox, target: np.ndarray, payload_kg: float) -> d
             finite=True,
         )
         data.ctrl[:] = np.clip(np.asarray(cmd, dtype=float), lo, hi)
-        for k in range(n_sub):
-            mujoco.mj_step(m, data)
-            if k % 5 == 4:
-                window = (window + [sample_contacts(m, data, scene.probe.supports).normal])[-10:]
-                monitor.update(float(data.time), np.mean(window, axis=0))
-        hit = next(
-            (
-                (m.geom(c.geom1).name, m.geom(c.geom2).name)
-                for c in data.contact[: data.ncon]
-                if (c.geom1 in robot and c.geom2 in shelf_g) or (c.geom2 in robot and c.geom1 in shelf_g)
-            ),
-            None,
-        )
+        for _ in range(n_sub // SAMPLE_EVERY):
+            mujoco.mj_step(m, data, nstep=SAMPLE_EVERY)
+            window = (window + [sample_contacts(m, data, scene.probe.supports).normal])[-10:]
+            monitor.update(float(data.time), np.mean(window, axis=0))
+        hit = None
+        if data.ncon:
+            g1, g2 = data.contact.geom1[: data.ncon], data.contact.geom2[: data.ncon]
+            bad = (robot_mask[g1] & shelf_mask[g2]) | (robot_mask[g2] & shelf_mask[g1])
+            if bad.any():
+                c = int(np.argmax(bad))
+                hit = (m.geom(int(g1[c])).name, m.geom(int(g2[c])).name)
         tilt = math.degrees(root_tilt(data, scene.chassis))
         peak_tilt = max(peak_tilt, tilt)
         err = float(np.linalg.norm(data.site_xpos[scene.tool_site] - target))

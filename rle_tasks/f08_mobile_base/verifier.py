@@ -114,53 +114,54 @@ def _evaluate_arm(design, root: Path, arm: str, ctx: VerifyContext, report: Veri
     dyn = B.dynamic_battery(dyn_scene, poses, derive_rng(ctx.secret, TASK_ID, f"{arm}/dynamic/rng"), quick)
     out["dynamic"] = dyn
     out["dynamic_score"] = float(np.mean([s["passed"] for s in dyn]))
-    out["shelf"] = _shelf(design, root, arm, ctx, report, poses)
     out["poses"] = poses
+    # simulated seconds per scene (for the physics-floor benchmark)
+    out["sim_s"] = {
+        "static": {kg: B.SETTLE_S * sum(c.payload_kg == kg for c in cases) for kg in (0, 1, 2)},
+        "dynamic": float(sum(s["duration_s"] for s in dyn)),
+    }
     return out
 
 
-def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: VerifierReport, poses) -> dict:
+def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: VerifierReport, kg: int) -> dict:
     from rle_design.catalog import load_catalog
 
     shelf = load_catalog("shelf")
     ids = QUICK_TARGETS if ctx.quick else tuple(t.id for t in shelf.entries)
-    res: dict = {}
     faults = 0
     files = {"robot.xml": str(root / "robot.xml")}
-    for kg in (1, 2):
-        scene = build_scene(
-            design.fresh_spec, arm, kg, shelf=True, variation=_variation(ctx, f"{arm}/shelf/{kg}")
-        )
-        trials = {}
-        sb = None
-        for t in shelf.entries:
-            if t.id not in ids:
-                continue
-            rng = derive_rng(ctx.secret, TASK_ID, f"{arm}/shelf/{kg}/{t.id}")
-            target = np.array(t.pos) + rng.uniform(-0.01, 0.01, 3)
-            if faults >= MAX_FAULTS_PER_ARM:
-                trials[t.id] = {"success": False, "reason": "skipped after repeated controller faults"}
-                continue
-            try:
-                if sb is None:
-                    sb = Sandbox(
-                        str(root / "controller.py"),
-                        limits=SandboxLimits(call_timeout_s=30.0, cpu_seconds=600.0),
-                        workdir_files=files,
-                    )
-                    sb.start()
-                trials[t.id] = run_trial(scene, sb, target, float(kg))
-            except ParticipantFault as exc:
-                faults += 1
-                trials[t.id] = {"success": False, "reason": f"controller fault {exc.code}: {exc.message}"}
-                report.add_error(exc.code, f"{arm} {kg} kg {t.id}: {exc.message}", "controller.py")
-                if sb is not None:
-                    sb.close()
-                sb = None
-        if sb is not None:
-            sb.close()
-        res[kg] = trials
-    return res
+    scene = build_scene(
+        design.fresh_spec, arm, kg, shelf=True, variation=_variation(ctx, f"{arm}/shelf/{kg}")
+    )
+    trials = {}
+    sb = None
+    for t in shelf.entries:
+        if t.id not in ids:
+            continue
+        rng = derive_rng(ctx.secret, TASK_ID, f"{arm}/shelf/{kg}/{t.id}")
+        target = np.array(t.pos) + rng.uniform(-0.01, 0.01, 3)
+        if faults >= MAX_FAULTS_PER_ARM:
+            trials[t.id] = {"success": False, "reason": "skipped after repeated controller faults"}
+            continue
+        try:
+            if sb is None:
+                sb = Sandbox(
+                    str(root / "controller.py"),
+                    limits=SandboxLimits(call_timeout_s=30.0, cpu_seconds=600.0),
+                    workdir_files=files,
+                )
+                sb.start()
+            trials[t.id] = run_trial(scene, sb, target, float(kg))
+        except ParticipantFault as exc:
+            faults += 1
+            trials[t.id] = {"success": False, "reason": f"controller fault {exc.code}: {exc.message}"}
+            report.add_error(exc.code, f"{arm} {kg} kg {t.id}: {exc.message}", "controller.py")
+            if sb is not None:
+                sb.close()
+            sb = None
+    if sb is not None:
+        sb.close()
+    return trials
 
 
 def _render(design, arm_out: dict, arm: str, out_dir: Path, report: VerifierReport) -> None:
@@ -169,21 +170,81 @@ def _render(design, arm_out: dict, arm: str, out_dir: Path, report: VerifierRepo
         from rle_tasks.f08_mobile_base.poses import park_x
 
         out_dir.mkdir(parents=True, exist_ok=True)
-        sc = build_scene(design.fresh_spec, arm, 1, shelf=True)
         poses = {p.name: p for p in arm_out["poses"]}
+        free = build_scene(design.fresh_spec, arm, 1)
+        shelf = build_scene(design.fresh_spec, arm, 1, shelf=True)
+        target = "T07" if "T07" in poses else "T01"
         views = [
-            ("stowed", None, 0.0),
-            ("extended", "reach_front", 0.0),
-            ("integration", "T07" if "T07" in poses else "T01", park_x(sc)),
+            ("stowed", free, None, 0.0, dict(lookat=[0.2, 0, 0.45], distance=2.0)),
+            ("extended", free, "reach_front", 0.0, dict(lookat=[0.35, 0, 0.5], distance=2.2)),
+            ("integration", shelf, target, park_x(shelf), dict(distance=2.2, azimuth=-60.0, elevation=-25.0)),
         ]
-        for label, pname, x in views:
+        for label, sc, pname, x, cam in views:
             d = sc.rest_data(x)
             if pname in poses:
                 d.qpos[sc.chain.qpos_adr] = poses[pname].q
             mujoco.mj_forward(sc.model, d)
-            render_png(sc.model, d, out_dir / f"{arm}_{label}.png", lookat=[x + 0.3, 0, 0.5], distance=2.4)
+            cam.setdefault("lookat", [x + 0.45, 0, 0.55])
+            render_png(sc.model, d, out_dir / f"{arm}_{label}.png", **cam)
     except Exception as exc:  # noqa: BLE001 - renders accompany the report; their failure is not a score
         report.add_error("render.failed", f"{arm}: {type(exc).__name__}: {exc}")
+
+
+def _arm_job(root: str, arm: str, part: str, key: bytes, public: bool, quick: bool) -> tuple[dict, list]:
+    """One unit of work (``part``: ``"stability"``, ``"shelf1"`` or ``"shelf2"`` of one arm) in a
+    worker process: (results, error entries)."""
+    from rle_tasks.core.secrets import Secret
+
+    ctx = VerifyContext(secret=Secret(key, public), quick=quick)
+    sink = VerifierReport(task_id=TASK_ID, family="08", workflow="mechanical_design")
+    try:
+        design = load_design(Path(root))
+        if part == "stability":
+            out = _evaluate_arm(design, Path(root), arm, ctx, sink)
+        else:
+            out = {"trials": _shelf(design, Path(root), arm, ctx, sink, int(part[-1]))}
+    except RleError as exc:
+        return {"fault": (exc.code, exc.message)}, [(e.code, e.message, e.path) for e in sink.errors]
+    return out, [(e.code, e.message, e.path) for e in sink.errors]
+
+
+PARTS = ("stability", "shelf1", "shelf2")
+
+
+def _evaluate_arms(root: Path, ctx: VerifyContext, report: VerifierReport, problems: list) -> dict[str, dict]:
+    """Per-arm evaluations as 9 units (arm x part), in ``ctx.jobs`` worker processes when > 1; results
+    are merged in a fixed order, so the report does not depend on scheduling."""
+    units = [(a, p) for p in PARTS for a in ARMS]
+    args = [(str(root), a, p, ctx.secret.key, ctx.secret.public, ctx.quick) for a, p in units]
+    if ctx.jobs > 1:
+        import concurrent.futures as cf
+        import multiprocessing as mp
+
+        with cf.ProcessPoolExecutor(max_workers=ctx.jobs, mp_context=mp.get_context("spawn")) as ex:
+            results = list(ex.map(_arm_job, *zip(*args)))
+    else:
+        results = [_arm_job(*a) for a in args]
+    arms: dict[str, dict] = {}
+    faults: dict[str, tuple[str, str]] = {}
+    for (arm, part), (out, errors) in zip(units, results):
+        for code, msg, path in errors:
+            report.add_error(code, msg, path)
+        if "fault" in out:
+            faults.setdefault(arm, out["fault"])
+            continue
+        if part == "stability":
+            arms.setdefault(arm, {}).update(out)
+        else:
+            arms.setdefault(arm, {}).setdefault("shelf", {})[int(part[-1])] = out["trials"]
+    for arm, (code, msg) in faults.items():
+        problems.append((code, f"{arm}: {msg}"))
+        report.add_error(code, f"{arm}: {msg}", "robot.xml")
+        arms.pop(arm, None)
+    for o in arms.values():
+        o["sim_s"]["shelf"] = {
+            kg: float(sum(t.get("time_s", 0.0) for t in o["shelf"][kg].values())) for kg in (1, 2)
+        }
+    return arms
 
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
@@ -206,12 +267,7 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     if design is not None and not any(
         c.startswith(("mjcf", "contract", "artifact.unsafe")) for c, _ in problems
     ):
-        for arm in ARMS:
-            try:
-                arms[arm] = _evaluate_arm(design, root, arm, ctx, report)
-            except RleError as exc:
-                problems.append((exc.code, f"{arm}: {exc.message}"))
-                report.add_error(exc.code, f"{arm}: {exc.message}", "robot.xml")
+        arms = _evaluate_arms(root, ctx, report, problems)
     mount_ok = {a: bool(arms.get(a, {}).get("mount_ok", False)) for a in ARMS}
     valid = not problems and all(mount_ok.values())
     cps["validity"] = Checkpoint(
@@ -310,8 +366,11 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         "design": metrics,
         "required_load_ok": load_ok,
         "stands_with_required_load": stand_ok,
-        "cap_reason": None if valid and load_ok else ("structure (validity)" if not valid else "required 1 kg load"),
+        "cap_reason": None
+        if valid and load_ok
+        else ("structure (validity)" if not valid else "required 1 kg load"),
         "ik_residual_m": {a: o["ik"] for a, o in arms.items()},
+        "simulated_s": {a: o["sim_s"] for a, o in arms.items()},
     }
     if ctx.out_dir is not None and design is not None:
         for a, o in arms.items():

@@ -68,7 +68,8 @@ def test_non_catalog_profile_fails_validity():
     assert r.checkpoint("validity").score == 0.0 and r.cap == CAP
     assert any(
         e.code == "catalog.unknown_profile"
-        and e.message == "geom 'profile_5050_rail_left': profile '5050' is not in the catalog. "
+        and e.message
+        == "geom 'profile_5050_rail_left': profile '5050' is not in the catalog. "
         "Available profiles: 2020, 2040, 3030, 4040, 4080"
         for e in r.errors
     )
@@ -95,7 +96,16 @@ def test_raising_controller_fails_shelf_with_exception_text():
 
 def test_dev_env_lays_out_harness(tmp_path: Path):
     get_task("08-mobile-base").make_dev_env(tmp_path)
-    for rel in ("instruction.md", "preview.py", "catalog/profiles.yaml", "catalog/shelf.yaml", "catalog/parts/mecanum_wheel.xml", "arms/panda/robot.xml", "arms/ur5e/robot.xml", "arms/xarm7/robot.xml"):
+    for rel in (
+        "instruction.md",
+        "preview.py",
+        "catalog/profiles.yaml",
+        "catalog/shelf.yaml",
+        "catalog/parts/mecanum_wheel.xml",
+        "arms/panda/robot.xml",
+        "arms/ur5e/robot.xml",
+        "arms/xarm7/robot.xml",
+    ):
         assert (tmp_path / rel).is_file(), rel
     assert "arm_mount_site" in (tmp_path / "instruction.md").read_text()
 

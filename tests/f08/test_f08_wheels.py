@@ -15,7 +15,10 @@ def test_mecanum_twist_is_reproduced(twist):
     # Mecanum inverse kinematics omega_i = sqrt2 (v_i . s_i) / r must give back the commanded twist.
     sc = build_scene(load_design(HERE / "reference").fresh_spec)
     m, d = sc.model, sc.rest_data()
-    ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, w) for w in ("wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr")]
+    ids = [
+        mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, w)
+        for w in ("wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr")
+    ]
     xy = np.array([d.xpos[i][:2] for i in ids])
     for _ in range(600):
         d.ctrl[sc.wheel_act] = mecanum_speeds(*twist, xy)

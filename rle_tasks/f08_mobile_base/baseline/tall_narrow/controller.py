@@ -117,14 +117,14 @@ def _ik(mdl, d, target_world, axis_world):
     tgt = ch.to_base(d, target_world)
     _, rot = ch.base_pose(d)
     axis = rot.T @ axis_world
-    seeds = [np.array(STOWED[mdl.arm])]
-    seeds.append(solve_ik(ch, tgt, seeds[0], max_iter=60).q)
+    stowed = np.array(STOWED[mdl.arm])
+    seeds = [solve_ik(ch, tgt, stowed, max_iter=40, tol=5e-3).q, stowed]
     rng = np.random.default_rng(7)
     lo, hi = np.maximum(ch.lower, -np.pi), np.minimum(ch.upper, np.pi)
-    seeds += [rng.uniform(lo, hi) for _ in range(6)]
+    seeds += [rng.uniform(lo, hi) for _ in range(3)]
     best = None
     for q0 in seeds:
-        r = solve_ik(ch, tgt, q0, axis=axis, max_iter=120)
+        r = solve_ik(ch, tgt, q0, axis=axis, max_iter=80)
         if best is None or (r.position_error, r.axis_error) < (best.position_error, best.axis_error):
             best = r
         if best.converged:
