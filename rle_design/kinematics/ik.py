@@ -164,6 +164,11 @@ class _BoxQP:
         self.prob: osqp.OSQP | None = None
 
     def solve(self, h: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        # H is positive definite (damping > 0): when the unconstrained minimiser is inside the box it
+        # is the QP's solution, and OSQP is only needed when a limit is active.
+        x = np.linalg.solve(h, -g)
+        if np.all(x >= lo) and np.all(x <= hi):
+            return x
         px = h[self.rows, self.cols]
         if self.prob is None:
             self.prob = osqp.OSQP()

@@ -24,12 +24,17 @@ and `arm_mount_site` are used unchanged with every arm. Units are SI (m, kg, s, 
   - body `battery` = `parts/battery.xml` unchanged; body `universal_adapter` =
     `parts/universal_adapter.xml` unchanged, with site `arm_mount_site` at its top centre
     (pos 0 0 0.015 in the adapter frame, z up). Every arm is attached at that site.
+  - wheel drive convention: each wheel transmits force only along its roller axis s (chassis frame):
+    fl and rr s = (1, -1)/sqrt2, fr and rl s = (1, 1)/sqrt2; for a chassis twist (vx, vy, wz) the
+    wheel speed is omega_i = sqrt2 * ((vx - wz*y_i, vy + wz*x_i) . s_i) / r, with (x_i, y_i) the
+    wheel position in the chassis frame and r = 0.0762 m (pure forward motion: omega = vx / r).
   - structure: only aluminium profiles of `catalog/profiles.yaml`, each a box geom named
     `profile_<id>_<anything>` whose two smaller full sizes equal the catalog section and whose
     explicit `mass` equals length x kg/m (within 2 %). Other geoms must not collide (contype =
     conaffinity = 0) and carry no mass. Only the wheels may touch the floor.
-- `controller.py`: plain Python (numpy, mujoco and the toolkit are importable), run in a sandbox with
-  a 30 s cap per call:
+- `controller.py`: plain Python (numpy, mujoco, pinocchio and the `rle_design` toolkit are importable;
+  the verifier package `rle_tasks` is not), run in a sandbox with a 30 s cap per call and its own
+  working directory holding a copy of your `robot.xml`:
   - `reset(arm: str, target: ndarray(3), payload_kg: float, layout: dict) -> None` once per trial;
     `layout` gives actuator names and order, the qpos/qvel addresses of the chassis, wheels and arm.
   - `control(t, qpos, qvel, ctrl) -> ndarray(nu)` at 50 Hz: one finite command per actuator (wheel
@@ -59,8 +64,9 @@ centimetre, payload centre of mass, floor friction).
 
 ## Workspace
 `arms/` canonical arm models, `catalog/` profiles, parts and shelf, `preview/` a preview scene and
-`preview.py` (`python preview.py robot.xml --arm panda --png out.png`), `reference_layout/` an example
-`robot.xml` skeleton.
+`preview.py` (`python preview.py robot.xml --arm panda --png out.png`: the base with the verifier's
+wheel model, an arm, the payload and the shelf), `skeleton_robot.xml` (the required bodies, parts
+and site with one example profile; not a working design).
 """
 
 
@@ -76,7 +82,23 @@ def make_dev_env(workspace: Path) -> None:
         src = resolve_asset(arm.model).parent
         shutil.copytree(src, ws / "arms" / arm.id, dirs_exist_ok=True)
     (ws / "instruction.md").write_text(INSTRUCTION)
+    (ws / "skeleton_robot.xml").write_text(_skeleton())
     (ws / "preview.py").write_text(_PREVIEW)
+
+
+def _skeleton() -> str:
+    """Required names and immutable parts, with a single example profile (not a working design)."""
+    from rle_tasks.f08_mobile_base.design_gen import FrameDesign, frame_xml
+
+    lines = frame_xml(FrameDesign(), "skeleton").splitlines()
+    out, kept = [], False
+    for line in lines:
+        if "profile_" in line:
+            if kept:
+                continue
+            kept = True
+        out.append(line)
+    return "\n".join(out) + "\n"
 
 
 _PREVIEW = '''"""Preview the base with an arm and the shelf: python preview.py robot.xml --arm panda --png out.png"""

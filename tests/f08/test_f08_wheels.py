@@ -38,3 +38,15 @@ def test_only_wheels_touch_the_floor_and_they_share_the_weight():
     s = sample_contacts(sc.model, d, sc.probe.supports)
     assert s.normal.sum() == pytest.approx(sc.mass * 9.81, rel=0.02)
     assert np.all(s.normal > 0.1 * sc.mass * 9.81 / 4)
+
+
+def test_reference_controller_uses_the_documented_wheel_convention():
+    # The controller may not import rle_tasks; its copy of the convention must equal the verifier's.
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("ref_ctl", HERE / "reference" / "controller.py")
+    ctl = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ctl)
+    xy = np.array([[0.28, 0.25], [0.28, -0.25], [-0.28, 0.25], [-0.28, -0.25]])
+    for twist in [(0.3, 0.0, 0.0), (0.0, -0.2, 0.0), (0.1, 0.2, 0.7)]:
+        np.testing.assert_allclose(ctl.mecanum_speeds(*twist, xy), mecanum_speeds(*twist, xy), atol=1e-12)
