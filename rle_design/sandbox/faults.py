@@ -19,6 +19,7 @@ FAULT_CODES: dict[str, str] = {
     "sandbox.bad_type": "an output has the wrong type or cannot cross the channel",
     "sandbox.dead": "the sandbox died earlier and cannot serve calls",
     "sandbox.output_too_large": "a reply exceeded the reply size cap",
+    "sandbox.output_flood": "the child wrote more stdout/stderr than allowed and was killed",
 }
 
 

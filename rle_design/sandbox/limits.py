@@ -26,6 +26,9 @@ class SandboxLimits:
             and blocks socket creation with an audit hook (always).
         max_reply_bytes: Largest reply (encoded return value) accepted from the child; larger
             replies fault with ``sandbox.output_too_large`` [B].
+        max_output_total_bytes: Total stdout and stderr a child may write over its life; a child
+            flooding past it is killed with ``sandbox.output_flood`` (log flooding is a denial of
+            service on the verifier) [B].
     """
 
     cpu_seconds: float = 120.0
@@ -37,12 +40,19 @@ class SandboxLimits:
     max_output_bytes: int = 1 << 20
     network: bool = False
     max_reply_bytes: int = 256 << 20
+    max_output_total_bytes: int = 32 << 20
 
     def __post_init__(self) -> None:
         for name in ("cpu_seconds", "call_timeout_s", "startup_timeout_s"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"SandboxLimits.{name} must be > 0, got {getattr(self, name)}")
-        for name in ("memory_bytes", "file_bytes", "max_output_bytes", "max_reply_bytes"):
+        for name in (
+            "memory_bytes",
+            "file_bytes",
+            "max_output_bytes",
+            "max_reply_bytes",
+            "max_output_total_bytes",
+        ):
             if getattr(self, name) <= 0:
                 raise ValueError(f"SandboxLimits.{name} must be > 0, got {getattr(self, name)}")
         if self.max_processes < 0:

@@ -74,6 +74,7 @@ class Sandbox:
         self._out = bytearray()
         self._out_lock = threading.Lock()
         self._drain: threading.Thread | None = None
+        self._flooded = False
 
     # -- lifecycle -----------------------------------------------------------------------------------
     def __enter__(self) -> Sandbox:
@@ -310,6 +311,7 @@ class Sandbox:
         if proc is None or proc.stdout is None:
             return
         fd = proc.stdout.fileno()
+        total = 0
         while True:
             try:
                 chunk = os.read(fd, 1 << 16)
@@ -317,6 +319,11 @@ class Sandbox:
                 break
             if not chunk:
                 break
+            total += len(chunk)
+            if total > self.limits.max_output_total_bytes and not self._flooded:
+                self._flooded = True
+                with contextlib.suppress(ProcessLookupError, PermissionError):
+                    os.killpg(proc.pid, signal.SIGKILL)
             with self._out_lock:
                 self._out += chunk
                 if len(self._out) > cap:
@@ -360,7 +367,12 @@ class Sandbox:
         proc = self._proc
         rc, cpu = self._reap(proc, 2.0) if proc is not None else (-signal.SIGKILL, 0.0)
         cpu_limit = int(self.limits.cpu_seconds + 0.999)
-        if rc == -signal.SIGXCPU or (rc == -signal.SIGKILL and cpu >= cpu_limit):
+        if self._flooded:
+            code = "sandbox.output_flood"
+            text = (
+                f"wrote more than {self.limits.max_output_total_bytes} bytes to stdout/stderr and was killed"
+            )
+        elif rc == -signal.SIGXCPU or (rc == -signal.SIGKILL and cpu >= cpu_limit):
             code, text = "sandbox.cpu", f"CPU-time limit of {cpu_limit} s used up ({cpu:.1f} s)"
         elif rc < 0:
             code, text = "sandbox.crash", f"the child was killed by signal {_signal_name(-rc)}"

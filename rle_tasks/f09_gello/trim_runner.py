@@ -31,11 +31,13 @@ class TrimRunner:
     Args:
         path: The submitted ``trim.py``.
         dof: Number of joints n.
+        hang_cap_s: Upper bound of every per-call timeout [s] (``VerifyContext.hang_cap_s``).
     """
 
-    def __init__(self, path: Path, dof: int) -> None:
+    def __init__(self, path: Path, dof: int, hang_cap_s: float = 30.0) -> None:
         self.path = path
         self.dof = dof
+        self.hang_cap_s = hang_cap_s
         self.faults: list[ParticipantFault] = []
         self._box: Sandbox | None = None
 
@@ -51,6 +53,7 @@ class TrimRunner:
             self._box = None
 
     def _call(self, fn: str, *args, timeout: float, shape: tuple | None):
+        timeout = min(timeout, self.hang_cap_s)
         try:
             if self._box is None:
                 self._box = Sandbox(self.path, limits=LIMITS, name="trim")

@@ -151,6 +151,16 @@ def _residuals(
     return r, err
 
 
+#: Checkpoints whose measurement uses the submitted feedforward (zero when trim.py faults).
+TRIM_DEPENDENT = (
+    "reference_hold",
+    "reference_backdrive",
+    "combined_hold",
+    "combined_backdrive",
+    "push_recovery",
+)
+
+
 def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierReport) -> VariantResult:
     """All ten checkpoints of one robot."""
     size = QUICK if ctx.quick else FULL
@@ -178,7 +188,7 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierR
     res.deduction = scoring.deduction([f.code for f in sub.validity])
     res.measured["device_mass_kg"] = sub.mass
 
-    trim = TrimRunner(sub_dir / "trim.py", dof)
+    trim = TrimRunner(sub_dir / "trim.py", dof, hang_cap_s=ctx.hang_cap_s)
     try:
         plan = trim.plan(ranges) if sub_dir.is_dir() else None
         # adapted reference arm: hidden copy of the stock leader, feedforward unclipped
@@ -205,6 +215,11 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierR
             _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, report, res)
     finally:
         trim.close()
+    if trim.faults:
+        # Feedforward that faulted is unavailable: every checkpoint built on it scores zero.
+        for cid in TRIM_DEPENDENT:
+            res.scores[cid] = 0.0
+        res.measured["trim_fault"] = trim.faults[0].code
     seen = set()
     for fault in trim.faults:
         key = (fault.code, fault.message)

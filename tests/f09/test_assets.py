@@ -54,17 +54,34 @@ def test_link_mass_is_printed_shell_volume_times_pla_density_plus_the_servo(robo
         assert m.body_mass[b] == pytest.approx(shell + servo().mass, rel=1e-4)
 
 
-@pytest.mark.parametrize("rel", XMLS)
+GRAVCOMP_XMLS = [r for r in XMLS if "gravcomp_cheat" in str(r)]
+
+
+@pytest.mark.parametrize("rel", [r for r in XMLS if r not in GRAVCOMP_XMLS])
 def test_pinocchio_and_mujoco_gravity_agree(rel):
     m = mujoco.MjModel.from_xml_path(str(PKG / rel))
-    if any(m.body_gravcomp):
-        pytest.skip("gravcomp baseline: MuJoCo cancels gravity by fiat, Pinocchio cannot")
     d = mujoco.MjData(m)
     km = model_from_mujoco(m)
     for q in workspace_grid(m.jnt_range, 50, seed=1):
         d.qpos[:] = q
         mujoco.mj_forward(m, d)
         assert np.max(np.abs(pin.computeGeneralizedGravity(km.model, km.data, q) - d.qfrc_bias)) < 1e-9
+
+
+@pytest.mark.parametrize("rel", GRAVCOMP_XMLS)
+def test_gravcomp_cheat_hides_gravity_from_mujoco_but_not_from_pinocchio(rel):
+    # Why the contract rejects gravcomp: MuJoCo cancels the links' gravity by fiat (a passive force
+    # qfrc_gravcomp equal to the bias at rest: net gravity torque 0), while Pinocchio (which drops
+    # gravcomp) still sees the full g(q).
+    m = mujoco.MjModel.from_xml_path(str(PKG / rel))
+    assert all(m.body_gravcomp[2:] == 1)
+    d = mujoco.MjData(m)
+    km = model_from_mujoco(m)
+    q = workspace_grid(m.jnt_range, 8, seed=2)[3]
+    d.qpos[:] = q
+    mujoco.mj_forward(m, d)
+    assert np.max(np.abs(d.qfrc_bias - d.qfrc_gravcomp)) < 1e-9
+    assert np.max(np.abs(pin.computeGeneralizedGravity(km.model, km.data, q))) > 0.1
 
 
 def test_ur5e_leader_is_the_follower_scaled_by_0_55():

@@ -342,3 +342,18 @@ def test_public_toolkit_stays_importable(tmp_path):
     )
     with Sandbox(mod) as box:
         assert box.call("n") == 5
+
+
+def test_stdout_flood_is_killed_with_its_own_code(tmp_path):
+    mod = tmp_path / "flood.py"
+    mod.write_text(
+        "import sys\ndef f():\n    for _ in range(64):\n        sys.stdout.write('x' * (1 << 20))\n    return 1\n"
+    )
+    box = Sandbox(mod, limits=SandboxLimits(max_output_total_bytes=8 << 20, call_timeout_s=20.0))
+    try:
+        with pytest.raises(ParticipantFault) as info:
+            box.call("f")
+    finally:
+        box.close()
+    assert info.value.code == "sandbox.output_flood"
+    assert "wrote more than 8388608 bytes to stdout/stderr" in str(info.value)
