@@ -31,9 +31,12 @@ def scene():
 )
 def test_bad_command_is_a_participant_fault(tmp_path: Path, scene, ret, code):
     (tmp_path / "controller.py").write_text(BODY.format(ret=ret))
-    with Sandbox(str(tmp_path / "controller.py"), limits=SandboxLimits(call_timeout_s=30.0)) as sb:
-        with pytest.raises(ParticipantFault) as err:
-            run_trial(scene, sb, np.array([1.2, 0.0, 0.8]), 1.0)
+    limits = SandboxLimits(call_timeout_s=30.0)
+    with (
+        Sandbox(str(tmp_path / "controller.py"), limits=limits) as sb,
+        pytest.raises(ParticipantFault) as err,
+    ):
+        run_trial(scene, sb, np.array([1.2, 0.0, 0.8]), 1.0)
     assert err.value.code == code
     assert "control" in err.value.message
 
