@@ -22,9 +22,10 @@ from rle_design.mjcf import load_design
 from rle_design.mjcf.compose import compose
 
 V_MAX, A_MAX, K_POS = 0.5, 0.8, 3.0
-T_ARM, T_ENTRY, T_ENTER = 1.0, 2.8, 1.2
+T_ARM, T_ENTRY, T_ENTER = 1.0, 2.8, 1.2  # nominal phase times [s]; T_ARM grows with the arm motion
+ARM_SPEED = 1.2  # largest joint speed of the stowed -> pre-entry move [rad/s] (gentle on the base)
 OMEGA = 12.0  # closed-loop natural frequency [rad/s] (omega dt = 0.24 at 50 Hz)
-ENTRY, N_WAY, CLEARANCE, PARK_GAP = 0.22, 6, 0.015, 0.05
+ENTRY, N_WAY, CLEARANCE, PARK_GAP = 0.22, 6, 0.03, 0.05
 PITCHES = (0.0, 0.3, 0.6, -0.2, 0.9, -0.4)  # approach axis pitch candidates (down positive) [rad]
 WHEEL_R = 0.0762
 ROLLER = {"wheel_fl": (1, -1), "wheel_fr": (1, 1), "wheel_rl": (1, 1), "wheel_rr": (1, -1)}  # roller axis s
@@ -190,6 +191,8 @@ def reset(arm, target, payload_kg, layout):
         layout=layout,
         q0=None,
         v=0.0,
+        t_arm=None,
+        t_entry=None,
     )
 
 
@@ -202,13 +205,16 @@ def _arm_target(s, t, q_now):
     if s["q0"] is None:
         s["q0"] = q_now.copy()
     path = s["path"]
-    if t < T_ARM:
-        return s["q0"] + _smooth(t / T_ARM) * (path[0] - s["q0"])
-    a = _smooth((t - T_ENTRY) / T_ENTER)
+    if s["t_arm"] is None:
+        s["t_arm"] = float(np.clip(1.5 * np.abs(path[0] - s["q0"]).max() / ARM_SPEED, T_ARM, 2.4))
+        s["t_entry"] = s["t_arm"] + (T_ENTRY - T_ARM)
+    if t < s["t_arm"]:
+        return s["q0"] + _smooth(t / s["t_arm"]) * (path[0] - s["q0"])
+    a = _smooth((t - s["t_entry"]) / T_ENTER)
     x = a * (len(path) - 1)
     i = min(int(x), len(path) - 2)
     q_ref = path[i] + (x - i) * (path[i + 1] - path[i])
-    if t < T_ENTRY - 0.5:
+    if t < s["t_entry"] - 0.5:
         return q_ref
     # correct for the base's actual pose: damped least-squares steps toward the world point
     ch = s["mdl"].chain
@@ -240,7 +246,7 @@ def control(t, qpos, qvel, ctrl):
     x, y = qpos[lay["chassis_qpos"][0]], qpos[lay["chassis_qpos"][1]]
     qw, qz = qpos[lay["chassis_qpos"][3]], qpos[lay["chassis_qpos"][6]]
     yaw = 2.0 * np.arctan2(qz, qw)
-    v_des = float(np.clip(K_POS * (s["x_park"] - x), -V_MAX, V_MAX)) if t >= T_ARM else 0.0
+    v_des = float(np.clip(K_POS * (s["x_park"] - x), -V_MAX, V_MAX)) if t >= (s["t_arm"] or T_ARM) else 0.0
     s["v"] = float(np.clip(v_des, s["v"] - A_MAX / 50.0, s["v"] + A_MAX / 50.0))
     out[lay["wheel_actuators"]] = mecanum_speeds(s["v"], -4.0 * y, -4.0 * yaw, mdl.wheel_xy)
     # arm
