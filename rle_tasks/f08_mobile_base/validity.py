@@ -6,7 +6,6 @@ import mujoco
 import numpy as np
 
 from rle_design.catalog import load_catalog, part_fragment_path
-from rle_design.errors import RleError
 from rle_design.mjcf import Design, ModelContract, check_contract, match_profiles
 from rle_tasks.f08_mobile_base.scene import ADAPTER, BATTERY, CHASSIS, MOUNT_SITE
 from rle_tasks.f08_mobile_base.wheels import WHEELS
@@ -106,7 +105,6 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
                 f"site '{MOUNT_SITE}' must be at the adapter top centre (0 0 0.015) with z up",
             )
         )
-    names = {model.body(model.geom_bodyid[g]).name for g in range(model.ngeom)}
     loose = [
         model.geom(g).name or f"geom{g}"
         for g in range(model.ngeom)
@@ -121,7 +119,6 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
                 f"colliding geoms must be catalog profiles or parts: {', '.join(loose)}",
             )
         )
-    del names
     expected = sum(p.expected_mass for p in match_profiles(design, model).profiles) + 4 * 1.0 + 3.5 + 1.62
     total = float(model.body_subtreemass[chassis])
     if abs(total - expected) > 0.02 * expected:
@@ -151,4 +148,4 @@ def interpenetration(
     return bad
 
 
-__all__ = ["CONTRACT", "RleError", "check_validity", "interpenetration"]
+__all__ = ["CONTRACT", "check_validity", "interpenetration"]
