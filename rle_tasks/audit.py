@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import os
 import shutil
 import sys
 import tempfile
@@ -124,7 +125,13 @@ def run_case(case: Case, workdir: Path, secret: Secret = AUDIT_SECRET, hang_cap_
     if case.run is not None:
         report = case.run(artifact, secret)
     else:
-        ctx = VerifyContext(secret=secret, out_dir=base / "figures", quick=True, hang_cap_s=hang_cap_s)
+        ctx = VerifyContext(
+            secret=secret,
+            out_dir=base / "figures",
+            quick=True,
+            hang_cap_s=hang_cap_s,
+            jobs=min(2, os.cpu_count() or 1),
+        )
         report, internal = run_verify(get_task(case.task_id), artifact, ctx)
     seconds = time.perf_counter() - t0
     report_path = report.write(base / "report.json")

@@ -13,6 +13,7 @@ from rle_tasks.f08_mobile_base.wheels import WHEELS
 CONTRACT = ModelContract(
     required={"body": (CHASSIS, *WHEELS, BATTERY, ADAPTER), "site": (MOUNT_SITE,)},
     forbid_gravcomp=True,
+    forbid_option_changes=True,
     forbid_world_welds=True,
     forbid_actuators=True,
     forbid_multiple_roots=True,

@@ -19,6 +19,7 @@ from rle_design.errors import RleError
 from rle_design.mjcf import load_design, match_profiles
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
 from rle_tasks.core.report import Checkpoint, VerifierReport
+from rle_tasks.core.runner import run_parallel
 from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f08_mobile_base import batteries as B
@@ -147,13 +148,15 @@ def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: VerifierRep
             if sb is None:
                 sb = Sandbox(
                     str(root / "controller.py"),
-                    limits=SandboxLimits(call_timeout_s=30.0, cpu_seconds=600.0),
+                    limits=SandboxLimits(call_timeout_s=ctx.hang_cap_s, cpu_seconds=600.0),
                     workdir_files=files,
                 )
                 sb.start()
             trials[t.id] = run_trial(scene, sb, target, float(kg))
         except ParticipantFault as exc:
             faults += 1
+            if exc.code in ("sandbox.timeout", "sandbox.cpu"):
+                faults = MAX_FAULTS_PER_ARM  # a hanging controller is not retried: the hang cap is per call
             trials[t.id] = {"success": False, "reason": f"controller fault {exc.code}: {exc.message}"}
             report.add_error(exc.code, f"{arm} {kg} kg {t.id}: {exc.message}", "controller.py")
             if sb is not None:
@@ -190,12 +193,13 @@ def _render(design, arm_out: dict, arm: str, out_dir: Path, report: VerifierRepo
         report.add_error("render.failed", f"{arm}: {type(exc).__name__}: {exc}")
 
 
-def _arm_job(root: str, arm: str, part: str, key: bytes, public: bool, quick: bool) -> tuple[dict, list]:
+def _arm_job(args: tuple) -> tuple[dict, list]:
     """One unit of work (``part``: ``"stability"``, ``"shelf1"`` or ``"shelf2"`` of one arm) in a
     worker process: (results, error entries)."""
     from rle_tasks.core.secrets import Secret
 
-    ctx = VerifyContext(secret=Secret(key, public), quick=quick)
+    root, arm, part, key, public, quick, hang_cap_s = args
+    ctx = VerifyContext(secret=Secret(key, public), quick=quick, hang_cap_s=hang_cap_s)
     sink = VerifierReport(task_id=TASK_ID, family="08", workflow="mechanical_design")
     try:
         design = load_design(Path(root))
@@ -215,15 +219,10 @@ def _evaluate_arms(root: Path, ctx: VerifyContext, report: VerifierReport, probl
     """Per-arm evaluations as 9 units (arm x part), in ``ctx.jobs`` worker processes when > 1; results
     are merged in a fixed order, so the report does not depend on scheduling."""
     units = [(a, p) for p in PARTS for a in ARMS]
-    args = [(str(root), a, p, ctx.secret.key, ctx.secret.public, ctx.quick) for a, p in units]
-    if ctx.jobs > 1:
-        import concurrent.futures as cf
-        import multiprocessing as mp
-
-        with cf.ProcessPoolExecutor(max_workers=ctx.jobs, mp_context=mp.get_context("spawn")) as ex:
-            results = list(ex.map(_arm_job, *zip(*args)))
-    else:
-        results = [_arm_job(*a) for a in args]
+    args = [(str(root), a, p, ctx.secret.key, ctx.secret.public, ctx.quick, ctx.hang_cap_s) for a, p in units]
+    results = run_parallel(
+        _arm_job, args, jobs=min(ctx.jobs, len(args)), executor=ctx.executor, ray_address=ctx.ray_address
+    )
     arms: dict[str, dict] = {}
     faults: dict[str, tuple[str, str]] = {}
     for (arm, part), (out, errors) in zip(units, results):
