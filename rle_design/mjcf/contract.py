@@ -19,6 +19,7 @@ names the element and its source line. Forbidden constructs and why a family may
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -116,6 +117,10 @@ class ModelContract:
         forbid_multiple_roots: Reject more than one body under ``<worldbody>``.
         forbid_massless_bodies: Reject bodies lighter than ``MASSLESS_KG`` (needs a compile).
         forbid_frames: Reject bodies inside ``<frame>``.
+        forbid_invalid_inertia: Reject negative or non-finite masses and densities and inertias that
+            are not physical (a negative principal moment, or one larger than the sum of the other
+            two). MuJoCo accepts some of these silently (it clamps a negative diagonal), so the XML is
+            checked. On by default: no contract has a use for them.
     """
 
     required: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
@@ -127,6 +132,7 @@ class ModelContract:
     forbid_multiple_roots: bool = False
     forbid_massless_bodies: bool = False
     forbid_frames: bool = False
+    forbid_invalid_inertia: bool = True
 
 
 def _finding(design: Design, code: str, message: str, el=None) -> Finding:
@@ -323,6 +329,55 @@ def _frames(design: Design) -> list[Finding]:
     return out
 
 
+def _numbers(el, attr: str) -> list[float] | None:
+    raw = el.get(attr)
+    if raw is None:
+        return None
+    try:
+        return [float(v) for v in raw.split()]
+    except ValueError:
+        return None  # MuJoCo's own schema check reports it
+
+
+def _principal_moments(el) -> list[float] | None:
+    diag = _numbers(el, "diaginertia")
+    if diag is not None and len(diag) == 3:
+        return diag
+    full = _numbers(el, "fullinertia")
+    if full is not None and len(full) == 6 and all(math.isfinite(v) for v in full):
+        xx, yy, zz, xy, xz, yz = full
+        return [float(v) for v in np.linalg.eigvalsh([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])]
+    return full
+
+
+def _invalid_inertia(design: Design) -> list[Finding]:
+    out = []
+    for el in design.tree.iter("inertial", "geom"):
+        owner = el.getparent()
+        who = f"<{el.tag}> of body '{_name(owner)}'" if el.tag == "inertial" else f"geom '{_name(el)}'"
+        for attr in ("mass", "density"):
+            vals = _numbers(el, attr)
+            if vals and (not math.isfinite(vals[0]) or vals[0] < 0):
+                msg = f"{who}{{where}} has {attr}={el.get(attr)!r}; masses and densities must be finite and >= 0"
+                out.append(_finding(design, "contract.invalid_inertia", msg, el))
+        if el.tag != "inertial":
+            continue
+        moments = _principal_moments(el)
+        if moments is None:
+            continue
+        bad = not all(math.isfinite(v) for v in moments) or min(moments) < 0
+        if not bad:
+            a, b, c = sorted(moments)
+            bad = c > a + b + 1e-12 * max(c, 1.0)
+        if bad:
+            msg = (
+                f"{who}{{where}} has principal moments {', '.join(f'{v:.4g}' for v in moments)} kg m^2; "
+                "an inertia needs moments >= 0 with each at most the sum of the other two"
+            )
+            out.append(_finding(design, "contract.invalid_inertia", msg, el))
+    return out
+
+
 def check_contract(design: Design, contract: ModelContract) -> list[Finding]:
     """All violations of ``contract`` by ``design`` (empty list: the design conforms).
 
@@ -344,4 +399,6 @@ def check_contract(design: Design, contract: ModelContract) -> list[Finding]:
         out += _massless(design)
     if contract.forbid_frames:
         out += _frames(design)
+    if contract.forbid_invalid_inertia:
+        out += _invalid_inertia(design)
     return out

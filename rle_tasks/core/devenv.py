@@ -174,7 +174,12 @@ def make_workspace(task_id: str, workspace: Path, serve: bool = True, *, wait: b
     from rle_tasks.core.registry import get_task
 
     ws = layout_workspace(get_task(task_id), workspace, serve)
-    print(f"workspace {ws.workspace} laid out for {task_id}: {', '.join(ws.files) or '(no files)'}")
+    tops: dict[str, int] = {}
+    for f in ws.files:
+        top = f.split("/", 1)[0]
+        tops[top] = tops.get(top, 0) + 1
+    shown = ", ".join(f"{t}/ ({n} files)" if n > 1 or "/" in t else t for t, n in sorted(tops.items()))
+    print(f"workspace {ws.workspace} laid out for {task_id}: {shown or '(no files)'}")
     if ws.server is not None:
         print(
             f"metered environment listening on {ws.server.socket_path}; connect with "

@@ -35,7 +35,7 @@ def make_dev_env(workspace: Path) -> None:
             shutil.copy(HERE / "trim_templates" / "zero_trim.py", sub / "trim.py")
     shutil.copy(HERE / "helpers.py", ws / "gello_helpers.py")
     shutil.copy(HERE / "trim_templates" / "regressor_trim.py", ws / "example_trim.py")
-    (ws / "INSTRUCTION.md").write_text(instruction())
+    (ws / "instruction.md").write_text(instruction())
 
 
 def task_spec() -> TaskSpec:

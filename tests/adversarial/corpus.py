@@ -178,11 +178,11 @@ def _ledger(
 
         path = d / "ledger.jsonl"
         w = LedgerWriter(path, key or _ledger_key(AUDIT_SECRET), task)
-        w.append("reset", {"seed": 0})
+        w.append("reset", {"seed": 0, "steps": 1})
         for i in range(19):
-            w.append("step", {"action": [0.1 * i, 0.0]})
+            action = struct.pack("<2d", 0.1 * i, 0.0).hex()
+            w.append_steps([action], steps=i + 2, sim_time=0.02 * (i + 1))
         w.seal(20)
-        w.flush()
         lines = path.read_bytes().splitlines(keepends=True)
         path.write_bytes(b"".join(tamper(lines)))
         return d
@@ -200,9 +200,10 @@ def _run_ledger(artifact: Path, secret: Secret) -> VerifierReport:
 
 
 def _alter(lines: list[bytes]) -> list[bytes]:
-    lines[5] = (
-        lines[5].replace(b"0.5", b"0.0", 1) if b"0.5" in lines[5] else lines[5].replace(b"step", b"stap")
-    )
+    """Change one hex digit of the action recorded on line 6 (the MAC no longer matches)."""
+    i = lines[5].index(b'"actions":["') + len(b'"actions":["')
+    digit = b"1" if lines[5][i : i + 1] != b"1" else b"2"
+    lines[5] = lines[5][:i] + digit + lines[5][i + 1 :]
     return lines
 
 
@@ -411,7 +412,7 @@ def misc_cases() -> list[Case]:
     return [
         Case("artifact/f08_missing_dir", F08, "artifact.missing_dir", lambda d: d / "does-not-exist"),
         Case("artifact/f08_empty_dir", F08, "artifact.missing_file", lambda d: d),
-        Case("artifact/f09_empty_dir", F09, "artifact.missing_file", lambda d: d),
+        Case("artifact/f09_empty_dir", F09, "artifact.missing_robot", lambda d: d),
     ]
 
 
@@ -432,12 +433,19 @@ def physics_cases() -> list[Case]:
             "contract.multiple_roots",
             _inject_worldbody('<body name="extra"><geom size="0.01" mass="0.01"/></body>'),
         ),
-        ("massless_body", "contract.massless_body", _massless),
+        ("massless_body", "mjcf.compile", _massless),
         (
             "negative_inertia",
-            "mjcf.compile",
+            "contract.invalid_inertia",
             _inside_first_body(
                 '<body name="neg"><inertial pos="0 0 0" mass="0.1" diaginertia="-1 1 1"/></body>'
+            ),
+        ),
+        (
+            "impossible_inertia",
+            "contract.invalid_inertia",
+            _inside_first_body(
+                '<body name="odd"><inertial pos="0 0 0" mass="0.1" diaginertia="1e-4 1e-4 1"/></body>'
             ),
         ),
     ]
@@ -479,9 +487,11 @@ def _actuator(xml: str) -> str:
 
 
 def _massless(xml: str) -> str:
-    """A body with no mass and no inertia welded inside the first link (compiles, drops out of dynamics)."""
+    """A moving body with no mass (a hinge with nothing on it): MuJoCo refuses to compile it."""
     i = xml.index("<joint", xml.index("<worldbody>"))
-    return xml[:i] + '<body name="ghost" pos="0 0 0.01"/>\n' + xml[i:]
+    return (
+        xml[:i] + '<body name="ghost" pos="0 0 0.01"><joint name="ghost_j" axis="0 0 1"/></body>\n' + xml[i:]
+    )
 
 
 def _inside_first_body(snippet: str) -> Callable[[str], str]:

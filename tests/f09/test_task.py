@@ -17,7 +17,7 @@ def test_dev_env_lays_out_leaders_helpers_and_a_valid_skeleton(tmp_path):
         ).read_text()
         assert load_submission(robot, tmp_path / "submission" / robot).usable
     assert (tmp_path / "gello_helpers.py").exists() and (tmp_path / "example_trim.py").exists()
-    text = (tmp_path / "INSTRUCTION.md").read_text()
+    text = (tmp_path / "instruction.md").read_text()
     assert "2.30 kg" in text and "noslip" in text and "secret" not in text.lower()
 
 

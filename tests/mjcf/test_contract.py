@@ -83,8 +83,9 @@ def test_every_forbidden_construct_gets_its_code_name_and_line():
     ]
 
 
-def test_flags_are_off_by_default():
-    assert check_contract(load_design(FIXTURES / "passive_lead_bad"), ModelContract()) == []
+def test_flags_are_off_by_default_except_the_inertia_check():
+    off = ModelContract(forbid_invalid_inertia=False)
+    assert check_contract(load_design(FIXTURES / "passive_lead_bad"), off) == []
 
 
 def test_missing_required_names_list_the_available_ones():
@@ -186,3 +187,40 @@ def test_massless_check_reports_compile_failure(artifact):
         load_design(artifact({"robot.xml": xml})), ModelContract(forbid_massless_bodies=True)
     )
     assert finding.code == "mjcf.compile" and "mesh 'nope' not found" in finding.message
+
+
+@pytest.mark.parametrize(
+    "inertial, moments",
+    [
+        ('diaginertia="-1 1 1"', "-1, 1, 1"),  # MuJoCo clamps the negative moment silently
+        ('diaginertia="1 1 3"', "1, 1, 3"),  # 3 > 1 + 1: no rigid body has this inertia
+        ('fullinertia="1 1 1 2 0 0"', "-1, 1, 3"),  # eigenvalues of [[1,2,0],[2,1,0],[0,0,1]]
+    ],
+)
+def test_unphysical_inertia_is_rejected_with_its_moments(artifact, inertial, moments):
+    xml = (
+        "<mujoco><worldbody><body name='link'><joint axis='0 1 0'/><geom size='.02'/>"
+        f"<body name='ballast'><inertial pos='0 0 0' mass='0.1' {inertial}/></body>"
+        "</body></worldbody></mujoco>"
+    )
+    findings = check_contract(load_design(artifact({"robot.xml": xml})), ModelContract())
+    assert [f.code for f in findings] == ["contract.invalid_inertia"]
+    assert (
+        f"<inertial> of body 'ballast' (line 1) has principal moments {moments} kg m^2" in findings[0].message
+    )
+
+
+def test_negative_geom_mass_is_rejected(artifact):
+    xml = "<mujoco><worldbody><body name='b'><joint/><geom name='g' size='.02' mass='-2'/></body></worldbody></mujoco>"
+    findings = check_contract(load_design(artifact({"robot.xml": xml})), ModelContract())
+    assert "contract.invalid_inertia" in [f.code for f in findings]
+
+
+def test_valid_inertia_passes(artifact):
+    # a uniform rod of mass m, length L about its centre: I = (m L^2/12, m L^2/12, ~0) is physical
+    xml = (
+        "<mujoco><worldbody><body name='b'><joint/><geom size='.02'/>"
+        "<body name='rod'><inertial pos='0 0 0' mass='1.2' diaginertia='0.1 0.1 1e-6'/></body>"
+        "</body></worldbody></mujoco>"
+    )
+    assert check_contract(load_design(artifact({"robot.xml": xml})), ModelContract()) == []
