@@ -69,9 +69,10 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         quick=args.quick,
     )
     report, internal = run_verify(task, args.dir, ctx)
+    if out_json:
+        report.write(out_json)  # before any printing: a closed pipe must not lose the report
     print_scorecard(report)
     if out_json:
-        report.write(out_json)
         print(f"report written to {out_json}")
     return 1 if internal else 0
 
@@ -192,6 +193,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except KeyboardInterrupt:
         return 130
+    except BrokenPipeError:  # output piped into `head` and the like: the work itself is done
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":

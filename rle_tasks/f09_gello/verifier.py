@@ -227,7 +227,7 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierR
             seen.add(key)
             report.add_error(fault.code, fault.message, f"{robot}/trim.py")
     if ctx.out_dir is not None and sub.model is not None:
-        _render(sub.model, home, Path(ctx.out_dir) / f"{TASK_ID}_{robot}.png", res)
+        _render(sub, home, Path(ctx.out_dir) / f"{TASK_ID}_{robot}.png", res)
     return res
 
 
@@ -298,10 +298,20 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
     )
 
 
-def _render(m: mujoco.MjModel, home: np.ndarray, path: Path, res: VariantResult) -> None:
+def _render(sub, home: np.ndarray, path: Path, res: VariantResult) -> None:
+    """The submitted leader at its home pose on a floor, lit (the device model itself has neither)."""
     from rle_design.errors import RleError
+    from rle_design.mjcf.compose import add_floor
     from rle_design.viz.render import render_png
 
+    m = sub.model
+    if sub.design is not None:
+        spec = sub.design.fresh_spec()
+        add_floor(spec)
+        try:
+            m = spec.compile()
+        except ValueError:
+            m = sub.model  # render the device as verified
     d = mujoco.MjData(m)
     d.qpos[:] = home
     mujoco.mj_forward(m, d)
