@@ -1,7 +1,14 @@
-"""Verifier report: the only authoritative output of a verification (JSON with a stable key order)."""
+"""Verifier report: the only authoritative output of a verification (JSON with a stable key order).
+
+``VerifierReport``, ``Checkpoint`` and ``ErrorEntry`` are frozen; their JSON form is derived from their
+fields in declaration order (a checkpoint adds the derived ``credit`` after ``score``). While a
+verifier runs, participant faults are collected in a mutable ``Findings``; the declared rubric
+(``rle_tasks.core.scoring``) turns findings and measurements into the frozen report.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import math
@@ -30,7 +37,41 @@ def _clean(value: Any) -> Any:
     return value
 
 
-@dataclass
+def _unit(value: Any) -> float:
+    """A score clamped to [0, 1]; non-finite values score 0."""
+    value = float(value)
+    return min(1.0, max(0.0, value)) if math.isfinite(value) else 0.0
+
+
+def _as_dict(obj: Any, derived: dict[str, str] | None = None) -> dict[str, Any]:
+    """Fields in declaration order; ``derived`` inserts ``{name: after_field}`` properties."""
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(obj):
+        value = getattr(obj, f.name)
+        if isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0]):
+            out[f.name] = [v.to_dict() for v in value]
+        else:
+            out[f.name] = _clean(value)
+        for name, after in (derived or {}).items():
+            if after == f.name:
+                out[name] = _clean(getattr(obj, name))
+    return out
+
+
+def _from_dict(cls: type, d: dict[str, Any], nested: dict[str, type] | None = None) -> Any:
+    """Inverse of ``_as_dict`` for the fields present in ``d`` (unknown keys are ignored)."""
+    kwargs = {}
+    for f in dataclasses.fields(cls):
+        if f.name not in d:
+            continue
+        value = d[f.name]
+        if nested and f.name in nested:
+            value = tuple(nested[f.name].from_dict(v) for v in value)
+        kwargs[f.name] = value
+    return cls(**kwargs)
+
+
+@dataclass(frozen=True)
 class ErrorEntry:
     """A participant fault or validity finding. ``code`` is stable (e.g. ``mjcf.path_escape``)."""
 
@@ -39,12 +80,16 @@ class ErrorEntry:
     path: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        return {"code": self.code, "message": self.message, "path": self.path}
+        return _as_dict(self)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> ErrorEntry:
+        return _from_dict(cls, d)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Checkpoint:
-    """One rubric checkpoint. ``credit = weight * score``."""
+    """One rubric checkpoint. ``score`` is clamped to [0, 1]; ``credit = weight * score``."""
 
     id: str
     weight: float
@@ -56,31 +101,37 @@ class Checkpoint:
     per_variant: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        if not math.isfinite(self.score):
-            self.score = 0.0
-        self.score = min(1.0, max(0.0, float(self.score)))
+        object.__setattr__(self, "score", _unit(self.score))
+        object.__setattr__(self, "passed", bool(self.passed))
 
     @property
     def credit(self) -> float:
         return self.weight * self.score
 
     def to_dict(self) -> dict[str, Any]:
-        return {
-            "id": self.id,
-            "weight": _clean(self.weight),
-            "score": _clean(self.score),
-            "credit": _clean(self.credit),
-            "passed": bool(self.passed),
-            "message": self.message,
-            "measured": _clean(self.measured),
-            "threshold": _clean(self.threshold),
-            "per_variant": _clean(self.per_variant),
-        }
+        return _as_dict(self, {"credit": "score"})
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> Checkpoint:
+        return _from_dict(cls, d)
 
 
-@dataclass
+class Findings:
+    """Mutable collector of error entries while a verifier runs (the report itself is frozen)."""
+
+    def __init__(self) -> None:
+        self.errors: list[ErrorEntry] = []
+
+    def add_error(self, code: str, message: str, path: str | None = None) -> None:
+        self.errors.append(ErrorEntry(code, message, path))
+
+    def extend(self, other: Findings) -> None:
+        self.errors.extend(other.errors)
+
+
+@dataclass(frozen=True)
 class VerifierReport:
-    """Report of DESIGN.md. ``score`` is set by the verifier after caps and deductions."""
+    """Report of DESIGN.md, built once by the rubric (``rle_tasks.core.scoring``) or the guard."""
 
     task_id: str
     family: str
@@ -88,17 +139,24 @@ class VerifierReport:
     score: float = 0.0
     valid: bool = False
     cap: float | None = None
-    checkpoints: list[Checkpoint] = field(default_factory=list)
+    checkpoints: tuple[Checkpoint, ...] = ()
     native_metrics: dict[str, Any] = field(default_factory=dict)
-    errors: list[ErrorEntry] = field(default_factory=list)
+    errors: tuple[ErrorEntry, ...] = ()
     artifact_sha256: str = ""
     secret: str = "public"
     seed_digest: str = ""
     verifier_version: str = VERIFIER_VERSION
     elapsed_s: float = 0.0
 
-    def add_error(self, code: str, message: str, path: str | None = None) -> None:
-        self.errors.append(ErrorEntry(code, message, path))
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "valid", bool(self.valid))
+        object.__setattr__(self, "checkpoints", tuple(self.checkpoints))
+        object.__setattr__(self, "errors", tuple(self.errors))
+        object.__setattr__(self, "elapsed_s", round(float(self.elapsed_s), 3))
+
+    def replace(self, **changes: Any) -> VerifierReport:
+        """A copy with ``changes`` applied (the report is frozen)."""
+        return dataclasses.replace(self, **changes)
 
     def checkpoint(self, cid: str) -> Checkpoint:
         for c in self.checkpoints:
@@ -110,23 +168,10 @@ class VerifierReport:
         return sum(c.credit for c in self.checkpoints)
 
     def to_dict(self) -> dict[str, Any]:
-        score = self.score if math.isfinite(self.score) else 0.0
-        return {
-            "task_id": self.task_id,
-            "family": self.family,
-            "workflow": self.workflow,
-            "score": _clean(min(1.0, max(0.0, score))),
-            "valid": bool(self.valid),
-            "cap": _clean(self.cap),
-            "checkpoints": [c.to_dict() for c in self.checkpoints],
-            "native_metrics": _clean(self.native_metrics),
-            "errors": [e.to_dict() for e in self.errors],
-            "artifact_sha256": self.artifact_sha256,
-            "secret": self.secret,
-            "seed_digest": self.seed_digest,
-            "verifier_version": self.verifier_version,
-            "elapsed_s": round(float(self.elapsed_s), 3),
-        }
+        """JSON form; the score is clamped to [0, 1] (a non-finite score is written as 0)."""
+        d = _as_dict(self)
+        d["score"] = _clean(_unit(self.score))
+        return d
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, sort_keys=False)
@@ -139,31 +184,8 @@ class VerifierReport:
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> VerifierReport:
-        r = cls(task_id=d["task_id"], family=d.get("family", ""), workflow=d.get("workflow", ""))
-        r.score = float(d.get("score", 0.0))
-        r.valid = bool(d.get("valid", False))
-        r.cap = d.get("cap")
-        r.checkpoints = [
-            Checkpoint(
-                c["id"],
-                c["weight"],
-                c["score"],
-                c["passed"],
-                c.get("message", ""),
-                c.get("measured", {}),
-                c.get("threshold", {}),
-                c.get("per_variant", {}),
-            )
-            for c in d.get("checkpoints", [])
-        ]
-        r.native_metrics = d.get("native_metrics", {})
-        r.errors = [ErrorEntry(e["code"], e["message"], e.get("path")) for e in d.get("errors", [])]
-        r.artifact_sha256 = d.get("artifact_sha256", "")
-        r.secret = d.get("secret", "public")
-        r.seed_digest = d.get("seed_digest", "")
-        r.verifier_version = d.get("verifier_version", "")
-        r.elapsed_s = float(d.get("elapsed_s", 0.0))
-        return r
+        d = {"family": "", "workflow": "", **d}
+        return _from_dict(cls, d, {"checkpoints": Checkpoint, "errors": ErrorEntry})
 
 
 def artifact_sha256(directory: str | os.PathLike, max_bytes: int = 512 * 1024 * 1024) -> str:

@@ -12,7 +12,7 @@ import traceback
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_tasks.core.report import VerifierReport, artifact_sha256
+from rle_tasks.core.report import ErrorEntry, VerifierReport, artifact_sha256
 from rle_tasks.core.secrets import seed_digest
 from rle_tasks.core.task import TaskSpec, VerifyContext
 
@@ -46,23 +46,25 @@ def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> 
     root = Path(artifact_dir)
     internal = False
     if not root.is_dir():
-        report = empty_report(task)
-        report.add_error(
-            "artifact.missing_dir", f"artifact directory '{root}' does not exist or is not a directory"
+        report = empty_report(task).replace(
+            errors=(
+                ErrorEntry(
+                    "artifact.missing_dir",
+                    f"artifact directory '{root}' does not exist or is not a directory",
+                ),
+            )
         )
     else:
         try:
             report = task.verify(root, ctx)
         except Exception as exc:  # our bug: keep a report and say so
             internal = True
-            report = empty_report(task)
-            report.add_error(
-                InternalVerifierFault.code,
-                f"internal verifier fault {type(exc).__name__}: {exc}\n{traceback.format_exc(limit=20)}",
-            )
-            report.score = 0.0
-        report.artifact_sha256 = artifact_sha256(root)
-    report.secret = ctx.secret.label
-    report.seed_digest = seed_digest(ctx.secret, task.id)
-    report.elapsed_s = time.perf_counter() - t0
+            message = f"internal verifier fault {type(exc).__name__}: {exc}\n{traceback.format_exc(limit=20)}"
+            report = empty_report(task).replace(errors=(ErrorEntry(InternalVerifierFault.code, message),))
+        report = report.replace(artifact_sha256=artifact_sha256(root))
+    report = report.replace(
+        secret=ctx.secret.label,
+        seed_digest=seed_digest(ctx.secret, task.id),
+        elapsed_s=time.perf_counter() - t0,
+    )
     return report, internal

@@ -1,9 +1,8 @@
-"""Verifier of ``08-mobile-base``: checkpoints, weights, per-arm minimum, caps, renders.
+"""Verifier of ``08-mobile-base``: measurements per arm, renders; the rubric is ``scoring.RUBRIC``.
 
-Checkpoints (weights): validity 0.15, design_resources 0.35, static_stability 0.15,
-dynamic_stability 0.20, shelf_1kg 0.10, shelf_2kg 0.05. Each arm-dependent checkpoint scores the
-minimum over the three arms (``per_variant`` holds each arm's value). A failed structure checkpoint
-(validity) or a failed load checkpoint caps the reward at 0.15. The load checkpoint fails when the
+Each arm-dependent checkpoint scores the minimum over the three arms (``per_variant`` holds each
+arm's value). A failed structure checkpoint (validity) or a failed load checkpoint caps the reward
+(declared caps ``structure`` and ``required_load``). The load checkpoint fails when the
 required 1 kg load cannot be handled: a pose of the static battery at 0 or 1 kg in which the machine
 cannot stand, or ``shelf_1kg`` below ``LOAD_PASS`` (fewer than half of the targets held by some arm).
 """
@@ -18,34 +17,18 @@ import numpy as np
 from rle_design.errors import RleError
 from rle_design.mjcf import load_design, match_profiles
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
-from rle_tasks.core.report import Checkpoint, VerifierReport
+from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runner import run_parallel
+from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f08_mobile_base import batteries as B
 from rle_tasks.f08_mobile_base.poses import battery_poses
 from rle_tasks.f08_mobile_base.scene import ARMS, CHASSIS, TASK_ID, Variation, build_scene
+from rle_tasks.f08_mobile_base.scoring import DESIGN_NORMS, LOAD_PASS, RUBRIC
 from rle_tasks.f08_mobile_base.shelf_trials import run_trial
 from rle_tasks.f08_mobile_base.validity import check_validity, interpenetration
 
-WEIGHTS = {
-    "validity": 0.15,
-    "design_resources": 0.35,
-    "static_stability": 0.15,
-    "dynamic_stability": 0.20,
-    "shelf_1kg": 0.10,
-    "shelf_2kg": 0.05,
-}
-CAP = 0.15
-LOAD_PASS = 0.5  # shelf_1kg (the required load) below this score is a failed load checkpoint
-# Design normalisation: score = clip((bad - x) / (bad - good), 0, 1), averaged over the five metrics.
-DESIGN_NORMS = {
-    "footprint_m2": (0.20, 0.60),
-    "height_m": (0.30, 0.80),
-    "base_mass_kg": (12.0, 40.0),
-    "profile_length_m": (2.0, 8.0),
-    "profile_cost_eur": (25.0, 110.0),
-}
 QUICK_TARGETS = ("T01", "T12")
 MAX_FAULTS_PER_ARM = 3
 
@@ -88,7 +71,7 @@ def _variation(ctx: VerifyContext, label: str) -> Variation:
     )
 
 
-def _evaluate_arm(design, root: Path, arm: str, ctx: VerifyContext, report: VerifierReport) -> dict:
+def _evaluate_arm(design, root: Path, arm: str, ctx: VerifyContext, report: Findings) -> dict:
     quick = ctx.quick
     out: dict = {"arm": arm}
     scenes = {
@@ -124,7 +107,7 @@ def _evaluate_arm(design, root: Path, arm: str, ctx: VerifyContext, report: Veri
     return out
 
 
-def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: VerifierReport, kg: int) -> dict:
+def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: Findings, kg: int) -> dict:
     from rle_design.catalog import load_catalog
 
     shelf = load_catalog("shelf")
@@ -167,7 +150,7 @@ def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: VerifierRep
     return trials
 
 
-def _render(design, arm_out: dict, arm: str, out_dir: Path, report: VerifierReport) -> None:
+def _render(design, arm_out: dict, arm: str, out_dir: Path, report: Findings) -> None:
     try:
         from rle_design.viz.render import render_png
         from rle_tasks.f08_mobile_base.poses import park_x
@@ -200,7 +183,7 @@ def _arm_job(args: tuple) -> tuple[dict, list]:
 
     root, arm, part, key, public, quick, hang_cap_s = args
     ctx = VerifyContext(secret=Secret(key, public), quick=quick, hang_cap_s=hang_cap_s)
-    sink = VerifierReport(task_id=TASK_ID, family="08", workflow="mechanical_design")
+    sink = Findings()
     try:
         design = load_design(Path(root))
         if part == "stability":
@@ -215,7 +198,7 @@ def _arm_job(args: tuple) -> tuple[dict, list]:
 PARTS = ("stability", "shelf1", "shelf2")
 
 
-def _evaluate_arms(root: Path, ctx: VerifyContext, report: VerifierReport, problems: list) -> dict[str, dict]:
+def _evaluate_arms(root: Path, ctx: VerifyContext, report: Findings, problems: list) -> dict[str, dict]:
     """Per-arm evaluations as 9 units (arm x part), in ``ctx.jobs`` worker processes when > 1; results
     are merged in a fixed order, so the report does not depend on scheduling."""
     units = [(a, p) for p in PARTS for a in ARMS]
@@ -248,8 +231,7 @@ def _evaluate_arms(root: Path, ctx: VerifyContext, report: VerifierReport, probl
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory (robot.xml, controller.py)."""
-    report = VerifierReport(task_id=TASK_ID, family="08", workflow="mechanical_design")
-    cps: dict[str, Checkpoint] = {}
+    report = Findings()
     problems: list[tuple[str, str]] = []
     design = None
     try:
@@ -269,71 +251,40 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         arms = _evaluate_arms(root, ctx, report, problems)
     mount_ok = {a: bool(arms.get(a, {}).get("mount_ok", False)) for a in ARMS}
     valid = not problems and all(mount_ok.values())
-    cps["validity"] = Checkpoint(
-        "validity",
-        WEIGHTS["validity"],
-        float(valid),
-        valid,
+    out: dict[str, Outcome] = {}
+    out["validity"] = Outcome(
+        {a: float(mount_ok[a] and not problems) for a in ARMS},
         "valid"
         if valid
         else "; ".join(m for _, m in problems[:5]) or "an arm interpenetrates the base at rest",
         measured={"findings": [c for c, _ in problems]},
-        per_variant={a: float(mount_ok[a] and not problems) for a in ARMS},
     )
     metrics, dscore, parts = {}, 0.0, {}
     if design is not None and arms:
         metrics = _design_metrics(design, design.compile())
         dscore, parts = _design_score(metrics)
-    cps["design_resources"] = Checkpoint(
-        "design_resources",
-        WEIGHTS["design_resources"],
-        dscore,
-        dscore > 0,
-        "normalised resource use",
-        measured=metrics | {"subscores": parts},
-        threshold={k: {"good": g, "bad": b} for k, (g, b) in DESIGN_NORMS.items()},
-        per_variant={a: dscore for a in ARMS},
+    out["design_resources"] = Outcome(
+        {a: dscore for a in ARMS}, "normalised resource use", measured=metrics | {"subscores": parts}
     )
 
-    def per_arm(key: str, fn) -> dict:
+    def per_arm(fn) -> dict:
         return {a: (fn(arms[a]) if a in arms else 0.0) for a in ARMS}
 
-    st = per_arm("static", lambda o: o["static_score"])
-    cps["static_stability"] = Checkpoint(
-        "static_stability",
-        WEIGHTS["static_stability"],
-        min(st.values()),
-        min(st.values()) >= 1.0,
+    out["static_stability"] = Outcome(
+        per_arm(lambda o: o["static_score"]),
         _static_message(arms),
-        threshold={
-            "margin_m": B.STATIC_MARGIN_MIN,
-            "force_angle_deg": B.FORCE_ANGLE_MIN_DEG,
-            "wheel_load_frac": B.LOSS_FRACTION,
-        },
         measured={a: _static_summary(o) for a, o in arms.items()},
-        per_variant=st,
     )
-    dy = per_arm("dynamic", lambda o: o["dynamic_score"])
-    cps["dynamic_stability"] = Checkpoint(
-        "dynamic_stability",
-        WEIGHTS["dynamic_stability"],
-        min(dy.values()),
-        min(dy.values()) >= 1.0,
+    out["dynamic_stability"] = Outcome(
+        per_arm(lambda o: o["dynamic_score"]),
         "; ".join(
             f"{a}: {', '.join(s['scenario'] for s in o['dynamic'] if not s['passed']) or 'all passed'}"
             for a, o in arms.items()
         ),
-        threshold={
-            "wheel_load_frac": B.LOSS_FRACTION,
-            "loss_duration_s": B.LOSS_DURATION_S,
-            "tilt_deg": B.TILT_MAX_DEG,
-        },
         measured={a: o["dynamic"] for a, o in arms.items()},
-        per_variant=dy,
     )
     for kg in (1, 2):
-        cid = f"shelf_{kg}kg"
-        sh = per_arm(cid, lambda o, kg=kg: float(np.mean([t["success"] for t in o["shelf"][kg].values()])))
+        sh = per_arm(lambda o, kg=kg: float(np.mean([t["success"] for t in o["shelf"][kg].values()])))
         fails = {
             a: {tid: t["reason"] for tid, t in o["shelf"][kg].items() if not t["success"]}
             for a, o in arms.items()
@@ -342,39 +293,30 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
             "; ".join(f"{a}: {len(f)} failed ({next(iter(f.values()))})" for a, f in fails.items() if f)
             or "all targets held"
         )
-        cps[cid] = Checkpoint(
-            cid,
-            WEIGHTS[cid],
-            min(sh.values()),
-            min(sh.values()) >= 1.0,
-            msg,
-            measured={a: o["shelf"][kg] for a, o in arms.items()},
-            per_variant=sh,
-        )
-    report.checkpoints = [cps[k] for k in WEIGHTS]
+        out[f"shelf_{kg}kg"] = Outcome(sh, msg, measured={a: o["shelf"][kg] for a, o in arms.items()})
     stand_ok = all(arms.get(a, {}).get("required_load_ok", False) for a in ARMS)
-    load_ok = stand_ok and cps["shelf_1kg"].score >= LOAD_PASS
-    report.valid = valid
-    score = report.weighted_score()
-    if not valid or not load_ok:
-        report.cap = CAP
-        score = min(score, CAP)
-    report.score = score
-    report.native_metrics = {
-        "quick": ctx.quick,
-        "design": metrics,
-        "required_load_ok": load_ok,
-        "stands_with_required_load": stand_ok,
-        "cap_reason": None
-        if valid and load_ok
-        else ("structure (validity)" if not valid else "required 1 kg load"),
-        "ik_residual_m": {a: o["ik"] for a, o in arms.items()},
-        "simulated_s": {a: o["sim_s"] for a, o in arms.items()},
-    }
+    load_ok = stand_ok and min(out["shelf_1kg"].per_variant.values()) >= LOAD_PASS
     if ctx.out_dir is not None and design is not None:
         for a, o in arms.items():
             _render(design, o, a, Path(ctx.out_dir), report)
-    return report
+    caps = ([] if valid else ["structure"]) + ([] if load_ok else ["required_load"])
+    return RUBRIC.report(
+        out,
+        valid=valid,
+        errors=report.errors,
+        caps=caps,
+        native_metrics={
+            "quick": ctx.quick,
+            "design": metrics,
+            "required_load_ok": load_ok,
+            "stands_with_required_load": stand_ok,
+            "cap_reason": None
+            if valid and load_ok
+            else ("structure (validity)" if not valid else "required 1 kg load"),
+            "ik_residual_m": {a: o["ik"] for a, o in arms.items()},
+            "simulated_s": {a: o["sim_s"] for a, o in arms.items()},
+        },
+    )
 
 
 def _static_summary(o: dict) -> dict:

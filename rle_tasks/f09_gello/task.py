@@ -13,11 +13,9 @@ BASELINES = ("uncompensated", "gravcomp_cheat", "over_mass", "hanging_trim")
 
 def instruction() -> str:
     """The agent instruction (``instruction.md``), with the checkpoint table appended."""
-    from rle_tasks.f09_gello.scoring import markdown_table
+    from rle_tasks.f09_gello.scoring import RUBRIC
 
-    return (
-        (HERE / "instruction.md").read_text() + "\n## Checkpoints (per robot)\n\n" + markdown_table() + "\n"
-    )
+    return (HERE / "instruction.md").read_text() + "\n## Checkpoints\n\n" + RUBRIC.markdown_table() + "\n"
 
 
 def make_dev_env(workspace: Path) -> None:

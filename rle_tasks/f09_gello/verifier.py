@@ -23,7 +23,8 @@ import numpy as np
 
 from rle_design.errors import MjcfError
 from rle_design.kinematics import GravityMap, model_from_mujoco, springs_from_mujoco
-from rle_tasks.core.report import Checkpoint, VerifierReport
+from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f09_gello import battery, clearance, device, helpers, scoring
@@ -129,7 +130,7 @@ def _hold_back_push(
 
 
 def _residuals(
-    m: mujoco.MjModel, poses: np.ndarray, report: VerifierReport, robot: str
+    m: mujoco.MjModel, poses: np.ndarray, report: Findings, robot: str
 ) -> tuple[np.ndarray, float]:
     """Analytic residual over poses, cross-checked in MuJoCo (MuJoCo wins on disagreement)."""
     try:
@@ -161,7 +162,7 @@ TRIM_DEPENDENT = (
 )
 
 
-def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierReport) -> VariantResult:
+def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: Findings) -> VariantResult:
     """All ten checkpoints of one robot."""
     size = QUICK if ctx.quick else FULL
     res = VariantResult()
@@ -185,7 +186,7 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: VerifierR
     for f in sub.structure + sub.validity:
         report.add_error(f.code, f.message, f.path)
     res.valid = not sub.structure and not sub.validity
-    res.deduction = scoring.deduction([f.code for f in sub.validity])
+    res.deduction = scoring.RUBRIC.deduction(f.code for f in sub.validity)
     res.measured["device_mass_kg"] = sub.mass
 
     trim = TrimRunner(sub_dir / "trim.py", dof, hang_cap_s=ctx.hang_cap_s)
@@ -323,37 +324,29 @@ def _render(sub, home: np.ndarray, path: Path, res: VariantResult) -> None:
 
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
-    """Verify a submission directory holding ``panda/``, ``ur5e/`` and ``xarm7/``."""
-    report = VerifierReport(task_id=TASK_ID, family="09", workflow="mechanical_design")
-    results = {robot: verify_variant(robot, Path(root), ctx, report) for robot in ROBOTS}
-    finals = {}
-    for robot, res in results.items():
-        total = sum(scoring.WEIGHT * res.scores.get(c.id, 0.0) for c in scoring.CHECKPOINTS)
-        finals[robot] = max(0.0, total - res.deduction)
-    for c in scoring.CHECKPOINTS:
-        per = {robot: results[robot].scores.get(c.id, 0.0) for robot in ROBOTS}
-        score = float(np.mean(list(per.values())))
-        report.checkpoints.append(
-            Checkpoint(
-                id=c.id,
-                weight=scoring.WEIGHT,
-                score=score,
-                passed=all(v >= 0.999 for v in per.values()),
-                message=c.metric,
-                measured={robot: _metric_for(c.id, results[robot]) for robot in ROBOTS},
-                threshold={"pass": c.pass_value, "fail": c.fail_value, "curve": "linear"},
-                per_variant=per,
-            )
+    """Verify a submission directory holding one directory per robot (``scoring.RUBRIC.variants``)."""
+    findings = Findings()
+    results = {robot: verify_variant(robot, Path(root), ctx, findings) for robot in ROBOTS}
+    outcomes = {
+        c.id: Outcome(
+            per_variant={robot: results[robot].scores.get(c.id, 0.0) for robot in ROBOTS},
+            measured={robot: _metric_for(c.id, results[robot]) for robot in ROBOTS},
         )
-    report.native_metrics = {
-        "quick": bool(ctx.quick),
-        "variant_score": finals,
-        "deduction": {robot: results[robot].deduction for robot in ROBOTS},
-        **{robot: results[robot].measured for robot in ROBOTS},
+        for c in scoring.CHECKPOINTS
     }
-    report.valid = all(res.valid for res in results.values())
-    report.score = float(np.mean(list(finals.values())))
-    return report
+    deductions = {robot: results[robot].deduction for robot in ROBOTS}
+    return scoring.RUBRIC.report(
+        outcomes,
+        valid=all(res.valid for res in results.values()),
+        errors=findings.errors,
+        deductions=deductions,
+        native_metrics={
+            "quick": bool(ctx.quick),
+            "variant_score": None,  # filled by the rubric (mean-of-variants aggregation)
+            "deduction": deductions,
+            **{robot: results[robot].measured for robot in ROBOTS},
+        },
+    )
 
 
 _METRIC_KEYS = {

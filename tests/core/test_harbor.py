@@ -108,8 +108,10 @@ def test_reward_snippet_turns_the_report_into_flat_numbers(tmp_path, spec):
     snippet = text.split("<<'PY'\n", 1)[1].split("\nPY\n", 1)[0]
     logs = tmp_path / "logs" / "verifier"
     logs.mkdir(parents=True)
-    report = VerifierReport("08-mobile-base", "08", "mechanical_design", score=0.625, valid=True)
-    report.checkpoints = [Checkpoint("validity", 0.25, 1.0, True), Checkpoint("reward", 0.75, 0.5, False)]
+    checkpoints = (Checkpoint("validity", 0.25, 1.0, True), Checkpoint("reward", 0.75, 0.5, False))
+    report = VerifierReport(
+        "08-mobile-base", "08", "mechanical_design", score=0.625, valid=True, checkpoints=checkpoints
+    )
     report.write(logs / "report.json")
     snippet = snippet.replace("/logs/verifier", str(logs))
     subprocess.run([sys.executable, "-c", snippet], check=True)

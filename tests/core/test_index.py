@@ -14,10 +14,7 @@ from rle_tasks.core.task import WORKFLOW_ORDER
 
 def _report(task_id: str, score: float) -> VerifierReport:
     fam = int(task_id[:2])
-    r = VerifierReport(task_id=task_id, family=f"{fam:02d}", workflow="")
-    r.score = score
-    r.valid = True
-    return r
+    return VerifierReport(task_id=task_id, family=f"{fam:02d}", workflow="", score=score, valid=True)
 
 
 def _write(tmp_path, task_id: str, score: float, name: str | None = None):

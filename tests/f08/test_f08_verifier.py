@@ -9,7 +9,8 @@ from rle_tasks.core.registry import get_task
 from rle_tasks.core.secrets import Secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f08_mobile_base import HERE
-from rle_tasks.f08_mobile_base.verifier import CAP, WEIGHTS, verify
+from rle_tasks.f08_mobile_base.scoring import CAP, WEIGHTS
+from rle_tasks.f08_mobile_base.verifier import verify
 
 SECRET = Secret(b"f08 test secret", public=False)
 
