@@ -12,13 +12,14 @@ import mujoco
 import numpy as np
 
 from rle_design.ledger.records import LedgerError, LedgerWriter
+from rle_design.rollout.env import EnvDefinition
 
 ObserverFn = Callable[[mujoco.MjModel, mujoco.MjData], Any]
 
 
 @dataclass(frozen=True)
-class MeteredEnv:
-    """A generic metered environment: one MuJoCo model, ``n_substeps`` physics steps per action.
+class MeteredEnv(EnvDefinition):
+    """A generic environment from one MJCF string, ``n_substeps`` physics steps per action.
 
     Attributes:
         xml: MJCF of the scene (a string, compiled in the server process).
@@ -41,6 +42,44 @@ class MeteredEnv:
         reserved = {"qpos", "qvel", "time"} & {name for name, _ in self.observers}
         if reserved:
             raise ValueError(f"observer names {sorted(reserved)} clash with qpos/qvel/time")
+
+    def build(self) -> mujoco.MjModel:
+        try:
+            return mujoco.MjModel.from_xml_string(self.xml)
+        except ValueError as exc:
+            raise LedgerError(f"environment model does not compile: {exc}", code="ledger.bad_model") from None
+
+    def fingerprint(self) -> str:
+        return hashlib.sha256(self.xml.encode()).hexdigest()
+
+    def prepare(self, model: mujoco.MjModel) -> None:
+        self._key_id(model)
+
+    def _key_id(self, model: mujoco.MjModel) -> int:
+        if self.keyframe is None:
+            return -1
+        key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, self.keyframe)
+        if key < 0:
+            names = [model.key(i).name for i in range(model.nkey)]
+            raise LedgerError(
+                f"keyframe '{self.keyframe}' does not exist. Available keyframes: {', '.join(names) or '(none)'}",
+                code="ledger.bad_model",
+            )
+        return key
+
+    def reset(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        key = self._key_id(model)
+        if key >= 0:
+            mujoco.mj_resetDataKeyframe(model, data, key)
+        else:
+            mujoco.mj_resetData(model, data)
+        mujoco.mj_forward(model, data)
+
+    def observe(self, model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, Any]:
+        obs = super().observe(model, data)
+        for name, fn in self.observers:
+            obs[name] = fn(model, data)
+        return obs
 
 
 class MeteredSession:
@@ -68,31 +107,20 @@ class MeteredSession:
     ) -> None:
         if actions_per_record < 1:
             raise ValueError(f"actions_per_record must be >= 1, got {actions_per_record}")
-        try:
-            self.model = mujoco.MjModel.from_xml_string(env.xml)
-        except ValueError as exc:
-            raise LedgerError(f"environment model does not compile: {exc}", code="ledger.bad_model") from None
+        self.model = env.build()
+        env.prepare(self.model)
         self.data = mujoco.MjData(self.model)
         self.env = env
         self.task_id = task_id
         self.budget = budget
         self.steps_used = 0
-        self._key_id = -1
-        if env.keyframe is not None:
-            self._key_id = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_KEY, env.keyframe)
-            if self._key_id < 0:
-                names = [self.model.key(i).name for i in range(self.model.nkey)]
-                raise LedgerError(
-                    f"keyframe '{env.keyframe}' does not exist. Available keyframes: {', '.join(names) or '(none)'}",
-                    code="ledger.bad_model",
-                )
         self.writer: LedgerWriter | None = None
         if key is not None:
             if ledger_path is None:
                 raise LedgerError("a metered session needs a ledger path", code="ledger.no_path")
             meta = {
                 "budget": budget,
-                "model_sha256": hashlib.sha256(env.xml.encode()).hexdigest(),
+                "model_sha256": env.fingerprint(),
                 "n_substeps": env.n_substeps,
                 "timestep": float(self.model.opt.timestep),
             }
@@ -122,11 +150,7 @@ class MeteredSession:
         """Reset the simulation (one charged step); returns the observation."""
         self.commit()
         self._charge()
-        if self._key_id >= 0:
-            mujoco.mj_resetDataKeyframe(self.model, self.data, self._key_id)
-        else:
-            mujoco.mj_resetData(self.model, self.data)
-        mujoco.mj_forward(self.model, self.data)
+        self.env.reset(self.model, self.data)
         if self.writer is not None:
             self.writer.append("reset", {"steps": self.steps_used, "time": self.data.time})
         return self.observe()
@@ -157,8 +181,7 @@ class MeteredSession:
         if not np.isfinite(self._ctrl).all():
             raise LedgerError("action holds NaN or infinity", code="ledger.bad_action")
         self._charge()
-        self.data.ctrl[:] = self._ctrl
-        mujoco.mj_step(self.model, self.data, self.env.n_substeps)
+        self.env.step(self.model, self.data, self._ctrl)
         if self.writer is not None:
             self._group.append(self._ctrl.tobytes().hex())
             self._group_end = (self.steps_used, self.data.time)
@@ -173,15 +196,8 @@ class MeteredSession:
             self.writer.append_steps(group, *self._group_end)
 
     def observe(self) -> dict[str, Any]:
-        """qpos, qvel, time and the extra observers (free)."""
-        obs: dict[str, Any] = {
-            "qpos": self.data.qpos.copy(),
-            "qvel": self.data.qvel.copy(),
-            "time": self.data.time,
-        }
-        for name, fn in self.env.observers:
-            obs[name] = fn(self.model, self.data)
-        return obs
+        """The environment's observation (free)."""
+        return self.env.observe(self.model, self.data)
 
     def info(self) -> dict[str, Any]:
         """Budget and model dimensions (free)."""

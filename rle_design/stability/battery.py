@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
+from rle_design.rollout import Event, Term, root_tilt, run_episode
 from rle_design.stability.contacts import SupportSet, sample_contacts
 from rle_design.stability.support_loss import SupportLossMonitor
 from rle_design.stability.support_polygon import StabilityError, support_polygon
@@ -148,11 +149,6 @@ class ScenarioResult:
         }
 
 
-def root_tilt(data: mujoco.MjData, body: int) -> float:
-    """Angle between the body's z axis and the world z axis [rad]."""
-    return float(math.acos(max(-1.0, min(1.0, float(data.xmat[body][8])))))
-
-
 def _margin(points: np.ndarray, normal: np.ndarray, com: np.ndarray, g_eff: np.ndarray) -> float:
     loaded = normal > 1e-6
     if loaded.sum() < 3 or g_eff[2] >= 0:
@@ -167,6 +163,55 @@ def _margin(points: np.ndarray, normal: np.ndarray, com: np.ndarray, g_eff: np.n
     return float(np.min(poly.edge_distances(proj)))
 
 
+class _Recorder(Term):
+    """Samples the stability signals of a scenario (every ``probe.sample_every`` steps).
+
+    The root tilt is checked at every sample; samples before ``ignore_before`` only check the tilt;
+    the others record the smoothed support loads, the centre of pressure, the COM and the margin,
+    and, with ``stop_on_tip``, end the scenario once a tip has been seen.
+    """
+
+    name = "stability"
+
+    def __init__(self, scenario: Scenario, probe: StabilityProbe, weight: float, g0: np.ndarray) -> None:
+        self.scenario, self.probe, self.g0 = scenario, probe, g0
+        self.every = probe.sample_every
+        self.monitor = SupportLossMonitor(
+            weight, len(probe.supports.names), probe.loss_fraction, probe.loss_duration
+        )
+        self.rows: dict[str, list] = {
+            key: [] for key in ("t", "normal", "cop", "com", "margin", "tilt", "accel")
+        }
+        self.tip_time: float | None = None
+        self.window: list[np.ndarray] = []
+        self.a = np.zeros(3)
+
+    def update(self, model: mujoco.MjModel, data: mujoco.MjData, t: float) -> Event | None:
+        probe, rows = self.probe, self.rows
+        tilt = root_tilt(data, probe.root_body)
+        if self.tip_time is None and tilt > probe.tip_tilt:
+            self.tip_time = t
+        if t < self.scenario.ignore_before:
+            return None
+        s = sample_contacts(model, data, probe.supports)
+        com = data.subtree_com[probe.root_body].copy()
+        self.window.append(s.normal)
+        if len(self.window) > max(1, probe.smooth):
+            self.window.pop(0)
+        normal = np.mean(self.window, axis=0)
+        self.monitor.update(t, normal)
+        rows["t"].append(t)
+        rows["normal"].append(normal)
+        rows["cop"].append(s.cop)
+        rows["com"].append(com)
+        rows["margin"].append(_margin(s.points, s.normal, com, self.g0 - self.a))
+        rows["tilt"].append(tilt)
+        rows["accel"].append(self.a.copy())
+        if self.tip_time is not None and self.scenario.stop_on_tip:
+            return Event(self.name, "fail", f"tipped at t = {self.tip_time:.3f} s", t)
+        return None
+
+
 def run_scenario(
     model: mujoco.MjModel, data: mujoco.MjData, scenario: Scenario, probe: StabilityProbe
 ) -> ScenarioResult:
@@ -175,50 +220,23 @@ def run_scenario(
     mass = float(model.body_subtreemass[probe.root_body])
     weight = mass * float(np.linalg.norm(g0))
     k = len(probe.supports.names)
-    monitor = SupportLossMonitor(weight, k, probe.loss_fraction, probe.loss_duration)
-    dt = model.opt.timestep
-    n_steps = int(round(scenario.duration / dt))
-    rows: dict[str, list] = {key: [] for key in ("t", "normal", "cop", "com", "margin", "tilt", "accel")}
-    tip_time = None
-    window: list[np.ndarray] = []
+    rec = _Recorder(scenario, probe, weight, g0)
     t0 = data.time
-    a = np.zeros(3)
+
+    def control(m: mujoco.MjModel, d: mujoco.MjData, t: float) -> None:
+        if scenario.accel is not None:
+            rec.a = np.asarray(scenario.accel(d.time - t0), dtype=float)
+            m.opt.gravity[:] = g0 - rec.a
+        if scenario.control is not None:
+            scenario.control(m, d, d.time - t0)
+
     try:
-        for step in range(n_steps):
-            t = data.time - t0
-            if scenario.accel is not None:
-                a = np.asarray(scenario.accel(t), dtype=float)
-                model.opt.gravity[:] = g0 - a
-            if scenario.control is not None:
-                scenario.control(model, data, t)
-            mujoco.mj_step(model, data)
-            if (step + 1) % probe.sample_every:
-                continue
-            t = data.time - t0
-            tilt = root_tilt(data, probe.root_body)
-            if tip_time is None and tilt > probe.tip_tilt:
-                tip_time = t
-            if t < scenario.ignore_before:
-                continue
-            s = sample_contacts(model, data, probe.supports)
-            com = data.subtree_com[probe.root_body].copy()
-            window.append(s.normal)
-            if len(window) > max(1, probe.smooth):
-                window.pop(0)
-            normal = np.mean(window, axis=0)
-            monitor.update(t, normal)
-            rows["t"].append(t)
-            rows["normal"].append(normal)
-            rows["cop"].append(s.cop)
-            rows["com"].append(com)
-            rows["margin"].append(_margin(s.points, s.normal, com, g0 - a))
-            rows["tilt"].append(tilt)
-            rows["accel"].append(a.copy())
-            if tip_time is not None and scenario.stop_on_tip:
-                break
+        run_episode(
+            model, data, int(round(scenario.duration / model.opt.timestep)), control=control, terms=[rec]
+        )
     finally:
         model.opt.gravity[:] = g0
-    arr = {key: np.array(v, dtype=float) for key, v in rows.items()}
+    arr = {key: np.array(v, dtype=float) for key, v in rec.rows.items()}
     if arr["normal"].size == 0:
         arr["normal"] = np.zeros((0, k))
     return ScenarioResult(
@@ -230,9 +248,9 @@ def run_scenario(
         arr["margin"],
         arr["tilt"],
         arr["accel"],
-        tip_time,
-        monitor.longest_loss,
-        monitor.lost,
+        rec.tip_time,
+        rec.monitor.longest_loss,
+        rec.monitor.lost,
         weight,
     )
 
