@@ -130,18 +130,17 @@ class ContactBetween(Term):
 class HoldAtTarget(Term):
     """Succeeds once ``site`` has stayed within ``tolerance`` of ``target`` for ``hold_s``.
 
-    The hold clock advances by ``every * timestep`` per evaluation inside the tolerance and restarts
-    outside it; the smallest distance is kept [m].
+    The hold clock advances by ``period`` (the time between evaluations, ``every`` physics steps)
+    per evaluation inside the tolerance and restarts outside it; the smallest distance is kept [m].
     """
 
     name = "hold"
 
     def __init__(
-        self, site: int, target: np.ndarray, tolerance: float, hold_s: float, every: int, timestep: float
+        self, site: int, target: np.ndarray, tolerance: float, hold_s: float, every: int, period: float
     ) -> None:
         self.site, self.target = site, np.asarray(target, dtype=float)
-        self.tolerance, self.hold_s, self.every = tolerance, hold_s, every
-        self.period = every * timestep
+        self.tolerance, self.hold_s, self.every, self.period = tolerance, hold_s, every, period
         self.held, self.best = 0.0, math.inf
 
     def reset(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:

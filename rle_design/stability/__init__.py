@@ -1,10 +1,10 @@
 """Stability toolkit: support polygon, static margin, force-angle measure, contact forces and batteries."""
 
+from rle_design.rollout import root_tilt
 from rle_design.stability.battery import (
     Scenario,
     ScenarioResult,
     StabilityProbe,
-    root_tilt,
     run_battery,
     run_scenario,
     tip_acceleration,
@@ -19,6 +19,7 @@ from rle_design.stability.support_polygon import (
     static_margin,
     support_polygon,
 )
+from rle_design.stability.terms import SupportLoad, SupportLost
 
 __all__ = [
     "ContactSample",
@@ -27,7 +28,9 @@ __all__ = [
     "ScenarioResult",
     "StabilityError",
     "StabilityProbe",
+    "SupportLoad",
     "SupportLossMonitor",
+    "SupportLost",
     "SupportPolygon",
     "SupportSet",
     "centre_of_pressure",

@@ -1,95 +1,66 @@
-"""Registry of all 51 task instances of the paper.
+"""Registry of every task: family packages are discovered, the rest come from ``families.yaml``.
 
-Every id is registered; families whose environment and verifier exist provide full ``TaskSpec``s through
-their package's ``tasks()`` function, the others stay as placeholders with ``implemented = False``.
+A family package is a folder ``rle_tasks/f<NN>_<slug>/`` whose ``__init__`` defines
+``tasks() -> list[TaskSpec]`` and whose number and slug have a line in ``families.yaml``. Its tasks
+replace the placeholders of the same ids; placeholders it does not implement stay registered with
+``implemented = False``. Core never names a family: discovery is by folder.
 """
 
 from __future__ import annotations
 
 import functools
 import importlib
+import pkgutil
+from collections.abc import Iterable
 
+import rle_tasks
 from rle_design.errors import RleError
+from rle_tasks.core.families import FamilyDataError, families, family, folder_family, placeholders
 from rle_tasks.core.task import TaskSpec
 
-_F01_TASKS = (
-    ("open-fridge", "OpenFridge: open the refrigerator door"),
-    ("close-cabinet", "CloseCabinet: close the cabinet door"),
-    ("turn-on-stove", "TurnOnStove: turn on the specified burner"),
-    ("pnp-counter-to-drawer", "PickPlaceCounterToDrawer: move the target into the drawer"),
-    ("pnp-microwave-to-counter", "PickPlaceMicrowaveToCounter: move the target to the counter"),
-)
-_F02_LEVELS = ("easy",) * 5 + ("medium",) * 5 + ("hard",) * 5
 
+def family_packages(search: Iterable[str] | None = None, prefix: str = "rle_tasks.") -> dict[int, str]:
+    """Family number -> importable package name of every ``f<NN>_<slug>`` folder found.
 
-def _placeholders() -> list[TaskSpec]:
-    specs: list[TaskSpec] = []
-    for level in ("l1", "l2", "l3"):
-        for key, title in _F01_TASKS:
-            specs.append(
-                TaskSpec(f"01-{key}-{level}", 1, f"RoboCasa speed-run, {title} (harness {level.upper()})")
+    Args:
+        search: Directories to scan; defaults to the ``rle_tasks`` package.
+        prefix: Module prefix of the packages found there.
+
+    Raises:
+        FamilyDataError: A folder without its line in ``families.yaml``, or with another slug.
+    """
+    found: dict[int, str] = {}
+    for mod in pkgutil.iter_modules(list(search) if search is not None else list(rle_tasks.__path__)):
+        number = folder_family(mod.name)
+        if number is None or not mod.ispkg:
+            continue
+        info = family(number)
+        if mod.name != f"f{number:02d}_{info.slug}":
+            raise FamilyDataError(
+                f"family folder '{mod.name}' does not match its line in families.yaml "
+                f"(expected 'f{number:02d}_{info.slug}')"
             )
-    for i, level in enumerate(_F02_LEVELS, start=1):
-        specs.append(TaskSpec(f"02-group-{i:02d}", 2, f"RoboCasa harness transfer, group {i} ({level})"))
-    for key, title in (
-        ("tower", "build a stable tower from 12 mixed pieces"),
-        ("cantilever", "maximise the overhang of four blocks"),
-        ("balance-coins", "find the heavy cube among nine with a balance"),
-        ("pocket-cube", "solve a physical 2x2x2 cube with two arms"),
-        ("hidden-com", "identify the ballast quadrant of three sealed boxes"),
-    ):
-        specs.append(TaskSpec(f"03-{key}", 3, f"Tabletop physical reasoning: {title}"))
-    for key in ("dance", "fight", "fall-getup", "run", "sprint"):
-        specs.append(
-            TaskSpec(f"04-{key}", 4, f"Whole-body motion tracking: G1 {key.replace('-', ' and ')} clip")
-        )
-    for env in ("libero", "robotwin"):
-        for track in ("open", "robust"):
-            specs.append(TaskSpec(f"05-{env}-{track}", 5, f"nanoVLA recipe engineering: {env} {track} track"))
-    for key, title in (
-        ("a-rgb", "A, RGB-only estimator"),
-        ("b-rgbd", "B, RGB-D estimator"),
-        ("c-learned", "C, learned RGB-D model"),
-        ("d-agnostic", "D, method-agnostic estimator"),
-    ):
-        specs.append(TaskSpec(f"06-pose-{key}", 6, f"Blind planar pose estimation, variant {title}"))
-    specs.append(TaskSpec("07-bin-clearing", 7, "Contact-rich bin clearing onto a conveyor"))
-    specs.append(TaskSpec("08-mobile-base", 8, "Universal mobile-manipulator base"))
-    specs.append(TaskSpec("09-gello", 9, "Multi-robot GELLO gravity-compensation co-design"))
-    return specs
+        found[number] = prefix + mod.name
+    return dict(sorted(found.items()))
 
 
-# Families with an implementation: family number -> package exposing ``tasks() -> list[TaskSpec]``.
-FAMILY_PACKAGES: dict[int, str] = {
-    8: "rle_tasks.f08_mobile_base",
-    9: "rle_tasks.f09_gello",
-}
-
-
-def _implemented(family: int) -> list[TaskSpec]:
-    name = FAMILY_PACKAGES.get(family)
-    if name is None:
-        return []
-    try:
-        module = importlib.import_module(name)
-    except ModuleNotFoundError as exc:
-        if exc.name and name.startswith(exc.name.split(".")[0]) and exc.name.startswith(name):
-            return []  # family package not present in this checkout
-        raise
-    return list(module.tasks())
+def collect(packages: dict[int, str]) -> tuple[TaskSpec, ...]:
+    """Placeholders in paper order, replaced or extended by the tasks of ``packages``."""
+    specs = {p.id: TaskSpec(p.id, p.family, p.title) for p in placeholders()}
+    for number, name in packages.items():
+        for spec in importlib.import_module(name).tasks():
+            if spec.family != number or not spec.id.startswith(f"{number:02d}-"):
+                raise RleError(f"package {name} registers task '{spec.id}' of family {spec.family:02d}")
+            specs[spec.id] = spec
+    order = {f.number: i for i, f in enumerate(families())}
+    listed = {p.id: i for i, p in enumerate(placeholders())}
+    return tuple(sorted(specs.values(), key=lambda s: (order[s.family], listed.get(s.id, len(listed)), s.id)))
 
 
 @functools.cache
 def all_tasks() -> tuple[TaskSpec, ...]:
-    """All 51 tasks, in paper order; implemented families replace their placeholders."""
-    specs = _placeholders()
-    by_id = {s.id: i for i, s in enumerate(specs)}
-    for family in FAMILY_PACKAGES:
-        for spec in _implemented(family):
-            if spec.id not in by_id:
-                raise RleError(f"family {family} registers unknown task id '{spec.id}'")
-            specs[by_id[spec.id]] = spec
-    return tuple(specs)
+    """Every registered task, in paper order; implemented families replace their placeholders."""
+    return collect(family_packages())
 
 
 def get_task(task_id: str) -> TaskSpec:

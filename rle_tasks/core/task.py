@@ -7,22 +7,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from rle_tasks.core.families import families, workflow_order
+
 if TYPE_CHECKING:
     from rle_tasks.core.report import VerifierReport
     from rle_tasks.core.secrets import Secret
 
-WORKFLOWS: dict[int, str] = {
-    1: "interactive_control",
-    2: "interactive_control",
-    3: "interactive_control",
-    4: "policy_learning",
-    5: "policy_learning",
-    6: "perception_estimation",
-    7: "perception_estimation",
-    8: "mechanical_design",
-    9: "mechanical_design",
-}
-WORKFLOW_ORDER = ("interactive_control", "policy_learning", "perception_estimation", "mechanical_design")
+WORKFLOW_ORDER: tuple[str, ...] = workflow_order()
+"""The four workflows in the paper's order (from ``families.yaml``)."""
+WORKFLOWS: dict[int, str] = {f.number: f.workflow for f in families()}
+"""Workflow of each family number (from ``families.yaml``)."""
 
 
 @dataclass(frozen=True)

@@ -11,14 +11,13 @@ timeout, non-finite or wrongly shaped command), whose message is kept.
 
 from __future__ import annotations
 
-import math
-
 import mujoco
 import numpy as np
 
 from rle_design.catalog import load_catalog
+from rle_design.rollout import ContactBetween, HoldAtTarget, TiltLimit, run_episode
 from rle_design.sandbox import ParticipantFault
-from rle_design.stability import SupportLossMonitor, root_tilt, sample_contacts
+from rle_design.stability import SupportLoad, SupportLost
 from rle_tasks.f08_mobile_base.batteries import LOSS_DURATION_S, LOSS_FRACTION, TILT_MAX_DEG
 from rle_tasks.f08_mobile_base.scene import Scene
 
@@ -48,81 +47,69 @@ def layout(scene: Scene) -> dict:
     }
 
 
+def trial_terms(scene: Scene, target: np.ndarray) -> tuple[SupportLoad, list]:
+    """Terms of one trial, in the order they are checked at each control boundary.
+
+    Wheel loads are sampled every ``SAMPLE_EVERY`` physics steps; at each control period the trial
+    fails at a shelf contact by a robot geom, a chassis tilt above ``TILT_MAX_DEG`` or a sustained
+    loss of wheel support, and succeeds once the tool has stayed within the tolerance of the target
+    for the hold time.
+    """
+    shelf = load_catalog("shelf").extra
+    m = scene.model
+    n_sub = int(round(1.0 / (CONTROL_HZ * m.opt.timestep)))
+    load = SupportLoad(scene.probe.supports, scene.mass * 9.81, LOSS_FRACTION, LOSS_DURATION_S, SAMPLE_EVERY)
+    return load, [
+        load,
+        ContactBetween(m.ngeom, scene.robot_geoms, scene.shelf_geoms, every=n_sub, what="shelf collision"),
+        TiltLimit(scene.chassis, TILT_MAX_DEG, every=n_sub, what="chassis tilt"),
+        SupportLost(load, every=n_sub, what="wheel support"),
+        HoldAtTarget(
+            scene.tool_site,
+            target,
+            float(shelf["tolerance"]),
+            float(shelf["hold_time"]),
+            every=n_sub,
+            period=1.0 / CONTROL_HZ,
+        ),
+    ]
+
+
 def run_trial(scene: Scene, sandbox, target: np.ndarray, payload_kg: float) -> dict:
     """One trial; returns a JSON-safe dict with ``success`` and the measured values.
 
     Raises:
         ParticipantFault: From the controller (the caller records it and restarts the sandbox).
     """
-    shelf = load_catalog("shelf").extra
-    tol, hold_time = float(shelf["tolerance"]), float(shelf["hold_time"])
     m = scene.model
     data = scene.rest_data(0.0)
     lo, hi = m.actuator_ctrlrange.T
     n_sub = int(round(1.0 / (CONTROL_HZ * m.opt.timestep)))
-    n_blocks = int(round(EPISODE_S * CONTROL_HZ))
     target = np.asarray(target, dtype=float)
     sandbox.call("reset", scene.arm, target, float(payload_kg), layout(scene), timeout=None)
-    monitor = SupportLossMonitor(scene.mass * 9.81, 4, LOSS_FRACTION, LOSS_DURATION_S)
-    robot_mask = np.zeros(m.ngeom, dtype=bool)
-    robot_mask[scene.robot_geoms] = True
-    shelf_mask = np.zeros(m.ngeom, dtype=bool)
-    shelf_mask[scene.shelf_geoms] = True
-    held, best, peak_tilt = 0.0, math.inf, 0.0
-    window: list[np.ndarray] = []
-    reason = "timeout: the target was not held long enough"
-    success = False
-    for _ in range(n_blocks):
+    load, terms = trial_terms(scene, target)
+    tilt, hold = terms[2], terms[4]
+
+    def control(model: mujoco.MjModel, d: mujoco.MjData, t: float) -> None:
         cmd = sandbox.call(
-            "control",
-            float(data.time),
-            data.qpos.copy(),
-            data.qvel.copy(),
-            data.ctrl.copy(),
-            timeout=None,
-            shape=(m.nu,),
-            finite=True,
-        )
-        data.ctrl[:] = np.clip(np.asarray(cmd, dtype=float), lo, hi)
-        for _ in range(n_sub // SAMPLE_EVERY):
-            mujoco.mj_step(m, data, nstep=SAMPLE_EVERY)
-            window = (window + [sample_contacts(m, data, scene.probe.supports).normal])[-10:]
-            monitor.update(float(data.time), np.mean(window, axis=0))
-        hit = None
-        if data.ncon:
-            g1, g2 = data.contact.geom1[: data.ncon], data.contact.geom2[: data.ncon]
-            bad = (robot_mask[g1] & shelf_mask[g2]) | (robot_mask[g2] & shelf_mask[g1])
-            if bad.any():
-                c = int(np.argmax(bad))
-                hit = (m.geom(int(g1[c])).name, m.geom(int(g2[c])).name)
-        tilt = math.degrees(root_tilt(data, scene.chassis))
-        peak_tilt = max(peak_tilt, tilt)
-        err = float(np.linalg.norm(data.site_xpos[scene.tool_site] - target))
-        best = min(best, err)
-        if hit:
-            reason = f"shelf collision: {hit[0]} touched {hit[1]} at t = {data.time:.2f} s"
-            break
-        if tilt > TILT_MAX_DEG:
-            reason = f"tipping: chassis tilt {tilt:.1f} deg > {TILT_MAX_DEG} deg at t = {data.time:.2f} s"
-            break
-        if monitor.lost:
-            reason = (
-                f"sustained loss of wheel support ({monitor.longest_loss:.2f} s) at t = {data.time:.2f} s"
-            )
-            break
-        held = held + 1.0 / CONTROL_HZ if err <= tol else 0.0
-        if held >= hold_time - 1e-9:
-            success, reason = True, "held"
-            break
+            "control", float(d.time), d.qpos.copy(), d.qvel.copy(), d.ctrl.copy(),
+            timeout=None, shape=(m.nu,), finite=True,
+        )  # fmt: skip
+        d.ctrl[:] = np.clip(np.asarray(cmd, dtype=float), lo, hi)
+
+    ep = run_episode(
+        m, data, int(round(EPISODE_S * CONTROL_HZ)) * n_sub, control=control, control_every=n_sub, terms=terms
+    )
+    end = ep.end
     return {
-        "success": success,
-        "reason": reason,
-        "min_error_m": best,
-        "final_error_m": float(np.linalg.norm(data.site_xpos[scene.tool_site] - target)),
-        "peak_tilt_deg": peak_tilt,
-        "min_wheel_frac": float(monitor.min_force.min()) / (scene.mass * 9.81 / 4),
+        "success": ep.success,
+        "reason": end.message if end is not None else "timeout: the target was not held long enough",
+        "min_error_m": hold.best,
+        "final_error_m": hold.error(data),
+        "peak_tilt_deg": tilt.peak_deg,
+        "min_wheel_frac": load.min_share,
         "time_s": float(data.time),
     }
 
 
-__all__ = ["CONTROL_HZ", "EPISODE_S", "ParticipantFault", "layout", "run_trial"]
+__all__ = ["CONTROL_HZ", "EPISODE_S", "ParticipantFault", "layout", "run_trial", "trial_terms"]

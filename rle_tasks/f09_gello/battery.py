@@ -20,6 +20,7 @@ import mujoco
 import numpy as np
 
 from rle_design.kinematics import GravityMap, KinematicModel, spring_torque
+from rle_design.rollout import Event, Term, run_episode
 from rle_tasks.f09_gello.assembly import HANDLE_SITE
 
 MOVE_RAD = 1e-4
@@ -58,17 +59,40 @@ def _reset(m: mujoco.MjModel, d: mujoco.MjData, q0: np.ndarray, tau: np.ndarray)
     mujoco.mj_forward(m, d)
 
 
+class _Drift(Term):
+    """Largest joint excursion from ``q0``, sampled every 10 steps and after the last [rad]."""
+
+    name, every, final = "drift", 10, True
+
+    def __init__(self, q0: np.ndarray) -> None:
+        self.q0, self.worst = q0, 0.0
+
+    def update(self, model: mujoco.MjModel, data: mujoco.MjData, t: float) -> Event | None:
+        self.worst = max(self.worst, float(np.max(np.abs(data.qpos - self.q0))))
+        return None
+
+
+class _Moved(Term):
+    """Succeeds once ``joint`` has moved more than ``MOVE_RAD`` in direction ``sign``."""
+
+    name = "moved"
+
+    def __init__(self, q0: np.ndarray, joint: int, sign: float) -> None:
+        self.q0, self.joint, self.sign = q0, joint, sign
+
+    def update(self, model: mujoco.MjModel, data: mujoco.MjData, t: float) -> Event | None:
+        if self.sign * (data.qpos[self.joint] - self.q0[self.joint]) > MOVE_RAD:
+            return Event(self.name, "success", f"joint {self.joint} moved", t)
+        return None
+
+
 def hold_drift(m: mujoco.MjModel, q0: np.ndarray, tau_ff: np.ndarray, hold_s: float) -> float:
     """Largest excursion max_t max_i |q_i(t) - q0_i| after release at rest [rad]."""
     d = mujoco.MjData(m)
     _reset(m, d, q0, tau_ff)
-    worst = 0.0
-    steps = int(round(hold_s / m.opt.timestep))
-    for k in range(steps):
-        mujoco.mj_step(m, d)
-        if k % 10 == 9 or k == steps - 1:
-            worst = max(worst, float(np.max(np.abs(d.qpos - q0))))
-    return worst
+    drift = _Drift(q0)
+    run_episode(m, d, int(round(hold_s / m.opt.timestep)), terms=[drift])
+    return drift.worst
 
 
 def _moves(
@@ -76,11 +100,7 @@ def _moves(
 ) -> bool:
     """Whether ``joint`` moves by more than ``MOVE_RAD`` in direction ``sign`` within ``PROBE_S``."""
     _reset(m, d, q0, tau)
-    for _ in range(int(round(PROBE_S / m.opt.timestep))):
-        mujoco.mj_step(m, d)
-        if sign * (d.qpos[joint] - q0[joint]) > MOVE_RAD:
-            return True
-    return False
+    return run_episode(m, d, int(round(PROBE_S / m.opt.timestep)), terms=[_Moved(q0, joint, sign)]).success
 
 
 def breakaway(
@@ -150,15 +170,19 @@ def push_recovery(
     dt = m.opt.timestep
     steps, pulse, window = int(round(total_s / dt)), int(round(pulse_s / dt)), int(round(CREEP_WINDOW_S / dt))
     qfrc = np.zeros(m.nv)
-    mark = None
-    for k in range(steps):
+    k = 0
+
+    def push(model: mujoco.MjModel, data: mujoco.MjData, t: float) -> None:
+        nonlocal k
         qfrc[:] = 0.0
         if k < pulse:
             mujoco.mj_applyFT(
-                m, d, np.asarray(force, float), np.zeros(3), d.site_xpos[sid].copy(), body, qfrc
+                model, data, np.asarray(force, float), np.zeros(3), data.site_xpos[sid].copy(), body, qfrc
             )
-        d.qfrc_applied[:] = tau_ff + qfrc
-        mujoco.mj_step(m, d)
-        if k == steps - window - 1:
-            mark = d.qpos.copy()
+        data.qfrc_applied[:] = tau_ff + qfrc
+        k += 1
+
+    run_episode(m, d, steps - window, control=push)
+    mark = d.qpos.copy()
+    run_episode(m, d, window, control=push)
     return float(np.max(np.abs(d.qpos - mark)))
