@@ -11,7 +11,9 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from rle_design.errors import MissingElement
 from rle_design.ledger.records import LedgerError, LedgerWriter
+from rle_design.scene.elements import element_id
 
 ObserverFn = Callable[[mujoco.MjModel, mujoco.MjData], Any]
 
@@ -79,13 +81,10 @@ class MeteredSession:
         self.steps_used = 0
         self._key_id = -1
         if env.keyframe is not None:
-            self._key_id = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_KEY, env.keyframe)
-            if self._key_id < 0:
-                names = [self.model.key(i).name for i in range(self.model.nkey)]
-                raise LedgerError(
-                    f"keyframe '{env.keyframe}' does not exist. Available keyframes: {', '.join(names) or '(none)'}",
-                    code="ledger.bad_model",
-                )
+            try:
+                self._key_id = element_id(self.model, "keyframe", env.keyframe)
+            except MissingElement as exc:
+                raise LedgerError(exc.message, code="ledger.bad_model") from None
         self.writer: LedgerWriter | None = None
         if key is not None:
             if ledger_path is None:

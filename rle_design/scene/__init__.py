@@ -13,6 +13,7 @@ from rle_design.scene.elements import (
     element_names,
     find_body,
     find_site,
+    has_element,
     object_type,
 )
 from rle_design.scene.floor import FloorConfig
@@ -79,6 +80,7 @@ __all__ = [
     "element_names",
     "find_body",
     "find_site",
+    "has_element",
     "load_robot",
     "look_at_quat",
     "object_type",

@@ -14,7 +14,15 @@ import mujoco
 
 from rle_design.errors import ConfigError, MissingElement
 
-__all__ = ["element_id", "element_ids", "element_names", "find_body", "find_site", "object_type"]
+__all__ = [
+    "element_id",
+    "element_ids",
+    "element_names",
+    "find_body",
+    "find_site",
+    "has_element",
+    "object_type",
+]
 
 _OBJ = mujoco.mjtObj
 
@@ -69,6 +77,11 @@ def element_names(model: mujoco.MjModel, kind: str | mujoco.mjtObj) -> list[str]
     word, obj = object_type(kind)
     count = int(getattr(model, _KINDS[word][1]))
     return [mujoco.mj_id2name(model, obj, i) or "" for i in range(count)]
+
+
+def has_element(model: mujoco.MjModel, kind: str | mujoco.mjtObj, name: str) -> bool:
+    """Whether the model has an element of that kind named ``name`` (for optional elements)."""
+    return mujoco.mj_name2id(model, object_type(kind)[1], name) >= 0
 
 
 def element_id(
