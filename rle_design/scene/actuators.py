@@ -27,6 +27,17 @@ def _check_joints(owner: object, joints: tuple[str, ...]) -> None:
         raise ConfigError(f"{name}.joints lists {', '.join(dup)} more than once")
 
 
+def _check_targets(spec: mujoco.MjSpec, joints: tuple[str, ...], prefix: str) -> None:
+    """Every joint exists and no actuator has one of the new names (checked before any edit)."""
+    for joint in joints:
+        if spec.joint(joint) is None:
+            raise MissingElement("joint", joint, available=[j.name for j in spec.joints if j.name])
+        if spec.actuator(prefix + joint) is not None:
+            raise ConfigError(
+                f"actuator '{prefix + joint}' already exists; set a prefix", code="scene.duplicate_actuator"
+            )
+
+
 def _add(
     spec: mujoco.MjSpec,
     joint: str,
@@ -35,10 +46,6 @@ def _add(
     forcerange: tuple[float, float] | None,
     gear: float = 1.0,
 ) -> mujoco.MjsActuator:
-    if spec.joint(joint) is None:
-        raise MissingElement("joint", joint, available=[j.name for j in spec.joints if j.name])
-    if spec.actuator(name) is not None:
-        raise ConfigError(f"actuator '{name}' already exists; set a prefix", code="scene.duplicate_actuator")
     act = spec.add_actuator(name=name, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
     act.gear = [gear, 0, 0, 0, 0, 0]
     if ctrlrange is not None:
@@ -77,6 +84,7 @@ class PositionActuators(SpecEdit):
             check_range(self, "ctrlrange", self.ctrlrange)
 
     def _edit(self, spec: mujoco.MjSpec) -> None:
+        _check_targets(spec, self.joints, self.prefix)
         for joint in self.joints:
             act = _add(spec, joint, self.prefix + joint, self.ctrlrange, self.forcerange)
             act.set_to_position(kp=self.kp, kv=self.kv)
@@ -106,6 +114,7 @@ class MotorActuators(SpecEdit):
             check_range(self, "forcerange", self.forcerange)
 
     def _edit(self, spec: mujoco.MjSpec) -> None:
+        _check_targets(spec, self.joints, self.prefix)
         for joint in self.joints:
             act = _add(spec, joint, self.prefix + joint, self.ctrlrange, self.forcerange, self.gear)
             act.set_to_motor()

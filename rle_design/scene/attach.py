@@ -64,9 +64,10 @@ def attach(
         raise ConfigError("attach: prefix must not be empty (it keeps attached names unique)")
     target = find_site(spec, site) if isinstance(site, str) else site
     root = root_body(child, body) if isinstance(child, mujoco.MjSpec) else child
+    name = root.name  # MuJoCo may rename the root before it refuses
     try:
         return target.attach_body(root, prefix, "")
     except ValueError as exc:
         raise MjcfError(
-            f"cannot attach '{root.name}' with prefix '{prefix}': {exc}", code="scene.attach"
+            f"cannot attach '{name}' with prefix '{prefix}': {exc}", code="scene.attach"
         ) from None

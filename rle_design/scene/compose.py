@@ -71,7 +71,8 @@ def compose(
         arm_id: Catalog arm to attach at ``mount_site`` (prefix ``"<arm_id>/"``), or None.
         payload_id: Payload part fixed at the arm's tool site (requires ``arm_id``).
         mount_site: Site of the design that carries the arm (required with ``arm_id``).
-        arena: Floor, lights and physics options the composition owns; None leaves the spec's.
+        arena: Floor, lights and physics options the composition owns; None leaves the design's
+            (MuJoCo then warns about, and drops, an attached arm's differing options).
 
     Raises:
         MjcfError: A payload without an arm, an unknown arm.

@@ -230,10 +230,14 @@ class PointMass(Perturbation):
         parent = site.parent
         body = parent.add_body(name=f"{self.name}_point_mass", pos=site.pos, quat=site.quat)
         body.explicitinertial = True
+        body.ipos = [0.0, 0.0, 0.0]
+        body.iquat = [1.0, 0.0, 0.0, 0.0]
         body.mass = values[0]
         body.inertia = [1e-9, 1e-9, 1e-9]  # a point; MuJoCo wants a positive inertia
 
     def apply(self, model: mujoco.MjModel, values: tuple[float, ...]) -> None:
+        if values[0] <= 0:
+            return
         sid = element_id(model, "site", self.site)
         _merge_point_mass(model, int(model.site_bodyid[sid]), model.site_pos[sid].copy(), values[0])
 
