@@ -24,7 +24,6 @@ import pinocchio as pin
 from lxml import etree
 
 from rle_design.errors import MjcfError
-from rle_design.scene.elements import element_ids
 
 __all__ = ["DroppedConstruct", "KinematicModel", "model_from_mjcf", "model_from_mujoco", "precheck_mjcf"]
 
@@ -128,6 +127,11 @@ def _fmt(v) -> str:
     return " ".join(f"{float(x):.17g}" for x in np.ravel(v))
 
 
+def _skeleton_name(m: mujoco.MjModel, kind: mujoco.mjtObj, i: int, prefix: str) -> str:
+    """Name of element ``i`` in the skeleton: its own, or ``prefix + id`` when it has none."""
+    return mujoco.mj_id2name(m, kind, i) or f"{prefix}{i}"
+
+
 def _skeleton_tree(m: mujoco.MjModel, carrier: bool) -> etree._Element:
     """The skeleton as an element tree; with ``carrier`` every root body hangs from one massless
     body ``__root__`` at the origin."""
@@ -142,7 +146,7 @@ def _skeleton_tree(m: mujoco.MjModel, carrier: bool) -> etree._Element:
         etree.SubElement(parent, "inertial", pos="0 0 0", mass="0", diaginertia="0 0 0")
 
     def name(kind, i, prefix):
-        return mujoco.mj_id2name(m, kind, i) or f"{prefix}{i}"
+        return _skeleton_name(m, kind, i, prefix)
 
     def emit(b: int, into: etree._Element) -> None:
         body = etree.SubElement(
@@ -233,7 +237,15 @@ def model_from_mujoco(m: mujoco.MjModel, *, check_tol: float = 1e-9) -> Kinemati
         model = _build(path)
     model.gravity.linear = np.asarray(m.opt.gravity, float)
     names = [model.names[j] for j in range(1, model.njoints)]
-    mj_ids = element_ids(m, "joint", names)
+    # unnamed MuJoCo joints appear as "joint<id>" in the skeleton
+    skeleton_ids = {_skeleton_name(m, mujoco.mjtObj.mjOBJ_JOINT, j, "joint"): j for j in range(m.njnt)}
+    missing = [n for n in names if n not in skeleton_ids]
+    if missing:
+        raise MjcfError(
+            f"Pinocchio joints {missing} have no MuJoCo joint. Available: {', '.join(skeleton_ids)}",
+            code="kinematics.mismatch",
+        )
+    mj_ids = [skeleton_ids[n] for n in names]
     km = KinematicModel(model, model.createData(), names, mj_ids)
     _crosscheck(km, m, check_tol)
     return km
