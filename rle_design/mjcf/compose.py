@@ -13,10 +13,7 @@ from rle_design.scene import (
     TOOL_SITE,
     Arena,
     FloorConfig,
-    HeadlightConfig,
-    LightConfig,
     PhysicsOptions,
-    SkyboxConfig,
     arm_ids,
     arm_model_path,
     attach_arm,
@@ -69,9 +66,7 @@ def load_arm_spec(arm_id: str) -> mujoco.MjSpec:
 def add_floor(spec: mujoco.MjSpec, friction: float = 1.0, size: float = 20.0) -> None:
     """Ground plane at z = 0, sky and a light (``Arena`` without physics options)."""
     floor = FloorConfig(half_size=size, friction=(friction, 0.005, 0.0001))
-    Arena(
-        floor=floor, skybox=SkyboxConfig(), light=LightConfig(), headlight=HeadlightConfig(), physics=None
-    ).edit_spec(spec)
+    Arena(floor=floor, physics=None).edit_spec(spec)
 
 
 def apply_options(spec: mujoco.MjSpec, options: PhysicsOptions = _PHYSICS) -> None:
