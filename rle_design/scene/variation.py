@@ -287,6 +287,17 @@ class Variation:
     def __iter__(self) -> Iterator[tuple[Perturbation, tuple[float, ...]]]:
         return iter(zip(self.terms, self.values))
 
+    def select(self, *names: str) -> Variation:
+        """The same draw restricted to some terms (e.g. a scene without the body a term perturbs).
+
+        Raises:
+            KeyError: A name is not a term; lists the terms.
+        """
+        for n in names:
+            self[n]
+        keep = [i for i, t in enumerate(self.terms) if t.name in names]
+        return Variation(tuple(self.terms[i] for i in keep), tuple(self.values[i] for i in keep))
+
     def edit_spec(self, spec: mujoco.MjSpec) -> None:
         """Apply every term to ``spec`` (before compiling), in declaration order."""
         for term, vals in self:

@@ -151,6 +151,18 @@ def test_point_mass_obeys_the_parallel_axis_theorem():
         np.testing.assert_allclose(mass_matrix(out, q), mass_matrix(welded, q), atol=1e-8)
 
 
+def test_select_keeps_the_draw_of_the_chosen_terms():
+    var = SCENE.sample(np.random.default_rng(11))
+    friction_only = var.select("friction")
+    assert friction_only.names == ["friction"] and friction_only["friction"] == var["friction"]
+    spec = mujoco.MjSpec.from_string(ARM.replace('name="link2"', 'name="arm2"'))  # no body for payload_com
+    friction_only.edit_spec(spec)
+    m = spec.compile()
+    assert m.pair_friction[0, 1] == pytest.approx(0.7 * var["friction"][0], rel=1e-15)
+    with pytest.raises(KeyError, match="variation term 'mu' does not exist"):
+        var.select("mu")
+
+
 def test_lookup_by_name_lists_the_terms():
     var = SCENE.nominal()
     assert var["friction"] == (1.0,) and var["payload_com"] == (0.0, 0.0, 0.0)
