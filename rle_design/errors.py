@@ -83,3 +83,9 @@ class MissingElement(RleError):
         self.kind = kind
         self.name = name
         self.available = avail
+
+
+class ConfigError(RleError):
+    """A configuration (a spec edit, a variation range, a robot entry) is invalid; names the field."""
+
+    code = "config.invalid"

@@ -81,7 +81,13 @@ def _cmd_preview(args: argparse.Namespace) -> int:
     from rle_design.viz.preview import preview
 
     preview(
-        args.file, arm=args.arm, png=args.png, payload=args.payload, port=args.port, block=not args.no_block
+        args.file,
+        arm=args.arm,
+        png=args.png,
+        payload=args.payload,
+        port=args.port,
+        block=not args.no_block,
+        mount_site=args.mount_site,
     )
     return 0
 
@@ -120,6 +126,8 @@ def _cmd_audit(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from rle_design.scene import arm_ids
+
     p = argparse.ArgumentParser(prog="rle", description="RLE-Bench: tasks, verifiers and design toolkit")
     sub = p.add_subparsers(dest="command", required=True)
 
@@ -146,7 +154,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("preview", help="meshcat preview (prints the URL) or an offscreen PNG")
     s.add_argument("file")
-    s.add_argument("--arm", choices=["panda", "ur5e", "xarm7"], default=None)
+    s.add_argument("--arm", choices=arm_ids(), default=None, help="catalog arm mounted at --mount-site")
+    s.add_argument(
+        "--mount-site",
+        default="arm_mount_site",
+        help="site of the design that carries the arm (default: %(default)s)",
+    )
     s.add_argument("--payload", choices=["payload_1kg", "payload_2kg"], default=None)
     s.add_argument("--png", default=None, help="write an offscreen render here instead of serving meshcat")
     s.add_argument("--port", type=int, default=None, help="meshcat web port (default: meshcat's choice)")

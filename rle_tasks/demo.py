@@ -21,10 +21,13 @@ TEST_BASE = Path(__file__).parent / "demo_assets" / "test_base.xml"
 
 def render_arms(out: Path) -> list[Path]:
     """PNG of each canonical arm on the demo test base (front, side, iso views)."""
-    from rle_design.mjcf.compose import ARM_IDS
+    from rle_design.scene import arm_ids
     from rle_design.viz.preview import preview
 
-    return [Path(preview(TEST_BASE, arm=arm, png=out / "arms" / f"{arm}.png")) for arm in ARM_IDS]
+    return [
+        Path(preview(TEST_BASE, arm=arm, png=out / "arms" / f"{arm}.png", mount_site="arm_mount_site"))
+        for arm in arm_ids()
+    ]
 
 
 def _verify_all(out: Path, quick: bool, jobs: int) -> list[tuple[str, str, Path, VerifierReport]]:

@@ -24,7 +24,7 @@ import osqp
 import pinocchio as pin
 from scipy import sparse
 
-from rle_design.errors import MissingElement
+from rle_design.scene.elements import element_id, element_ids
 
 __all__ = ["ArmChain", "IkResult", "chain_from_mujoco", "solve_ik"]
 
@@ -101,21 +101,8 @@ def chain_from_mujoco(model: mujoco.MjModel, joint_names: Sequence[str], site_na
     Raises:
         MissingElement: A joint or the site does not exist.
     """
-    all_joints = [model.joint(i).name for i in range(model.njnt)]
-    jids = []
-    for name in joint_names:
-        j = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
-        if j < 0:
-            raise MissingElement("joint", name, available=all_joints, code="ik.missing_joint")
-        jids.append(j)
-    sid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, site_name)
-    if sid < 0:
-        raise MissingElement(
-            "site",
-            site_name,
-            available=[model.site(i).name for i in range(model.nsite)],
-            code="ik.missing_site",
-        )
+    jids = element_ids(model, "joint", joint_names, code="ik.missing_joint")
+    sid = element_id(model, "site", site_name, code="ik.missing_site")
     data = mujoco.MjData(model)
     data.qpos[:] = model.qpos0
     for j in jids:

@@ -127,28 +127,42 @@ def _fmt(v) -> str:
     return " ".join(f"{float(x):.17g}" for x in np.ravel(v))
 
 
-def skeleton_xml(m: mujoco.MjModel) -> str:
-    """Kinematic skeleton of a compiled MuJoCo model: bodies, hinge/slide joints, inertials, sites.
+def _skeleton_name(m: mujoco.MjModel, kind: mujoco.mjtObj, i: int, prefix: str) -> str:
+    """Name of element ``i`` in the skeleton: its own, or ``prefix + id`` when it has none."""
+    return mujoco.mj_id2name(m, kind, i) or f"{prefix}{i}"
 
-    Raises:
-        MjcfError: A joint type Pinocchio models differently (ball, free) is present.
-    """
+
+def _skeleton_tree(m: mujoco.MjModel, carrier: bool) -> etree._Element:
+    """The skeleton as an element tree; with ``carrier`` every root body hangs from one massless
+    body ``__root__`` at the origin."""
     children: dict[int, list[int]] = {}
     for b in range(1, m.nbody):
         children.setdefault(int(m.body_parentid[b]), []).append(b)
-    lines = ['<mujoco model="skeleton">', '<compiler angle="radian" inertiafromgeom="false"/>', "<worldbody>"]
+    root = etree.Element("mujoco", model="skeleton")
+    etree.SubElement(root, "compiler", angle="radian", inertiafromgeom="false")
+    parent = etree.SubElement(root, "worldbody")
+    if carrier:
+        parent = etree.SubElement(parent, "body", name="__root__")
+        etree.SubElement(parent, "inertial", pos="0 0 0", mass="0", diaginertia="0 0 0")
 
     def name(kind, i, prefix):
-        return mujoco.mj_id2name(m, kind, i) or f"{prefix}{i}"
+        return _skeleton_name(m, kind, i, prefix)
 
-    def emit(b: int) -> None:
-        lines.append(
-            f'<body name="{name(mujoco.mjtObj.mjOBJ_BODY, b, "body")}" pos="{_fmt(m.body_pos[b])}" '
-            f'quat="{_fmt(m.body_quat[b])}">'
+    def emit(b: int, into: etree._Element) -> None:
+        body = etree.SubElement(
+            into,
+            "body",
+            name=name(mujoco.mjtObj.mjOBJ_BODY, b, "body"),
+            pos=_fmt(m.body_pos[b]),
+            quat=_fmt(m.body_quat[b]),
         )
-        lines.append(
-            f'<inertial pos="{_fmt(m.body_ipos[b])}" quat="{_fmt(m.body_iquat[b])}" '
-            f'mass="{m.body_mass[b]:.17g}" diaginertia="{_fmt(m.body_inertia[b])}"/>'
+        etree.SubElement(
+            body,
+            "inertial",
+            pos=_fmt(m.body_ipos[b]),
+            quat=_fmt(m.body_iquat[b]),
+            mass=f"{m.body_mass[b]:.17g}",
+            diaginertia=_fmt(m.body_inertia[b]),
         )
         for j in range(m.body_jntadr[b], m.body_jntadr[b] + m.body_jntnum[b]):
             jt = int(m.jnt_type[j])
@@ -159,25 +173,45 @@ def skeleton_xml(m: mujoco.MjModel) -> str:
                     code="kinematics.joint_type",
                     element="joint",
                 )
-            kind = "hinge" if jt == mujoco.mjtJoint.mjJNT_HINGE else "slide"
-            lines.append(
-                f'<joint name="{name(mujoco.mjtObj.mjOBJ_JOINT, j, "joint")}" type="{kind}" '
-                f'pos="{_fmt(m.jnt_pos[j])}" axis="{_fmt(m.jnt_axis[j])}"/>'
+            etree.SubElement(
+                body,
+                "joint",
+                name=name(mujoco.mjtObj.mjOBJ_JOINT, j, "joint"),
+                type="hinge" if jt == mujoco.mjtJoint.mjJNT_HINGE else "slide",
+                pos=_fmt(m.jnt_pos[j]),
+                axis=_fmt(m.jnt_axis[j]),
             )
         for s in range(m.nsite):
             if m.site_bodyid[s] == b:
-                lines.append(
-                    f'<site name="{name(mujoco.mjtObj.mjOBJ_SITE, s, "site")}" pos="{_fmt(m.site_pos[s])}" '
-                    f'quat="{_fmt(m.site_quat[s])}"/>'
+                etree.SubElement(
+                    body,
+                    "site",
+                    name=name(mujoco.mjtObj.mjOBJ_SITE, s, "site"),
+                    pos=_fmt(m.site_pos[s]),
+                    quat=_fmt(m.site_quat[s]),
                 )
         for c in children.get(b, []):
-            emit(c)
-        lines.append("</body>")
+            emit(c, body)
 
     for c in children.get(0, []):
-        emit(c)
-    lines += ["</worldbody>", "</mujoco>"]
-    return "\n".join(lines)
+        emit(c, parent)
+    return root
+
+
+def skeleton_xml(m: mujoco.MjModel, *, carrier: bool = False) -> str:
+    """Kinematic skeleton of a compiled MuJoCo model: bodies, hinge/slide joints, inertials, sites.
+
+    Numbers are written with 17 significant digits, so the skeleton reproduces the compiled model's
+    doubles exactly.
+
+    Args:
+        m: Compiled model.
+        carrier: Hang every root body from one massless body ``__root__`` at the origin.
+
+    Raises:
+        MjcfError: A joint type Pinocchio models differently (ball, free) is present.
+    """
+    return etree.tostring(_skeleton_tree(m, carrier), encoding="unicode")
 
 
 def _build(path: str) -> pin.Model:
@@ -196,19 +230,22 @@ def model_from_mujoco(m: mujoco.MjModel, *, check_tol: float = 1e-9) -> Kinemati
     """
     # Pinocchio keeps only the first root body and ignores its placement: wrap every root in one
     # massless carrier body at the world origin.
-    xml = skeleton_xml(m).replace(
-        "<worldbody>",
-        '<worldbody><body name="__root__"><inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/>',
-        1,
-    )
-    xml = xml.replace("</worldbody>", "</body></worldbody>", 1)
+    xml = skeleton_xml(m, carrier=True)
     with tempfile.TemporaryDirectory(prefix="rle_pin_") as tmp:
         path = os.path.join(tmp, "skeleton.xml")
         Path(path).write_text(xml)
         model = _build(path)
     model.gravity.linear = np.asarray(m.opt.gravity, float)
     names = [model.names[j] for j in range(1, model.njoints)]
-    mj_ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n) for n in names]
+    # unnamed MuJoCo joints appear as "joint<id>" in the skeleton
+    skeleton_ids = {_skeleton_name(m, mujoco.mjtObj.mjOBJ_JOINT, j, "joint"): j for j in range(m.njnt)}
+    missing = [n for n in names if n not in skeleton_ids]
+    if missing:
+        raise MjcfError(
+            f"Pinocchio joints {missing} have no MuJoCo joint. Available: {', '.join(skeleton_ids)}",
+            code="kinematics.mismatch",
+        )
+    mj_ids = [skeleton_ids[n] for n in names]
     km = KinematicModel(model, model.createData(), names, mj_ids)
     _crosscheck(km, m, check_tol)
     return km

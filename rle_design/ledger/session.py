@@ -11,8 +11,10 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from rle_design.errors import MissingElement
 from rle_design.ledger.records import LedgerError, LedgerWriter
 from rle_design.rollout.env import EnvDefinition
+from rle_design.scene.elements import element_id
 
 ObserverFn = Callable[[mujoco.MjModel, mujoco.MjData], Any]
 
@@ -58,14 +60,10 @@ class MeteredEnv(EnvDefinition):
     def _key_id(self, model: mujoco.MjModel) -> int:
         if self.keyframe is None:
             return -1
-        key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, self.keyframe)
-        if key < 0:
-            names = [model.key(i).name for i in range(model.nkey)]
-            raise LedgerError(
-                f"keyframe '{self.keyframe}' does not exist. Available keyframes: {', '.join(names) or '(none)'}",
-                code="ledger.bad_model",
-            )
-        return key
+        try:
+            return element_id(model, "keyframe", self.keyframe)
+        except MissingElement as exc:
+            raise LedgerError(exc.message, code="ledger.bad_model") from None
 
     def reset(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         key = self._key_id(model)

@@ -24,6 +24,7 @@ from lxml import etree
 from rle_design.catalog import load_catalog
 from rle_design.mjcf.contract import Finding
 from rle_design.mjcf.loader import Design
+from rle_design.scene.elements import element_id, has_element
 
 __all__ = ["MASS_RTOL", "PREFIX", "SECTION_TOL", "ProfileReport", "ProfileUse", "match_profiles"]
 
@@ -112,8 +113,8 @@ def match_profiles(
             )
             continue
         prof = catalog.get(pid)
-        gid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
-        if gid < 0 or model.geom_type[gid] != mujoco.mjtGeom.mjGEOM_BOX:
+        gid = element_id(model, "geom", name) if has_element(model, "geom", name) else None
+        if gid is None or model.geom_type[gid] != mujoco.mjtGeom.mjGEOM_BOX:
             add("catalog.not_a_box", f"geom '{name}': a profile must be a box geom")
             continue
         sizes = np.sort(2.0 * model.geom_size[gid])

@@ -21,6 +21,7 @@ import mujoco
 import numpy as np
 
 from rle_design.errors import MissingElement, RleError
+from rle_design.scene.elements import element_id
 
 MJ_TO_CV = np.diag([1.0, -1.0, -1.0])
 """Rotation from MuJoCo's camera frame (-z forward, +y up) to OpenCV's (+z forward, +y down)."""
@@ -66,10 +67,7 @@ def camera_id(model: mujoco.MjModel, camera: str | int) -> int:
     """Id of a named (or numbered) camera; raises ``MissingElement`` listing the model's cameras."""
     names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_CAMERA, i) or f"#{i}" for i in range(model.ncam)]
     if isinstance(camera, str):
-        cid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, camera)
-        if cid < 0:
-            raise MissingElement("camera", camera, available=names)
-        return cid
+        return element_id(model, "camera", camera)
     if not 0 <= int(camera) < model.ncam:
         raise MissingElement("camera", f"#{camera}", available=names)
     return int(camera)

@@ -11,6 +11,7 @@ import mujoco
 import numpy as np
 
 from rle_design.errors import MissingElement, RleError
+from rle_design.scene.elements import element_id, has_element
 
 _TYPES = {"force": mujoco.mjtSensor.mjSENS_FORCE, "torque": mujoco.mjtSensor.mjSENS_TORQUE}
 
@@ -23,14 +24,14 @@ def _sensor(model: mujoco.MjModel, name: str, kind: str) -> tuple[int, int]:
         for i in range(model.nsensor)
         if model.sensor_type[i] == want
     ]
-    sid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SENSOR, name)
-    if sid < 0 or model.sensor_type[sid] != want:
-        if sid >= 0:
-            raise RleError(
-                f"sensor '{name}' is not a {kind} sensor. Available {kind} sensors: {', '.join(names) or '(none)'}",
-                code="contract.sensor_type",
-            )
+    if not has_element(model, "sensor", name):
         raise MissingElement(f"{kind} sensor", name, available=names)
+    sid = element_id(model, "sensor", name)
+    if model.sensor_type[sid] != want:
+        raise RleError(
+            f"sensor '{name}' is not a {kind} sensor. Available {kind} sensors: {', '.join(names) or '(none)'}",
+            code="contract.sensor_type",
+        )
     return int(model.sensor_adr[sid]), int(model.sensor_objid[sid])
 
 

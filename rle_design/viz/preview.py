@@ -9,19 +9,26 @@ import mujoco
 import numpy as np
 
 from rle_design.errors import RleError
-from rle_design.mjcf.compose import compile_spec, compose
+from rle_design.scene import compile_spec, compose
 from rle_design.viz.render import collision_shadow_geoms, render_views
 
 
-def load_preview_model(xml: str | Path, arm: str | None = None, payload: str | None = None) -> mujoco.MjModel:
-    """Compile ``xml`` (through the safe loader) with an optional arm at ``arm_mount_site`` and a floor."""
+def load_preview_model(
+    xml: str | Path, arm: str | None = None, payload: str | None = None, mount_site: str | None = None
+) -> mujoco.MjModel:
+    """Compile ``xml`` (through the safe loader) with an optional arm at ``mount_site`` and a floor.
+
+    Raises:
+        ConfigError: ``arm`` without ``mount_site``.
+        MissingElement: ``mount_site`` is not a site of the design.
+    """
     from rle_design.mjcf.loader import load_design
 
     path = Path(xml)
     if not path.is_file():
         raise RleError(f"file '{xml}' does not exist", code="preview.missing_file")
     design = load_design(path.parent, entry=path.name)
-    spec = compose(design.spec, arm_id=arm, payload_id=payload)
+    spec = compose(design.spec, arm_id=arm, payload_id=payload, mount_site=mount_site)
     return compile_spec(spec)
 
 
@@ -41,13 +48,17 @@ def preview(
     payload: str | None = None,
     port: int | None = None,
     block: bool = True,
+    mount_site: str | None = None,
 ) -> str:
     """Write a PNG (front, side, top views) when ``png`` is given, else serve a meshcat scene.
+
+    ``arm`` (a catalog arm id) is attached at the design's site ``mount_site``, ``payload`` (a catalog
+    part) at the arm's tool site.
 
     Returns:
         The PNG path or the meshcat URL.
     """
-    model = load_preview_model(xml, arm, payload)
+    model = load_preview_model(xml, arm, payload, mount_site)
     data = settle_pose(model)
     if png is not None:
         out = render_views(

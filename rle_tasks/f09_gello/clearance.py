@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from rle_design.mjcf.loader import Design
+from rle_design.scene import element_ids
 
 PENETRATION_M = 1e-4
 TABLE_MARGIN_M = 0.03
@@ -46,9 +47,9 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
         return 0.0, []
     m = clearance_model(design)
     d = mujoco.MjData(m)
-    added = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in added_bodies}
+    added = set(element_ids(m, "body", added_bodies))
     geom_added = np.isin(m.geom_bodyid, list(added))
-    fixed = [0] + [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in ("base", "link1")]
+    fixed = [0, *element_ids(m, "body", ("base", "link1"))]
     stock_arm = ~geom_added & ~np.isin(m.geom_bodyid, fixed)  # stock parts that can reach the table
     hits, counted, examples = 0, 0, []
     for q in poses:

@@ -30,6 +30,7 @@ import trimesh
 from rle_design.errors import MjcfError
 from rle_design.mjcf.contract import Finding, ModelContract, check_contract
 from rle_design.mjcf.loader import Design, load_design
+from rle_design.scene import element_id, has_element
 from rle_tasks.f09_gello.assembly import HANDLE_SITE
 
 ASSET_DIR = Path(__file__).resolve().parent / "assets"
@@ -117,9 +118,9 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
         return out
     for b in range(1, s.nbody):
         name = mujoco.mj_id2name(s, OBJ.mjOBJ_BODY, b)
-        mb = mujoco.mj_name2id(m, OBJ.mjOBJ_BODY, name)
-        if mb < 0:
+        if not has_element(m, "body", name):
             continue  # reported by the required-names check
+        mb = element_id(m, "body", name)
         parent = mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, int(m.body_parentid[mb])) or "world"
         sparent = mujoco.mj_id2name(s, OBJ.mjOBJ_BODY, int(s.body_parentid[b])) or "world"
         if parent != sparent or not (
@@ -144,9 +145,9 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
             )
     for j in range(s.njnt):
         name = mujoco.mj_id2name(s, OBJ.mjOBJ_JOINT, j)
-        mj = mujoco.mj_name2id(m, OBJ.mjOBJ_JOINT, name)
-        if mj < 0:
+        if not has_element(m, "joint", name):
             continue
+        mj = element_id(m, "joint", name)
         if not (
             _close(m.jnt_pos[mj], s.jnt_pos[j])
             and _close(m.jnt_axis[mj], s.jnt_axis[j])
@@ -172,7 +173,7 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
             )
     for g in range(s.ngeom):
         name = mujoco.mj_id2name(s, OBJ.mjOBJ_GEOM, g)
-        mg = mujoco.mj_name2id(m, OBJ.mjOBJ_GEOM, name)
+        mg = element_id(m, "geom", name) if has_element(m, "geom", name) else -1
         same = mg >= 0 and (
             m.geom_type[mg] == s.geom_type[g]
             and mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, int(m.geom_bodyid[mg]))
@@ -325,10 +326,10 @@ def apply_variation(m: mujoco.MjModel, var: DeviceVariation) -> mujoco.MjModel:
     """Copy of ``m`` with stock link masses scaled and the payload merged into the handle's body."""
     h = _copy(m)
     for k, f in enumerate(var.link_scale):
-        b = mujoco.mj_name2id(h, OBJ.mjOBJ_BODY, f"link{k + 1}")
+        b = element_id(h, "body", f"link{k + 1}")
         h.body_mass[b] *= f
         h.body_inertia[b] *= f
-    sid = mujoco.mj_name2id(h, OBJ.mjOBJ_SITE, HANDLE_SITE)
+    sid = element_id(h, "site", HANDLE_SITE)
     b = int(h.site_bodyid[sid])
     m0, c0, p = float(h.body_mass[b]), h.body_ipos[b].copy(), h.site_pos[sid].copy()
     mp = var.payload

@@ -19,13 +19,11 @@ from rle_design.kinematics import (
     spring_torque,
     springs_from_mujoco,
 )
+from rle_design.scene import arm_ids, robot_constants
 
-HOME = {
-    "panda": (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785),
-    "ur5e": (0.0, -1.571, 1.571, -1.571, -1.571, 0.0),
-    "xarm7": (0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0),
-}
-"""Home pose of each leader [rad]: the first of the 16 probes is always measured here."""
+HOME: dict[str, tuple[float, ...]] = {robot: robot_constants(robot).home for robot in arm_ids()}
+"""Home pose of each leader [rad], its follower's ``home`` keyframe (a leader mirrors its follower joint
+for joint): the first of the 16 probes is always measured here."""
 GRID_SEED = 20261122
 LIMIT_MARGIN = 0.1
 """Test and grid poses stay this far inside the joint limits [rad]."""

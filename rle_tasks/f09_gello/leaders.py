@@ -22,9 +22,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from rle_design.catalog import load_catalog
+from rle_design.scene import arm_ids
 
 SCALE = 0.55
-ROBOTS = ("panda", "ur5e", "xarm7")
+ROBOTS: tuple[str, ...] = arm_ids()
+"""Followers with a leader: the arms of the catalog (``arms`` kind), in catalog order."""
 SERVO_ID = "XL330-M288-T"
 PLA_ID = "pla"
 

@@ -79,3 +79,18 @@ def test_ball_joint_is_refused_with_its_name():
     assert (
         "joint 'shoulder' has type mjJNT_BALL; only hinge and slide joints are supported" in err.value.message
     )
+
+
+def test_unnamed_joints_map_to_their_mujoco_ids():
+    m = mujoco.MjModel.from_xml_string(
+        '<mujoco><worldbody><body><joint axis="0 1 0"/><geom size="0.05" pos="0.2 0 0"/>'
+        '<body pos="0.2 0 0"><joint axis="1 0 0"/><geom size="0.05" pos="0 0 -0.1"/></body></body>'
+        "</worldbody></mujoco>"
+    )
+    km = model_from_mujoco(m)
+    assert km.joint_names == ["joint0", "joint1"] and km.mj_joint_ids == [0, 1]
+    d = mujoco.MjData(m)
+    d.qpos[:] = [0.4, -0.7]
+    mujoco.mj_forward(m, d)
+    g = pin.computeGeneralizedGravity(km.model, km.data, d.qpos.copy())
+    np.testing.assert_allclose(g, d.qfrc_bias, atol=1e-12)

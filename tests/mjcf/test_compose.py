@@ -1,3 +1,5 @@
+"""The former composition entry point (``rle_design.mjcf.compose``) keeps its behaviour."""
+
 import mujoco
 import numpy as np
 import pytest
@@ -5,12 +7,17 @@ import pytest
 from rle_design.catalog import load_catalog
 from rle_design.errors import MissingElement, MjcfError
 from rle_design.mjcf.compose import ARM_IDS, compile_spec, compose
+from rle_design.scene import arm_ids, element_id
 
 BASE = """<mujoco><worldbody><body name="base" pos="0 0 0.2"><freejoint/>
 <geom type="box" size=".25 .2 .1" mass="38"/><site name="arm_mount_site" pos="0 0 0.1"/></body></worldbody></mujoco>"""
 
 
-@pytest.mark.parametrize("arm", ARM_IDS)
+def test_arm_ids_come_from_the_catalog():
+    assert ARM_IDS == arm_ids() == tuple(load_catalog("arms").ids)
+
+
+@pytest.mark.parametrize("arm", arm_ids())
 def test_attach_arm_and_payload_adds_catalog_masses(arm):
     spec = mujoco.MjSpec.from_string(BASE)
     compose(spec, arm, "payload_2kg")
@@ -21,8 +28,8 @@ def test_attach_arm_and_payload_adds_catalog_masses(arm):
     assert model.nu == arm_cat.dof and model.nq == 7 + arm_cat.dof
     assert model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
     assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    tool = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, f"{arm}/tool_site")
-    assert tool >= 0
+    assert model.nkey == 0  # the composition adds no keyframe
+    element_id(model, "site", f"{arm}/tool_site")
 
 
 def test_arm_sits_on_mount_site():
@@ -31,15 +38,23 @@ def test_arm_sits_on_mount_site():
     model = compile_spec(spec)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
-    root = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "ur5e/base")
-    site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, "arm_mount_site")
+    root = element_id(model, "body", "ur5e/base")
+    site = element_id(model, "site", "arm_mount_site")
     np.testing.assert_allclose(data.xpos[root], data.site_xpos[site], atol=1e-12)
+
+
+def test_mount_site_is_a_parameter():
+    spec = mujoco.MjSpec.from_string(BASE.replace("arm_mount_site", "top"))
+    compose(spec, "panda", mount_site="top")
+    element_id(compile_spec(spec), "body", "panda/base")
 
 
 def test_missing_mount_site_lists_sites():
     spec = mujoco.MjSpec.from_string(BASE.replace("arm_mount_site", "mount"))
-    with pytest.raises(MissingElement, match=r"site 'arm_mount_site' does not exist. Available sites: mount"):
+    with pytest.raises(MissingElement) as err:
         compose(spec, "panda")
+    assert str(err.value) == "site 'arm_mount_site' does not exist. Available sites: mount"
+    assert err.value.code == "contract.missing_site"
 
 
 def test_payload_without_arm():
