@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from rle_design.errors import MissingElement
+from rle_design.scene.elements import element_id
 
 __all__ = ["ContactSample", "SupportSet", "centre_of_pressure", "sample_contacts"]
 
@@ -36,13 +36,9 @@ class SupportSet:
         cls, model: mujoco.MjModel, supports: dict[str, Sequence[str]], ground: Sequence[str] = ("floor",)
     ) -> SupportSet:
         """Build from geom names; raises ``MissingElement`` naming the available geoms."""
-        all_names = [model.geom(i).name for i in range(model.ngeom)]
 
         def gid(name: str) -> int:
-            i = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
-            if i < 0:
-                raise MissingElement("geom", name, available=all_names, code="contract.missing_geom")
-            return i
+            return element_id(model, "geom", name, code="contract.missing_geom")
 
         names = tuple(supports)
         return cls(

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from rle_tasks.core.families import families, workflow_order
+from rle_tasks.core.families import families, family, workflow_order
 
 if TYPE_CHECKING:
     from rle_tasks.core.report import VerifierReport
@@ -112,7 +112,7 @@ class TaskSpec:
 
     @property
     def workflow(self) -> str:
-        return WORKFLOWS[self.family]
+        return family(self.family).workflow
 
     @property
     def implemented(self) -> bool:

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from rle_design.scene import element_id
 from rle_design.stability import Scenario, force_angle, run_scenario, static_margin, support_polygon
 from rle_tasks.f08_mobile_base.poses import Pose
 from rle_tasks.f08_mobile_base.scene import STOWED, Scene, hold_torque
@@ -68,7 +69,7 @@ class StaticCase:
 
 
 def _wheel_points(scene: Scene, data: mujoco.MjData) -> np.ndarray:
-    ids = [mujoco.mj_name2id(scene.model, mujoco.mjtObj.mjOBJ_BODY, w) for w in WHEELS]
+    ids = [element_id(scene.model, "body", w) for w in WHEELS]
     pts = np.array([data.xpos[i] for i in ids])
     pts[:, 2] -= 0.0762
     return pts
@@ -130,7 +131,7 @@ def dynamic_scenarios(
     jit = lambda: float(rng.uniform(0.9, 1.1))  # noqa: E731
     data0 = scene.rest_data()
     q_stow = np.array(STOWED[scene.arm])
-    ids = [mujoco.mj_name2id(scene.model, mujoco.mjtObj.mjOBJ_BODY, w) for w in WHEELS]
+    ids = [element_id(scene.model, "body", w) for w in WHEELS]
     wheel_xy = np.array([data0.xpos[i][:2] for i in ids]) - data0.xpos[scene.chassis][:2]
 
     def hold(d, wheels=None, q=q_ext, qd=None):

@@ -16,6 +16,7 @@ import numpy as np
 
 from rle_design.catalog import load_catalog
 from rle_design.kinematics.ik import solve_ik
+from rle_design.scene import element_id
 from rle_tasks.f08_mobile_base.scene import MOUNT_SITE, STOWED, Scene
 
 REACH_FRACTION = 0.8
@@ -83,7 +84,7 @@ def battery_poses(
     shelf = load_catalog("shelf")
     poses = [Pose("stowed", tuple(STOWED[scene.arm]), 0.0, None, 0.0)]
     data = scene.rest_data(0.0)
-    mount = data.site_xpos[mujoco.mj_name2id(scene.model, mujoco.mjtObj.mjOBJ_SITE, MOUNT_SITE)].copy()
+    mount = data.site_xpos[element_id(scene.model, "site", MOUNT_SITE)].copy()
     for name in reach_dirs or tuple(REACH_DIRS):
         ang = REACH_DIRS[name]
         tgt = mount + np.array([np.cos(ang), np.sin(ang), 0.0]) * REACH_FRACTION * arm.reach

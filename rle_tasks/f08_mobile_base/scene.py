@@ -11,36 +11,40 @@ import numpy as np
 from rle_design.catalog import load_catalog
 from rle_design.kinematics.ik import ArmChain, chain_from_mujoco
 from rle_design.mjcf.compose import TOOL_SITE, SceneOptions, add_floor, apply_options, compile_spec, compose
+from rle_design.scene import (
+    ComOffset,
+    FrictionScale,
+    Uniform,
+    Variation,
+    VariationSpace,
+    arm_ids,
+    element_id,
+    robot_constants,
+)
 from rle_design.stability import StabilityProbe, SupportSet
 from rle_tasks.f08_mobile_base.wheels import WHEELS, WheelModel, install_wheels
 
 TASK_ID = "08-mobile-base"
-ARMS = ("panda", "ur5e", "xarm7")
+ARMS = arm_ids()
 CHASSIS = "chassis"
 BATTERY = "battery"
 ADAPTER = "universal_adapter"
 MOUNT_SITE = "arm_mount_site"
 PAYLOADS = {0: None, 1: "payload_1kg", 2: "payload_2kg"}
 TIP_TILT_DEG = 2.0  # chassis tilt that counts as tipping [deg]
-# Stowed arm postures (robosuite's init_qpos of each model) [rad].
-STOWED = {
-    "panda": (0.0, np.pi / 16.0, 0.0, -np.pi / 2.0 - np.pi / 3.0, 0.0, np.pi - 0.2, np.pi / 4),
-    "ur5e": (-0.470, -1.735, 2.480, -2.275, -1.590, -1.991),
-    "xarm7": (0.0, 0.0, 0.0, 0.39 * np.pi, 0.0, 0.39 * np.pi, 0.0),
-}
+STOWED = {a: robot_constants(a).stowed for a in ARMS}
+"""Stowed arm postures (robosuite's ``init_qpos`` of each model) [rad]."""
 
 
-@dataclass(frozen=True)
-class Variation:
-    """Physical variations of one scene (hidden in evaluation).
-
-    Attributes:
-        friction: Floor friction along the rollers [1].
-        payload_com: Payload COM offset in the payload frame [m].
-    """
-
-    friction: float = 1.0
-    payload_com: tuple[float, float, float] = (0.0, 0.0, 0.0)
+VARIATIONS = VariationSpace(
+    (
+        FrictionScale(
+            "friction", Uniform(0.85, 1.15, "1"), pairs=tuple(f"{w}_ground" for w in WHEELS), axis=1
+        ),
+        ComOffset("payload_com", Uniform(-0.01, 0.01, "m"), body="payload/payload"),
+    )
+)
+"""What the hidden evaluation perturbs: floor friction along the rollers and the payload's COM."""
 
 
 @dataclass
@@ -148,7 +152,7 @@ def build_scene(
     payload_kg: int = 0,
     *,
     shelf: bool = False,
-    variation: Variation = Variation(),
+    variation: Variation | None = None,
 ) -> Scene:
     """Compose and compile a scene.
 
@@ -157,25 +161,24 @@ def build_scene(
         arm: Canonical arm id or None.
         payload_kg: 0, 1 or 2.
         shelf: Add the shelf.
-        variation: Friction and payload COM variation.
+        variation: A draw of ``VARIATIONS`` (its payload term is dropped without payload), or None.
     """
     spec = fresh_spec()
     apply_options(spec, SceneOptions())
     add_floor(spec)
-    wheel_names = install_wheels(spec, WheelModel(mu=variation.friction))
+    wheel_names = install_wheels(spec, WheelModel())
     payload = PAYLOADS[payload_kg]
-    compose(spec, arm, payload)
-    if payload:
-        pb = spec.body("payload/payload")
-        pb.ipos = np.asarray(pb.ipos) + np.asarray(variation.payload_com)
+    compose(spec, arm, payload, mount_site=MOUNT_SITE)
+    if variation is not None:
+        (variation if payload else variation.select("friction")).edit_spec(spec)
     if shelf:
         add_shelf(spec)
     spec.compiler.usethread = False  # sandboxed controllers may not create threads
     model = compile_spec(spec)
-    chassis = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, CHASSIS)
+    chassis = element_id(model, "body", CHASSIS)
     supports = SupportSet.from_names(model, {w: [f"{w}_contact"] for w in WHEELS})
     probe = StabilityProbe(root_body=chassis, supports=supports, tip_tilt=np.radians(TIP_TILT_DEG))
-    wheel_act = np.array([mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, n) for n in wheel_names])
+    wheel_act = np.array([element_id(model, "actuator", n) for n in wheel_names])
     chain, arm_act, tool = None, np.zeros(0, dtype=int), -1
     qpos = model.qpos0.copy()
     if arm:
@@ -186,7 +189,7 @@ def build_scene(
         ]
         tool_name = f"{arm}/{TOOL_SITE}"
         chain = chain_from_mujoco(model, joints, tool_name)
-        tool = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, tool_name)
+        tool = element_id(model, "site", tool_name)
         arm_act = np.array(
             [i for i in range(model.nu) if model.actuator(i).name.startswith(f"{arm}/")], dtype=int
         )
@@ -197,7 +200,7 @@ def build_scene(
     d.qpos[0:2] = 0.0
     d.qpos[3:7] = [1, 0, 0, 0]
     mujoco.mj_kinematics(model, d)
-    wheel_bodies = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, w) for w in WHEELS]
+    wheel_bodies = [element_id(model, "body", w) for w in WHEELS]
     r = WheelModel().radius
     bottom = min(float(d.xpos[b][2]) for b in wheel_bodies) - r
     qpos[:] = d.qpos

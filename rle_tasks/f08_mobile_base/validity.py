@@ -7,6 +7,7 @@ import numpy as np
 
 from rle_design.catalog import load_catalog, part_fragment_path
 from rle_design.mjcf import Design, ModelContract, check_contract, match_profiles
+from rle_design.scene import element_id
 from rle_tasks.f08_mobile_base.scene import ADAPTER, BATTERY, CHASSIS, MOUNT_SITE
 from rle_tasks.f08_mobile_base.wheels import WHEELS
 
@@ -39,7 +40,7 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
     if out:
         return out
     model = design.compile()
-    chassis = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, CHASSIS)
+    chassis = element_id(model, "body", CHASSIS)
     if (
         model.body_parentid[chassis] != 0
         or model.body_jntnum[chassis] != 1
@@ -59,7 +60,7 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
     for p in match_profiles(design, model).findings:
         out.append((p.code, p.message))
     for body, pid in PART_OF.items():
-        b = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body)
+        b = element_id(model, "body", body)
         mass, inertia, geoms = _fragment(pid)
         if abs(model.body_mass[b] - mass) > MASS_RTOL * mass or np.any(
             np.abs(np.sort(model.body_inertia[b]) - np.sort(inertia)) > 0.01 * inertia.max()
@@ -87,13 +88,13 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
     mujoco.mj_kinematics(model, data)
     rc = data.xmat[chassis].reshape(3, 3)
     for w in WHEELS:
-        rw = data.xmat[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, w)].reshape(3, 3)
+        rw = data.xmat[element_id(model, "body", w)].reshape(3, 3)
         if np.linalg.norm(rw - rc) > 1e-3:
             out.append(
                 ("f08.wheel_orientation", f"body '{w}' must be aligned with '{CHASSIS}' (axle along y)")
             )
-    site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, MOUNT_SITE)
-    adapter = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, ADAPTER)
+    site = element_id(model, "site", MOUNT_SITE)
+    adapter = element_id(model, "body", ADAPTER)
     if model.site_bodyid[site] != adapter:
         out.append(("f08.mount_not_on_adapter", f"site '{MOUNT_SITE}' must belong to body '{ADAPTER}'"))
     elif (
@@ -137,7 +138,7 @@ def interpenetration(
 ) -> list[str]:
     """Robot geoms that penetrate each other, or touch the floor other than through the wheels."""
     rob = set(int(g) for g in robot)
-    floor = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "floor")
+    floor = element_id(model, "geom", "floor")
     bad = []
     for c in data.contact[: data.ncon]:
         g1, g2 = int(c.geom1), int(c.geom2)

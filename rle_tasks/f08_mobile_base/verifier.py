@@ -17,6 +17,7 @@ import numpy as np
 from rle_design.errors import RleError
 from rle_design.mjcf import load_design, match_profiles
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
+from rle_design.scene import Variation, element_id
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runner import run_parallel
 from rle_tasks.core.scoring import Outcome
@@ -24,7 +25,7 @@ from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f08_mobile_base import batteries as B
 from rle_tasks.f08_mobile_base.poses import battery_poses
-from rle_tasks.f08_mobile_base.scene import ARMS, CHASSIS, TASK_ID, Variation, build_scene
+from rle_tasks.f08_mobile_base.scene import ARMS, CHASSIS, TASK_ID, VARIATIONS, build_scene
 from rle_tasks.f08_mobile_base.scoring import DESIGN_NORMS, LOAD_PASS, RUBRIC
 from rle_tasks.f08_mobile_base.shelf_trials import run_trial
 from rle_tasks.f08_mobile_base.validity import check_validity, interpenetration
@@ -36,7 +37,7 @@ MAX_FAULTS_PER_ARM = 3
 def _design_metrics(design, model) -> dict:
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
-    chassis = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, CHASSIS)
+    chassis = element_id(model, "body", CHASSIS)
     lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
     for g in range(model.ngeom):
         c, h = model.geom_aabb[g][:3], model.geom_aabb[g][3:]
@@ -64,11 +65,7 @@ def _design_score(metrics: dict) -> tuple[float, dict]:
 
 
 def _variation(ctx: VerifyContext, label: str) -> Variation:
-    rng = derive_rng(ctx.secret, TASK_ID, label)
-    return Variation(
-        friction=float(rng.uniform(0.85, 1.15)),
-        payload_com=tuple(float(v) for v in rng.uniform(-0.01, 0.01, 3)),
-    )
+    return VARIATIONS.sample(derive_rng(ctx.secret, TASK_ID, label))
 
 
 def _evaluate_arm(design, root: Path, arm: str, ctx: VerifyContext, report: Findings) -> dict:

@@ -21,6 +21,7 @@ import numpy as np
 
 from rle_design.kinematics import GravityMap, KinematicModel, spring_torque
 from rle_design.rollout import Event, Term, run_episode
+from rle_design.scene import element_id
 from rle_tasks.f09_gello.assembly import HANDLE_SITE
 
 MOVE_RAD = 1e-4
@@ -165,7 +166,7 @@ def push_recovery(
     """
     d = mujoco.MjData(m)
     _reset(m, d, q0, tau_ff)
-    sid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, HANDLE_SITE)
+    sid = element_id(m, "site", HANDLE_SITE)
     body = int(m.site_bodyid[sid])
     dt = m.opt.timestep
     steps, pulse, window = int(round(total_s / dt)), int(round(pulse_s / dt)), int(round(CREEP_WINDOW_S / dt))

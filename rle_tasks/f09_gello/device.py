@@ -30,7 +30,15 @@ import trimesh
 from rle_design.errors import MjcfError
 from rle_design.mjcf.contract import Finding, ModelContract, check_contract
 from rle_design.mjcf.loader import Design, load_design
-from rle_design.scene import element_id, has_element
+from rle_design.scene import (
+    MassScale,
+    PointMass,
+    Uniform,
+    Variation,
+    VariationSpace,
+    element_id,
+    has_element,
+)
 from rle_tasks.f09_gello.assembly import HANDLE_SITE
 
 ASSET_DIR = Path(__file__).resolve().parent / "assets"
@@ -301,55 +309,25 @@ def _copy(m: mujoco.MjModel) -> mujoco.MjModel:
     return copy.deepcopy(m)
 
 
-@dataclass(frozen=True)
-class DeviceVariation:
-    """A hidden device copy: stock link mass factors and a handle payload.
-
-    Attributes:
-        link_scale: Mass (and inertia) factor of each stock link body ``link1..linkn``.
-        payload: Point mass at the handle site [kg].
-    """
-
-    link_scale: tuple[float, ...]
-    payload: float
-
-
-def draw_variation(
-    rng: np.random.Generator, dof: int, spread: float = 0.15, payload=(0.01, 0.04)
-) -> DeviceVariation:
-    """Link masses uniformly within +-``spread``, payload uniform in ``payload`` [kg]."""
-    scale = tuple(float(x) for x in rng.uniform(1 - spread, 1 + spread, dof))
-    return DeviceVariation(scale, float(rng.uniform(*payload)))
+def device_variations(
+    dof: int, spread: float = 0.15, payload: tuple[float, float] = (0.01, 0.04)
+) -> VariationSpace:
+    """Hidden device copies: stock link masses (and inertias) uniformly within +-``spread``, and a point
+    payload uniform in ``payload`` [kg] merged into the handle's body at the handle site."""
+    links = tuple(f"link{k + 1}" for k in range(dof))
+    return VariationSpace(
+        (
+            MassScale("link_scale", Uniform(1 - spread, 1 + spread, "1"), bodies=links),
+            PointMass("payload", Uniform(*payload, "kg"), site=HANDLE_SITE),
+        )
+    )
 
 
-def apply_variation(m: mujoco.MjModel, var: DeviceVariation) -> mujoco.MjModel:
-    """Copy of ``m`` with stock link masses scaled and the payload merged into the handle's body."""
-    h = _copy(m)
-    for k, f in enumerate(var.link_scale):
-        b = element_id(h, "body", f"link{k + 1}")
-        h.body_mass[b] *= f
-        h.body_inertia[b] *= f
-    sid = element_id(h, "site", HANDLE_SITE)
-    b = int(h.site_bodyid[sid])
-    m0, c0, p = float(h.body_mass[b]), h.body_ipos[b].copy(), h.site_pos[sid].copy()
-    mp = var.payload
-    rot = np.zeros(9)
-    mujoco.mju_quat2Mat(rot, h.body_iquat[b])
-    rot = rot.reshape(3, 3)
-    i_body = rot @ np.diag(h.body_inertia[b]) @ rot.T
-    c = (m0 * c0 + mp * p) / (m0 + mp)
-    i_new = np.zeros((3, 3))
-    for mass, pt, ii in ((m0, c0, i_body), (mp, p, np.zeros((3, 3)))):
-        d = pt - c
-        i_new += ii + mass * (d @ d * np.eye(3) - np.outer(d, d))
-    w, v = np.linalg.eigh(i_new)
-    if np.linalg.det(v) < 0:
-        v[:, 0] *= -1
-    q = np.zeros(4)
-    mujoco.mju_mat2Quat(q, v.reshape(-1))
-    h.body_mass[b] = m0 + mp
-    h.body_ipos[b] = c
-    h.body_inertia[b] = w
-    h.body_iquat[b] = q
-    mujoco.mj_setConst(h, mujoco.MjData(h))
-    return h
+def draw_variation(rng: np.random.Generator, dof: int) -> Variation:
+    """One hidden device copy of a leader with ``dof`` joints."""
+    return device_variations(dof).sample(rng)
+
+
+def apply_variation(m: mujoco.MjModel, var: Variation) -> mujoco.MjModel:
+    """Copy of ``m`` with the variation applied."""
+    return var.apply(m)

@@ -9,8 +9,8 @@ and the README's checkpoint tables are ``RUBRIC.markdown_table()``.
 
 from __future__ import annotations
 
+from rle_design.scene import arm_ids
 from rle_tasks.core.scoring import CheckpointSpec, Deduction, Linear, PassRule, Rubric
-from rle_tasks.f09_gello.leaders import ROBOTS
 
 SERVO_LIMIT = 0.35
 """Stock servo torque limit [N m] (catalog ``torque_limit`` of the XL330-M288-T)."""
@@ -30,7 +30,7 @@ RUBRIC = Rubric(
     task_id="09-gello",
     family="09",
     workflow="mechanical_design",
-    variants=ROBOTS,
+    variants=arm_ids(),
     aggregate="variant_mean",
     checkpoints=(
         _cp(

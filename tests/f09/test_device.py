@@ -6,11 +6,12 @@ import mujoco
 import numpy as np
 import pytest
 
+from rle_design.scene import Variation, element_id
 from rle_tasks.f09_gello.device import (
     ASSET_DIR,
-    DeviceVariation,
     apply_variation,
     battery_model,
+    device_variations,
     load_submission,
     stock_model,
 )
@@ -82,14 +83,16 @@ def test_point_mass_and_over_mass_are_validity_findings(tmp_path):
 
 def test_hidden_copy_scales_link_masses_and_adds_the_payload():
     m = stock_model("panda")
-    var = DeviceVariation(link_scale=(1.1, 0.9, 1.0, 1.15, 0.85, 1.0, 1.05), payload=0.03)
+    scale = (1.1, 0.9, 1.0, 1.15, 0.85, 1.0, 1.05)
+    space = device_variations(7)
+    var = Variation(space.terms, (scale, (0.03,)))
     h = apply_variation(m, var)
-    expected = m.body_mass[1] + sum(f * m.body_mass[k + 2] for k, f in enumerate(var.link_scale)) + 0.03
+    expected = m.body_mass[1] + sum(f * m.body_mass[k + 2] for k, f in enumerate(scale)) + 0.03
     assert h.body_mass.sum() == pytest.approx(expected, rel=1e-12)
     # the payload sits at the handle site: static torque check against a model with an explicit mass
     d = mujoco.MjData(h)
     mujoco.mj_forward(h, d)
-    sid = mujoco.mj_name2id(h, mujoco.mjtObj.mjOBJ_SITE, "handle_site")
+    sid = element_id(h, "site", "handle_site")
     b = h.site_bodyid[sid]
     c_expected = (m.body_mass[b] * 1.05 * m.body_ipos[b] + 0.03 * m.site_pos[sid]) / (
         m.body_mass[b] * 1.05 + 0.03
