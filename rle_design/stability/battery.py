@@ -14,6 +14,7 @@ tipping are noisy.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -88,7 +89,9 @@ class ScenarioResult:
         normal: (T, k) normal force per support, averaged over ``probe.smooth`` samples [N].
         cop: (T, 2) centre of pressure [m].
         com: (T, 3) centre of mass [m].
-        margin: (T,) static margin along the effective gravity [m] (NaN with < 3 loaded supports).
+        samples: Per sample, the contact points, normals, COM and effective gravity behind
+            ``margin``: (T,) static margin along the effective gravity [m] (NaN with < 3 loaded
+            supports), computed on first use.
         tilt: (T,) root tilt [rad].
         accel: (T, 3) imposed acceleration [m/s^2].
         tip_time: Time of the first tip, or None [s].
@@ -101,7 +104,7 @@ class ScenarioResult:
     normal: np.ndarray
     cop: np.ndarray
     com: np.ndarray
-    margin: np.ndarray
+    samples: list
     tilt: np.ndarray
     accel: np.ndarray
     tip_time: float | None
@@ -109,6 +112,10 @@ class ScenarioResult:
     lost_support: bool
     weight: float = 0.0
     extra: dict = field(default_factory=dict)
+
+    @functools.cached_property
+    def margin(self) -> np.ndarray:
+        return np.array([_margin(*row) for row in self.samples], dtype=float)
 
     @property
     def tipped(self) -> bool:
@@ -204,7 +211,7 @@ class _Recorder(Term):
         rows["normal"].append(normal)
         rows["cop"].append(s.cop)
         rows["com"].append(com)
-        rows["margin"].append(_margin(s.points, s.normal, com, self.g0 - self.a))
+        rows["margin"].append((s.points, s.normal, com, self.g0 - self.a))
         rows["tilt"].append(tilt)
         rows["accel"].append(self.a.copy())
         if self.tip_time is not None and self.scenario.stop_on_tip:
@@ -236,7 +243,7 @@ def run_scenario(
         )
     finally:
         model.opt.gravity[:] = g0
-    arr = {key: np.array(v, dtype=float) for key, v in rec.rows.items()}
+    arr = {key: np.array(v, dtype=float) for key, v in rec.rows.items() if key != "margin"}
     if arr["normal"].size == 0:
         arr["normal"] = np.zeros((0, k))
     return ScenarioResult(
@@ -245,7 +252,7 @@ def run_scenario(
         arr["normal"],
         arr["cop"],
         arr["com"],
-        arr["margin"],
+        rec.rows["margin"],
         arr["tilt"],
         arr["accel"],
         rec.tip_time,

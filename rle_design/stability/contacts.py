@@ -6,6 +6,7 @@ contact belongs to a support (wheel, foot) when either of its geoms is one of th
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -61,11 +62,13 @@ class ContactSample:
     cop: np.ndarray
 
 
-def _owner_table(model: mujoco.MjModel, supports: SupportSet) -> tuple[np.ndarray, np.ndarray]:
-    owner = np.full(model.ngeom, -1, dtype=int)
+@functools.lru_cache(maxsize=64)
+def _owner_table(ngeom: int, supports: SupportSet) -> tuple[np.ndarray, np.ndarray]:
+    """Support index of every geom (-1: none) and the ground mask, for a model of ``ngeom`` geoms."""
+    owner = np.full(ngeom, -1, dtype=int)
     for i, gs in enumerate(supports.geom_ids):
         owner[list(gs)] = i
-    ground = np.zeros(model.ngeom, dtype=bool)
+    ground = np.zeros(ngeom, dtype=bool)
     ground[list(supports.ground_ids)] = True
     return owner, ground
 
@@ -78,7 +81,7 @@ def sample_contacts(model: mujoco.MjModel, data: mujoco.MjData, supports: Suppor
     pyramidal cones ``mj_contactForce`` is called per contact.
     """
     k = len(supports.names)
-    owner, ground = _owner_table(model, supports)
+    owner, ground = _owner_table(model.ngeom, supports)
     n = data.ncon
     normal = np.zeros(k)
     moment = np.zeros((k, 3))

@@ -254,12 +254,17 @@ def hold_torque(
     critically damped decoupled joints at natural frequency ``omega`` [rad/s], clipped to the limits [N m]."""
     ch = scene.chain
     m = scene.model
+    cache = scene.extra.get("_hold")
+    if cache is None:
+        cache = scene.extra["_hold"] = (
+            np.zeros((m.nv, m.nv)),
+            np.ix_(ch.dof_adr, ch.dof_adr),
+            *m.actuator_ctrlrange[scene.arm_act].T,
+        )
+    full, block, lo, hi = cache
     q = data.qpos[ch.qpos_adr]
     qd = data.qvel[ch.dof_adr]
-    full = scene.extra.setdefault("_fullM", np.zeros((m.nv, m.nv)))
     mujoco.mj_fullM(m, data, full)
-    m_arm = full[np.ix_(ch.dof_adr, ch.dof_adr)]
-    qd_des = np.zeros_like(q) if qd_des is None else qd_des
-    tau = data.qfrc_bias[ch.dof_adr] + m_arm @ (omega**2 * (q_des - q) + 2.0 * omega * (qd_des - qd))
-    lo, hi = m.actuator_ctrlrange[scene.arm_act].T
+    err = omega**2 * (q_des - q) + 2.0 * omega * ((0.0 if qd_des is None else qd_des) - qd)
+    tau = data.qfrc_bias[ch.dof_adr] + full[block] @ err
     return np.clip(tau, lo, hi)
