@@ -109,7 +109,7 @@ class ContactBetween(Term):
         self.mask_b[np.asarray(b, dtype=int)] = True
 
     def first_hit(self, model: mujoco.MjModel, data: mujoco.MjData) -> tuple[str, str] | None:
-        """Names of the first offending geom pair (``a`` side first), or None."""
+        """Names of the first offending geom pair, in the contact's geom order, or None."""
         if not data.ncon:
             return None
         g1, g2 = data.contact.geom1[: data.ncon], data.contact.geom2[: data.ncon]
