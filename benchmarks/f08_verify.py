@@ -4,7 +4,7 @@ The floor is plain ``mujoco.mj_step`` (C loop, no Python per step) of the same c
 the same simulated seconds as the verification (read from the report's ``native_metrics.simulated_s``).
 Targets: verification <= 1.5 x floor and < 60 s on a 2-core machine.
 
-    .venv/bin/python benchmarks/f08_verify.py [--quick] [--jobs N] [--dir rle_tasks/f08_mobile_base/reference]
+    .venv/bin/python benchmarks/f08_verify.py [--quick] [--jobs N] [--dir DIR (default: the materialised reference)]
 """
 
 from __future__ import annotations

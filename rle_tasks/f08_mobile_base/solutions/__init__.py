@@ -9,6 +9,9 @@ per baseline, only the file that differs. Each solution directory holds ``robot.
 - ``baseline/non_catalog_profile``: the reference with one rail renamed to a profile not in the catalog.
 - ``baseline/raising_controller``: the reference frame with a controller that raises.
 - ``baseline/tall_narrow``: small footprint, 0.75 m tower (``design_gen.TALL_NARROW``).
+
+``SOLUTIONS`` is the one table of pinned checksums (``artifact_sha256`` of each materialised directory)
+and golden scores (quick mode, public development key).
 """
 
 from __future__ import annotations

@@ -10,6 +10,9 @@ meshes/*.stl}`` for the three robots.
 - ``baseline/gravcomp_cheat``: ``uncompensated`` with ``gravcomp="1"`` on every link (forbidden).
 - ``baseline/over_mass``: the reference plus a 2 kg steel block on the base.
 - ``baseline/hanging_trim``: the reference with a trim whose ``adapt`` never returns.
+
+``SOLUTIONS`` is the one table of pinned checksums (``artifact_sha256`` of each materialised directory)
+and golden scores (quick mode, public development key).
 """
 
 from __future__ import annotations
