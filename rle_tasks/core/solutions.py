@@ -292,7 +292,7 @@ def edit_xml(
     path.write_bytes(out)
 
 
-def main() -> None:
+def print_pins() -> None:
     """Print every shipped solution's materialised checksum (to pin after a regeneration)."""
     from rle_tasks.core.registry import all_tasks
 
@@ -311,4 +311,6 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from rle_tasks.core.solutions import print_pins as _print_pins  # the package's classes, not __main__'s
+
+    _print_pins()
