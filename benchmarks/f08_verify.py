@@ -4,7 +4,7 @@ The floor is plain ``mujoco.mj_step`` (C loop, no Python per step) of the same c
 the same simulated seconds as the verification (read from the report's ``native_metrics.simulated_s``).
 Targets: verification <= 1.5 x floor and < 60 s on a 2-core machine.
 
-    .venv/bin/python benchmarks/f08_verify.py [--quick] [--jobs N] [--dir rle_tasks/f08_mobile_base/reference]
+    .venv/bin/python benchmarks/f08_verify.py [--quick] [--jobs N] [--dir DIR (default: the materialised reference)]
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ import mujoco
 
 from rle_design.mjcf import load_design
 from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f08_mobile_base import HERE
 from rle_tasks.f08_mobile_base.scene import build_scene
 from rle_tasks.f08_mobile_base.verifier import verify
 
@@ -44,11 +44,12 @@ def _floor(directory: Path, sim: dict) -> float:
 
 def main() -> None:
     p = argparse.ArgumentParser()
-    p.add_argument("--dir", default=str(HERE / "reference"))
+    p.add_argument("--dir", default=None, help="artifact directory (default: the shipped reference)")
     p.add_argument("--quick", action="store_true")
     p.add_argument("--jobs", type=int, default=1)
     p.add_argument("--out", default="out/bench/f08_verify.json")
     a = p.parse_args()
+    a.dir = a.dir or str(materialise("08-mobile-base", "reference"))
     t0 = time.perf_counter()
     report = verify(Path(a.dir), VerifyContext(secret=load_secret(), quick=a.quick, jobs=a.jobs))
     wall = time.perf_counter() - t0

@@ -16,6 +16,7 @@ TARGET_S = 30.0
 def main() -> int:
     from rle_tasks.core.registry import get_task
     from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.solutions import materialise
     from rle_tasks.core.task import VerifyContext
     from rle_tasks.core.verify import run_verify
 
@@ -23,7 +24,7 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args(sys.argv[1:])
     task = get_task("09-gello")
-    ref = dict(task.solutions)["reference"]
+    ref = materialise(task, "reference")
     t0 = time.perf_counter()
     report, internal = run_verify(task, ref, VerifyContext(secret=load_secret(), quick=args.quick))
     elapsed = time.perf_counter() - t0

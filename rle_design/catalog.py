@@ -76,7 +76,7 @@ class Arm:
 @dataclass(frozen=True)
 class Part:
     id: str
-    fragment: str  # path relative to catalogs/
+    fragment: str  # path relative to rle_design/catalogs/
     mass: float  # [kg]
     params: Mapping[str, Any] = field(default_factory=dict)
 
@@ -195,11 +195,11 @@ def _build_entry(kind: str, raw: Mapping[str, Any], units: Mapping[str, str]) ->
 
 @functools.cache
 def load_catalog(kind: str, directory: str | None = None) -> Catalog:
-    """Load and validate ``catalogs/<kind>.yaml``.
+    """Load and validate ``rle_design/catalogs/<kind>.yaml`` (package data).
 
     Args:
         kind: One of ``catalog_kinds()``.
-        directory: Alternative catalog directory (tests); defaults to the repository's ``catalogs/``.
+        directory: Alternative catalog directory (tests); defaults to ``CATALOG_DIR``.
 
     Raises:
         CatalogError: Unknown kind, unreadable file, missing units, duplicate or unsorted ids.

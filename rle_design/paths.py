@@ -2,13 +2,34 @@
 
 from __future__ import annotations
 
+import importlib.resources
 import importlib.util
 from pathlib import Path
 
 from rle_design.errors import RleError
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
-CATALOG_DIR = REPO_ROOT / "catalogs"
+"""Root of a source checkout (only meaningful there; installed data is found as package data)."""
+
+
+def package_data(package: str, *parts: str) -> Path:
+    """File system path of data shipped inside an installed package (``importlib.resources``).
+
+    Raises:
+        RleError: The package is installed in a form without a file system path (e.g. a zip).
+    """
+    res = importlib.resources.files(package).joinpath(*parts)
+    if not isinstance(res, Path):
+        raise RleError(
+            f"package data {package}/{'/'.join(parts)} is not on the file system ({res!r}); "
+            "install RLE-Bench unpacked (pip install, not a zip import)",
+            code="assets.not_a_path",
+        )
+    return res
+
+
+CATALOG_DIR = package_data("rle_design", "catalogs")
+"""Versioned catalogs (``rle_design/catalogs``), shipped as package data."""
 
 
 def package_dir(name: str) -> Path:

@@ -13,6 +13,7 @@ from tqdm import tqdm
 from rle_tasks.core.registry import all_tasks
 from rle_tasks.core.report import VerifierReport
 from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import run_verify
 
@@ -31,12 +32,13 @@ def render_arms(out: Path) -> list[Path]:
 
 
 def _verify_all(out: Path, quick: bool, jobs: int) -> list[tuple[str, str, Path, VerifierReport]]:
-    runs = [(t, name, d) for t in all_tasks() if t.implemented for name, d in t.solutions]
+    runs = [(t, name) for t in all_tasks() if t.implemented for name in t.solutions]
     secret = load_secret(None)
     results = []
     bar = tqdm(runs, desc="verifying shipped solutions", unit="artifact")
-    for task, name, directory in bar:
+    for task, name in bar:
         bar.set_postfix_str(f"{task.id}:{name}")
+        directory = materialise(task, name)
         slug = name.replace("/", "_")
         report_path = out / "reports" / task.id / f"{slug}.json"
         ctx = VerifyContext(

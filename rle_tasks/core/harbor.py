@@ -4,7 +4,8 @@ Layout of ``OUT/<task id>/``::
 
     task.toml              schema 1.4; [task] name "rle-bench/<id>"; budgets; environment_mode "separate"
     instruction.md         the instruction I, the artifact contract A and the budget B
-    environment/           agent image: Dockerfile + a snapshot of the project (no shipped solutions)
+    environment/           agent image: Dockerfile + a snapshot of the project (without the family's
+                           ``solutions`` package)
     tests/                 verifier image: Dockerfile, test.sh, and a snapshot of the project
     solution/solve.sh      copies the reference solution into /logs/artifacts (only when one is shipped)
 
@@ -33,7 +34,7 @@ ROBOSUITE = "robosuite==1.5.2"
 AGENT_USER = "agent"
 """Unprivileged user the agent runs as (submitted code never runs as root; see harbor#1779)."""
 _PROJECT_FILES = ("pyproject.toml", "README.md", "LICENSE")
-_PROJECT_DIRS = ("rle_design", "rle_tasks", "catalogs")
+_PROJECT_DIRS = ("rle_design", "rle_tasks")
 _IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".pytest_cache")
 
 
@@ -80,14 +81,13 @@ def _resolve_specs(task_ids: Sequence[str | TaskSpec] | None) -> list[TaskSpec]:
     return specs
 
 
-def _solution_dirs(spec: TaskSpec, root: Path) -> dict[str, Path]:
-    out: dict[str, Path] = {}
-    for name, path in spec.solutions:
-        p = Path(path)
-        p = p if p.is_absolute() else root / p
-        if not p.is_dir():
-            raise RleError(f"task '{spec.id}' lists solution '{name}' at {p}, which is not a directory")
-        out[name] = p.resolve()
+def _solution_sources(spec: TaskSpec, root: Path) -> list[Path]:
+    """Shipped solutions in the source tree, left out of the agent image: the task's solutions module
+    and every family's ``solutions`` package."""
+    out = sorted(root.glob("rle_tasks/*/solutions"))
+    if spec.solutions_module:
+        path = root.joinpath(*spec.solutions_module.split("."))
+        out += [p for p in (path, path.with_suffix(".py")) if p.exists()]
     return out
 
 
@@ -248,7 +248,6 @@ cp -a /solution/reference/. /logs/artifacts/
 def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     """Write one Harbor task directory ``out/<id>`` (replacing an earlier export there)."""
     root = root or project_root()
-    solutions = _solution_dirs(spec, root)
     task_dir = out / spec.id
     if task_dir.exists():
         if not (task_dir / "task.toml").is_file():
@@ -261,7 +260,7 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     (task_dir / "instruction.md").write_text(instruction_md(spec))
 
     env = task_dir / "environment"
-    _copy_project(root, env / "rle-bench", exclude=list(solutions.values()))
+    _copy_project(root, env / "rle-bench", exclude=_solution_sources(spec, root))
     workspace = f"RUN rle dev {spec.id} --workspace /workspace --no-serve\n" if spec.make_dev_env else ""
     agent = (
         f"{workspace}RUN useradd --create-home --uid 1000 {AGENT_USER} && mkdir -p /workspace \\\n"
@@ -277,9 +276,11 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     (tests / "test.sh").write_text(_test_sh(spec))
     (tests / "test.sh").chmod(0o755)
 
-    if "reference" in solutions:
+    if "reference" in spec.solutions:
+        from rle_tasks.core.solutions import materialise
+
         sol = task_dir / "solution"
-        shutil.copytree(solutions["reference"], sol / "reference", ignore=_IGNORE)
+        materialise(spec, "reference", dest=sol / "reference")
         (sol / "solve.sh").write_text(_SOLVE_SH)
         (sol / "solve.sh").chmod(0o755)
     return task_dir

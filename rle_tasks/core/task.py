@@ -97,7 +97,10 @@ class TaskSpec:
         contract: Artifact contract A.
         make_dev_env: Lays out the development environment E_dev in a workspace, or None.
         verify: Verifier M running the hidden evaluation E_eval, or None when not implemented.
-        solutions: Named shipped solution directories (``"reference"``, ``"baseline/..."``).
+        solutions: Names of the shipped solutions (``"reference"``, ``"baseline/..."``), materialised
+            on demand by ``rle_tasks.core.solutions.materialise``.
+        solutions_module: Dotted name of the module declaring them (its ``SOLUTIONS``), imported only
+            when one is materialised.
     """
 
     id: str
@@ -108,7 +111,8 @@ class TaskSpec:
     contract: ArtifactContract = field(default_factory=lambda: ArtifactContract(required=()))
     make_dev_env: DevEnvFn | None = None
     verify: VerifyFn | None = None
-    solutions: tuple[tuple[str, Path], ...] = ()
+    solutions: tuple[str, ...] = ()
+    solutions_module: str = ""
 
     @property
     def workflow(self) -> str:

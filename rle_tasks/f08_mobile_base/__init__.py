@@ -7,18 +7,20 @@ from pathlib import Path
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 HERE = Path(__file__).resolve().parent
+SOLUTION_NAMES = (
+    "reference",
+    "baseline/bad_mount",
+    "baseline/non_catalog_profile",
+    "baseline/raising_controller",
+    "baseline/tall_narrow",
+)
+"""Shipped solutions, declared in ``solutions/__init__.py``."""
 
 
 def tasks() -> list[TaskSpec]:
     from rle_tasks.f08_mobile_base.harness import INSTRUCTION, make_dev_env
     from rle_tasks.f08_mobile_base.verifier import verify
 
-    sols = (
-        [("reference", HERE / "reference")]
-        + [(f"baseline/{p.name}", p) for p in sorted((HERE / "baseline").iterdir()) if p.is_dir()]
-        if (HERE / "baseline").is_dir()
-        else [("reference", HERE / "reference")]
-    )
     return [
         TaskSpec(
             id="08-mobile-base",
@@ -33,6 +35,7 @@ def tasks() -> list[TaskSpec]:
             ),
             make_dev_env=make_dev_env,
             verify=verify,
-            solutions=tuple(sols),
+            solutions=SOLUTION_NAMES,
+            solutions_module=f"{__name__}.solutions",
         )
     ]

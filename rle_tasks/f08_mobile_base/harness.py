@@ -8,6 +8,9 @@ from pathlib import Path
 from rle_design.catalog import load_catalog
 from rle_design.paths import CATALOG_DIR, resolve_asset
 
+SKELETON = Path(__file__).resolve().parent / "assets" / "skeleton_robot.xml"
+"""Workspace skeleton (written by ``solutions/design_gen.py``)."""
+
 INSTRUCTION = """# 08-mobile-base: universal mobile-manipulator base
 
 Design and build ONE mecanum mobile base, and its controller, for three canonical arms: Franka Panda
@@ -82,23 +85,8 @@ def make_dev_env(workspace: Path) -> None:
         src = resolve_asset(arm.model).parent
         shutil.copytree(src, ws / "arms" / arm.id, dirs_exist_ok=True)
     (ws / "instruction.md").write_text(INSTRUCTION)
-    (ws / "skeleton_robot.xml").write_text(_skeleton())
+    shutil.copyfile(SKELETON, ws / "skeleton_robot.xml")
     (ws / "preview.py").write_text(_PREVIEW)
-
-
-def _skeleton() -> str:
-    """Required names and immutable parts, with a single example profile (not a working design)."""
-    from rle_tasks.f08_mobile_base.design_gen import FrameDesign, frame_xml
-
-    lines = frame_xml(FrameDesign(), "skeleton").splitlines()
-    out, kept = [], False
-    for line in lines:
-        if "profile_" in line:
-            if kept:
-                continue
-            kept = True
-        out.append(line)
-    return "\n".join(out) + "\n"
 
 
 _PREVIEW = '''"""Preview the base with an arm and the shelf: python preview.py robot.xml --arm panda --png out.png"""

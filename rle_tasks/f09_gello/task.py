@@ -8,7 +8,9 @@ from pathlib import Path
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 HERE = Path(__file__).resolve().parent
+TRIM_TEMPLATES = HERE / "assets" / "trim_templates"
 BASELINES = ("uncompensated", "gravcomp_cheat", "over_mass", "hanging_trim")
+"""Shipped baselines (``baseline/<name>``), declared in ``solutions/__init__.py``."""
 
 
 def instruction() -> str:
@@ -30,16 +32,15 @@ def make_dev_env(workspace: Path) -> None:
         sub = ws / "submission" / robot
         if not sub.exists():
             shutil.copytree(HERE / "assets" / robot, sub)
-            shutil.copy(HERE / "trim_templates" / "zero_trim.py", sub / "trim.py")
+            shutil.copy(TRIM_TEMPLATES / "zero_trim.py", sub / "trim.py")
     shutil.copy(HERE / "helpers.py", ws / "gello_helpers.py")
-    shutil.copy(HERE / "trim_templates" / "regressor_trim.py", ws / "example_trim.py")
+    shutil.copy(TRIM_TEMPLATES / "regressor_trim.py", ws / "example_trim.py")
     (ws / "instruction.md").write_text(instruction())
 
 
 def task_spec() -> TaskSpec:
     from rle_tasks.f09_gello.verifier import verify
 
-    sols = [("reference", HERE / "reference")] + [(f"baseline/{b}", HERE / "baseline" / b) for b in BASELINES]
     return TaskSpec(
         id="09-gello",
         family=9,
@@ -63,5 +64,6 @@ def task_spec() -> TaskSpec:
         ),
         make_dev_env=make_dev_env,
         verify=verify,
-        solutions=tuple(sols),
+        solutions=("reference", *(f"baseline/{b}" for b in BASELINES)),
+        solutions_module="rle_tasks.f09_gello.solutions",
     )

@@ -12,7 +12,7 @@ import pytest
 
 from rle_design.errors import RleError
 from rle_tasks.core.harbor import export_harbor
-from rle_tasks.core.report import Checkpoint, VerifierReport
+from rle_tasks.core.report import Checkpoint, VerifierReport, artifact_sha256
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 # Harbor's package-name rule (harbor.constants.ORG_NAME_PATTERN in 0.25).
@@ -23,15 +23,31 @@ def _verify(directory, ctx):  # pragma: no cover - never called by the export
     raise AssertionError("export must not run the verifier")
 
 
+FAKE_FAMILY = "harbor_fake_family"
+_DECLARATION = """
+from rle_tasks.core.solutions import Solution, SolutionSet
+
+SOLUTIONS = SolutionSet(
+    package="harbor_fake_family",
+    solutions=(
+        Solution("reference", sha256="{sha}", quick_score=0.0, files=((".", "solutions/reference"),)),
+        Solution("baseline/box", sha256="{sha}", quick_score=0.0, base="reference"),
+    ),
+)
+"""
+
+
 @pytest.fixture
-def spec(tmp_path) -> TaskSpec:
-    ref = tmp_path / "solutions" / "reference"
+def spec(tmp_path, monkeypatch):
+    """A task whose solutions are declared by a small family package in ``tmp_path``."""
+    pkg = tmp_path / "pkgs" / FAKE_FAMILY
+    ref = pkg / "solutions" / "reference"
     ref.mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
     (ref / "base.xml").write_text("<mujoco/>\n")
-    base = tmp_path / "solutions" / "baseline"
-    base.mkdir()
-    (base / "base.xml").write_text("<mujoco/>\n")
-    return TaskSpec(
+    (pkg / "solutions" / "__init__.py").write_text(_DECLARATION.format(sha=artifact_sha256(ref)))
+    monkeypatch.syspath_prepend(str(tmp_path / "pkgs"))
+    yield TaskSpec(
         id="08-mobile-base",
         family=8,
         title='Universal mobile-manipulator base ("test" spec)',
@@ -43,8 +59,11 @@ def spec(tmp_path) -> TaskSpec:
             required=("base.xml",), optional=("meshes/*.stl",), description="One MJCF."
         ),
         verify=_verify,
-        solutions=(("reference", ref), ("baseline/box", base)),
+        solutions=("reference", "baseline/box"),
+        solutions_module=f"{FAKE_FAMILY}.solutions",
     )
+    for name in [m for m in sys.modules if m.startswith(FAKE_FAMILY)]:
+        del sys.modules[name]
 
 
 def test_task_toml_fields(tmp_path, spec):
@@ -83,7 +102,7 @@ def test_files_images_and_scripts(tmp_path, spec):
     )
     snap = task_dir / "environment" / "rle-bench"
     assert (snap / "pyproject.toml").is_file() and (snap / "rle_tasks" / "core" / "harbor.py").is_file()
-    assert (snap / "catalogs").is_dir()
+    assert (snap / "rle_design" / "catalogs" / "profiles.yaml").is_file()
     assert not list(snap.rglob("__pycache__"))
 
     verifier_df = (task_dir / "tests" / "Dockerfile").read_text()
@@ -127,16 +146,20 @@ def test_agent_image_leaves_out_shipped_solutions(tmp_path, spec):
     import rle_tasks.core.harbor as harbor
 
     root = tmp_path / "proj"
-    pkg = root / "rle_tasks" / "f08_mobile_base"
-    (pkg / "reference").mkdir(parents=True)
-    (pkg / "reference" / "base.xml").write_text("<mujoco/>\n")
-    (pkg / "verifier.py").write_text("")
+    for family in ("f08_mobile_base", "f09_gello"):
+        pkg = root / "rle_tasks" / family
+        (pkg / "solutions" / "reference").mkdir(parents=True)
+        (pkg / "solutions" / "reference" / "base.xml").write_text("<mujoco/>\n")
+        (pkg / "verifier.py").write_text("")
     (root / "pyproject.toml").write_text("")
-    s = TaskSpec("08-mobile-base", 8, "t", verify=_verify, solutions=(("reference", pkg / "reference"),))
+    s = TaskSpec(
+        "08-mobile-base", 8, "t", verify=_verify, solutions_module="rle_tasks.f08_mobile_base.solutions"
+    )
     task_dir = harbor.export_task(s, tmp_path / "out", root)
-    agent = task_dir / "environment" / "rle-bench" / "rle_tasks" / "f08_mobile_base"
-    assert (agent / "verifier.py").is_file() and not (agent / "reference").exists()
-    assert (task_dir / "tests" / "rle-bench" / "rle_tasks" / "f08_mobile_base" / "reference").is_dir()
+    for family in ("f08_mobile_base", "f09_gello"):
+        agent = task_dir / "environment" / "rle-bench" / "rle_tasks" / family
+        assert (agent / "verifier.py").is_file() and not (agent / "solutions").exists()
+        assert (task_dir / "tests" / "rle-bench" / "rle_tasks" / family / "solutions" / "reference").is_dir()
 
 
 def test_base_image_can_be_pinned(tmp_path, spec, monkeypatch):

@@ -7,7 +7,7 @@ import pytest
 
 from rle_design.mjcf import load_design
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
-from rle_tasks.f08_mobile_base import HERE
+from rle_tasks.core.solutions import materialise
 from rle_tasks.f08_mobile_base.scene import build_scene
 from rle_tasks.f08_mobile_base.shelf_trials import layout, run_trial
 
@@ -22,7 +22,9 @@ def control(t, qpos, qvel, ctrl):
 
 @pytest.fixture(scope="module")
 def scene():
-    return build_scene(load_design(HERE / "reference").fresh_spec, "xarm7", 1, shelf=True)
+    return build_scene(
+        load_design(materialise("08-mobile-base", "reference")).fresh_spec, "xarm7", 1, shelf=True
+    )
 
 
 @pytest.mark.parametrize(

@@ -1,4 +1,8 @@
-"""Family 08: reference and baselines through the verifier (quick batteries), harness, determinism."""
+"""Family 08: reference and baselines through the verifier (quick batteries), harness, determinism.
+
+The quick reports use the public development key, the secret of the golden table
+(``rle_tasks/f08_mobile_base/solutions``): each shipped solution's score must equal its golden score.
+"""
 
 import functools
 from pathlib import Path
@@ -6,25 +10,26 @@ from pathlib import Path
 import pytest
 
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import Secret
+from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f08_mobile_base import HERE
 from rle_tasks.f08_mobile_base.scoring import CAP, WEIGHTS
 from rle_tasks.f08_mobile_base.verifier import verify
 
-SECRET = Secret(b"f08 test secret", public=False)
+SECRET = Secret(PUBLIC_KEY, public=True)
+TASK = get_task("08-mobile-base")
 
 
 @functools.cache
 def _report(name: str):
-    return verify(HERE / name, VerifyContext(secret=SECRET, quick=True))
+    return verify(materialise(TASK, name), VerifyContext(secret=SECRET, quick=True))
 
 
 def test_task_registered_with_contract_and_budget():
     t = get_task("08-mobile-base")
     assert t.implemented and t.contract.required == ("robot.xml", "controller.py")
     assert t.budget.wall_time_s == 7200 and t.budget.cpus == 4
-    assert {n for n, _ in t.solutions} >= {"reference", "baseline/tall_narrow", "baseline/raising_controller"}
+    assert set(t.solutions) >= {"reference", "baseline/tall_narrow", "baseline/raising_controller"}
 
 
 def test_weights_match_the_card():
@@ -54,7 +59,7 @@ def test_reference_scores_at_least_075(full_battery):
     r = (
         _report("reference")
         if not full_battery
-        else verify(HERE / "reference", VerifyContext(secret=SECRET, jobs=2))
+        else verify(materialise(TASK, "reference"), VerifyContext(secret=SECRET, jobs=2))
     )
     assert r.score >= 0.75 and r.cap is None
 
@@ -124,7 +129,8 @@ def test_missing_robot_xml_is_a_validity_failure(tmp_path: Path):
 
 @pytest.mark.physics
 def test_same_artifact_and_secret_give_identical_report():
-    a = verify(HERE / "baseline/raising_controller", VerifyContext(secret=SECRET, quick=True)).to_dict()
+    a = verify(materialise(TASK, "baseline/raising_controller"), VerifyContext(secret=SECRET, quick=True))
+    a = a.to_dict()
     b = _report("baseline/raising_controller").to_dict()
     a.pop("elapsed_s"), b.pop("elapsed_s")
     assert a == b
@@ -137,3 +143,10 @@ def test_hidden_variations_follow_the_secret():
     ctx_b = VerifyContext(secret=Secret(b"other", public=False))
     assert _variation(ctx_a, "panda/static/1") == _variation(ctx_a, "panda/static/1")
     assert _variation(ctx_a, "panda/static/1") != _variation(ctx_b, "panda/static/1")
+
+
+@pytest.mark.physics
+@pytest.mark.parametrize("name", TASK.solutions)
+def test_quick_score_equals_the_golden_table(name):
+    r = _report(name)
+    assert r.score == pytest.approx(declaration(TASK).get(name).quick_score, abs=1e-9)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from rle_design.mjcf import load_design
-from rle_tasks.f08_mobile_base import HERE
+from rle_tasks.core.solutions import materialise
 from rle_tasks.f08_mobile_base.scene import build_scene
 from rle_tasks.f08_mobile_base.wheels import mecanum_speeds
 
@@ -13,7 +13,7 @@ from rle_tasks.f08_mobile_base.wheels import mecanum_speeds
 @pytest.mark.parametrize("twist", [(0.4, 0.0, 0.0), (0.0, 0.4, 0.0), (0.0, 0.0, 0.8)])
 def test_mecanum_twist_is_reproduced(twist):
     # Mecanum inverse kinematics omega_i = sqrt2 (v_i . s_i) / r must give back the commanded twist.
-    sc = build_scene(load_design(HERE / "reference").fresh_spec)
+    sc = build_scene(load_design(materialise("08-mobile-base", "reference")).fresh_spec)
     m, d = sc.model, sc.rest_data()
     ids = [
         mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, w)
@@ -29,7 +29,7 @@ def test_mecanum_twist_is_reproduced(twist):
 
 
 def test_only_wheels_touch_the_floor_and_they_share_the_weight():
-    sc = build_scene(load_design(HERE / "reference").fresh_spec)
+    sc = build_scene(load_design(materialise("08-mobile-base", "reference")).fresh_spec)
     d = sc.rest_data()
     for _ in range(400):
         mujoco.mj_step(sc.model, d)
@@ -40,11 +40,12 @@ def test_only_wheels_touch_the_floor_and_they_share_the_weight():
     assert np.all(s.normal > 0.1 * sc.mass * 9.81 / 4)
 
 
-def test_reference_controller_uses_the_documented_wheel_convention():
+def test_reference_controller_uses_the_documented_wheel_convention(tmp_path):
     # The controller may not import rle_tasks; its copy of the convention must equal the verifier's.
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("ref_ctl", HERE / "reference" / "controller.py")
+    ref = materialise("08-mobile-base", "reference", dest=tmp_path / "ref")  # own copy: import writes caches
+    spec = importlib.util.spec_from_file_location("ref_ctl", ref / "controller.py")
     ctl = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(ctl)
     xy = np.array([[0.28, 0.25], [0.28, -0.25], [-0.28, 0.25], [-0.28, -0.25]])

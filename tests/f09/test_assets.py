@@ -9,17 +9,24 @@ import pytest
 import trimesh
 
 from rle_design.kinematics import GravityMap, model_from_mujoco
+from rle_tasks.core.registry import get_task
+from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.device import ASSET_DIR
 from rle_tasks.f09_gello.helpers import workspace_grid
 from rle_tasks.f09_gello.leaders import ROBOTS, SCALE, pla_density, servo
 
 PKG = ASSET_DIR.parent
-XMLS = sorted(str(p.relative_to(PKG)) for p in PKG.rglob("lead.xml"))
+TASK = get_task("09-gello")
+# Stock leaders and every leader of every materialised shipped solution, by "<solution>/<robot>".
+LEADERS = {f"assets/{r}": ASSET_DIR / r / "lead.xml" for r in ROBOTS} | {
+    f"{name}/{r}": materialise(TASK, name) / r / "lead.xml" for name in TASK.solutions for r in ROBOTS
+}
+XMLS = sorted(LEADERS)
 
 
 @pytest.mark.parametrize("rel", XMLS)
 def test_every_shipped_leader_compiles_and_steps_one_second_without_warnings(rel):
-    m = mujoco.MjModel.from_xml_path(str(PKG / rel))
+    m = mujoco.MjModel.from_xml_path(str(LEADERS[rel]))
     d = mujoco.MjData(m)
     rng = np.random.default_rng(0)
     for _ in range(500):
@@ -59,7 +66,7 @@ GRAVCOMP_XMLS = [r for r in XMLS if "gravcomp_cheat" in str(r)]
 
 @pytest.mark.parametrize("rel", [r for r in XMLS if r not in GRAVCOMP_XMLS])
 def test_pinocchio_and_mujoco_gravity_agree(rel):
-    m = mujoco.MjModel.from_xml_path(str(PKG / rel))
+    m = mujoco.MjModel.from_xml_path(str(LEADERS[rel]))
     d = mujoco.MjData(m)
     km = model_from_mujoco(m)
     for q in workspace_grid(m.jnt_range, 50, seed=1):
@@ -73,7 +80,7 @@ def test_gravcomp_cheat_hides_gravity_from_mujoco_but_not_from_pinocchio(rel):
     # Why the contract rejects gravcomp: MuJoCo cancels the links' gravity by fiat (a passive force
     # qfrc_gravcomp equal to the bias at rest: net gravity torque 0), while Pinocchio (which drops
     # gravcomp) still sees the full g(q).
-    m = mujoco.MjModel.from_xml_path(str(PKG / rel))
+    m = mujoco.MjModel.from_xml_path(str(LEADERS[rel]))
     assert all(m.body_gravcomp[2:] == 1)
     d = mujoco.MjData(m)
     km = model_from_mujoco(m)

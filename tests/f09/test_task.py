@@ -4,6 +4,7 @@ import numpy as np
 
 from rle_design.sandbox import ParticipantFault
 from rle_tasks.core.registry import get_task
+from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.device import ASSET_DIR, load_submission
 from rle_tasks.f09_gello.helpers import HOME, load_leader, peak_torque, residual, workspace_grid
 from rle_tasks.f09_gello.trim_runner import TrimRunner
@@ -57,7 +58,7 @@ def test_reference_trim_recovers_a_hidden_copy_within_the_friction_band():
     from rle_tasks.f09_gello import battery, device, verifier
 
     robot = "ur5e"
-    sub = load_submission(robot, dict(get_task("09-gello").solutions)["reference"] / robot)
+    sub = load_submission(robot, materialise(get_task("09-gello"), "reference") / robot)
     rng = np.random.default_rng(0)
     dev = device.apply_variation(sub.model, device.draw_variation(rng, 6))
     poses = workspace_grid(sub.model.jnt_range, 5, seed=3)

@@ -9,17 +9,19 @@ from pathlib import Path
 import pytest
 
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import Secret, load_secret
+from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import run_verify
 
 TASK = get_task("09-gello")
-SOLUTIONS = dict(TASK.solutions)
+SOLUTIONS = {name: materialise(TASK, name) for name in TASK.solutions}
 PASSIVE = ("passive_residual", "passive_hold", "passive_backdrive")
 
 
 def _verify(name: str, secret: Secret | None = None, **kw):
-    ctx = VerifyContext(secret=secret or load_secret(), quick=True, **kw)
+    # The public development key: the secret of the golden table (rle_tasks/f09_gello/solutions).
+    ctx = VerifyContext(secret=secret or Secret(PUBLIC_KEY, public=True), quick=True, **kw)
     report, internal = run_verify(TASK, SOLUTIONS[name], ctx)
     assert not internal, report.errors
     return report
@@ -40,6 +42,13 @@ def test_task_spec_lists_reference_and_baselines():
     ]
     assert TASK.budget.wall_time_s == 3 * 3600 and TASK.budget.cpus == 4
     assert "plan_probe() -> (15, n)" in TASK.instruction and "| `push_recovery` |" in TASK.instruction
+
+
+def test_quick_scores_and_checksums_equal_the_golden_table(reports):
+    for name, r in reports.items():
+        sol = declaration(TASK).get(name)
+        assert r.score == pytest.approx(sol.quick_score, abs=1e-9), name
+        assert r.artifact_sha256 == sol.sha256 and r.secret == "public", name
 
 
 def test_reference_scores_at_least_0_7(reports):

@@ -1,0 +1,120 @@
+"""Shipped solutions of 09-gello, materialised by ``rle_tasks.core.solutions``.
+
+Committed once: ``reference/<robot>/lead.xml`` (written by ``build.py``), the stock meshes in
+``assets/<robot>/meshes``, the trim templates in ``assets/trim_templates``, and the one overlay file
+``baseline/hanging_trim/trim.py``. Each solution directory holds ``<robot>/{lead.xml, trim.py,
+meshes/*.stl}`` for the three robots.
+
+- ``reference``: balanced leaders (``build.py``) and the regressor trim.
+- ``baseline/uncompensated``: the stock leaders and the zero trim.
+- ``baseline/gravcomp_cheat``: ``uncompensated`` with ``gravcomp="1"`` on every link (forbidden).
+- ``baseline/over_mass``: the reference plus a 2 kg steel block on the base.
+- ``baseline/hanging_trim``: the reference with a trim whose ``adapt`` never returns.
+
+``SOLUTIONS`` is the one table of pinned checksums (``artifact_sha256`` of each materialised directory)
+and golden scores (quick mode, public development key).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from lxml import etree
+
+from rle_tasks.core.solutions import Solution, SolutionSet, edit_xml
+from rle_tasks.f09_gello.leaders import ROBOTS
+
+
+def _per_robot(dest: str, src: str) -> tuple[tuple[str, str], ...]:
+    return tuple((f"{r}/{dest}", src.format(robot=r)) for r in ROBOTS)
+
+
+def _unchanged(root: etree._Element) -> None:
+    del root
+
+
+def reindent_leaders(directory: Path) -> None:
+    """Re-serialise each ``lead.xml`` with lxml (two-space indent, no final newline), as ``build.py`` does."""
+    for robot in ROBOTS:
+        edit_xml(directory / robot / "lead.xml", _unchanged, indent=True, final_newline=False)
+
+
+def _gravcomp_links(root: etree._Element) -> None:
+    for body in root.iter("body"):
+        if body.get("name", "").startswith("link"):
+            attrs = list(body.attrib.items())
+            body.attrib.clear()
+            body.set("gravcomp", "1")
+            for key, value in attrs:
+                body.set(key, value)
+
+
+def gravcomp_links(directory: Path) -> None:
+    """Set ``gravcomp="1"`` (as the first attribute) on every ``link*`` body of each leader."""
+    for robot in ROBOTS:
+        edit_xml(directory / robot / "lead.xml", _gravcomp_links)
+
+
+def _ballast(root: etree._Element) -> None:
+    base = next(b for b in root.iter("body") if b.get("name") == "base")
+    body = etree.SubElement(base, "body", name="ballast", pos="0.1 0 0.01")
+    etree.SubElement(
+        body,
+        "geom",
+        name="ballast_steel",
+        type="box",
+        size="0.04 0.04 0.02",
+        mass="2.0",
+        rgba="0.4 0.4 0.4 1",
+    )
+
+
+def steel_ballast(directory: Path) -> None:
+    """Add a 2 kg steel block (80 x 80 x 40 mm) to each leader's base."""
+    for robot in ROBOTS:
+        edit_xml(directory / robot / "lead.xml", _ballast, indent=True)
+
+
+SOLUTIONS = SolutionSet(
+    package="rle_tasks.f09_gello",
+    solutions=(
+        Solution(
+            "reference",
+            sha256="9bc0b57abd2b4561ee176cd41425ac44331b2b30290e1188a9e54b4400d77fe6",
+            quick_score=0.938175940962,
+            files=_per_robot("lead.xml", "solutions/reference/{robot}/lead.xml")
+            + _per_robot("meshes", "assets/{robot}/meshes")
+            + _per_robot("trim.py", "assets/trim_templates/regressor_trim.py"),
+        ),
+        Solution(
+            "baseline/uncompensated",
+            sha256="3f3cd52f4dedd4f12edcba96dd8e9b619b45e65b8b0671774a407a4ffae8bebc",
+            quick_score=0.113598124186,
+            base="reference",
+            files=_per_robot("lead.xml", "assets/{robot}/lead.xml")
+            + _per_robot("trim.py", "assets/trim_templates/zero_trim.py"),
+            transforms=(reindent_leaders,),
+        ),
+        Solution(
+            "baseline/gravcomp_cheat",
+            sha256="08874c2d1b5a20c0dd852476c773969c5ed10b274cdc0d3539f5abb95d551051",
+            quick_score=0.00361887613932,
+            base="baseline/uncompensated",
+            transforms=(gravcomp_links,),
+        ),
+        Solution(
+            "baseline/over_mass",
+            sha256="5f620197b05f945b3998a53f16f99ad7d8ff1fb2498f401ff7e52283e95030ee",
+            quick_score=0.838175940962,
+            base="reference",
+            transforms=(steel_ballast,),
+        ),
+        Solution(
+            "baseline/hanging_trim",
+            sha256="86f6bd726d55fdf3b9b8d38c4f647580121e3126862bff22f79b282462eece08",
+            quick_score=0.464598290058,
+            base="reference",
+            files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
+        ),
+    ),
+)

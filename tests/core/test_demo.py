@@ -1,0 +1,24 @@
+"""``rle demo`` verifies every shipped solution from its materialised directory (verifier stubbed)."""
+
+from __future__ import annotations
+
+from rle_tasks import demo
+from rle_tasks.core.registry import all_tasks, get_task
+from rle_tasks.core.report import VerifierReport, artifact_sha256
+from rle_tasks.core.solutions import declaration
+
+
+def test_demo_verifies_every_shipped_solution_from_its_materialised_directory(tmp_path, monkeypatch):
+    seen = []
+
+    def fake_verify(task, directory, ctx):
+        seen.append((task.id, directory))
+        return VerifierReport(task.id, f"{task.family:02d}", task.workflow, score=0.5, valid=True), False
+
+    monkeypatch.setattr(demo, "run_verify", fake_verify)
+    results = demo._verify_all(tmp_path, quick=True, jobs=1)
+    expected = [(t.id, n) for t in all_tasks() if t.implemented for n in t.solutions]
+    assert [(tid, name) for tid, name, _, _ in results] == expected and len(expected) >= 10
+    for (tid, directory), (_, name, report_path, _) in zip(seen, results):
+        assert artifact_sha256(directory) == declaration(get_task(tid)).get(name).sha256
+        assert report_path.is_file()
