@@ -20,7 +20,7 @@ from rle_design.mjcf import load_design
 from rle_tasks.core.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f08_mobile_base.scene import build_scene
+from rle_tasks.f08_mobile_base.public.scene import build_scene
 from rle_tasks.f08_mobile_base.verifier import verify
 
 

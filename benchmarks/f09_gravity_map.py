@@ -21,7 +21,7 @@ TARGET = 400_000.0
 def main() -> int:
     from rle_design.kinematics import GravityMap, model_from_mujoco
     from rle_tasks.f09_gello.device import stock_model
-    from rle_tasks.f09_gello.helpers import workspace_grid
+    from rle_tasks.f09_gello.public.gello_helpers import workspace_grid
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--poses", type=int, default=200_000)

@@ -32,10 +32,10 @@ from rle_tasks.core.solutions import materialise
 from rle_tasks.f08_mobile_base.env import trial_terms
 from rle_tasks.f08_mobile_base.public.scene import build_scene
 
-CONTROLLER = '''
+CONTROLLER = """
 def control(t, qpos, qvel, ctrl):
     return ctrl
-'''
+"""
 TARGET = 1.3
 
 

@@ -22,7 +22,7 @@ from pathlib import Path
 from rle_design.ledger.records import LedgerWriter
 from rle_design.ledger.verify import verify_ledger
 from rle_tasks.audit.runner import Case
-from rle_tasks.core.report import VerifierReport
+from rle_tasks.core.report import ErrorEntry, VerifierReport
 from rle_tasks.core.secrets import Secret
 from rle_tasks.core.solutions import materialise
 
@@ -191,11 +191,10 @@ def _ledger(
 
 def _run_ledger(artifact: Path, secret: Secret) -> VerifierReport:
     verdict = verify_ledger(artifact / "ledger.jsonl", _ledger_key(secret), LEDGER_TASK)
-    report = VerifierReport(task_id=LEDGER_TASK, family="03", workflow="interactive_control")
-    report.valid = verdict.valid
-    if not verdict.valid:
-        report.add_error(verdict.code, verdict.message, "ledger.jsonl")
-    return report
+    errors = () if verdict.valid else (ErrorEntry(verdict.code, verdict.message, "ledger.jsonl"),)
+    return VerifierReport(
+        task_id=LEDGER_TASK, family="03", workflow="interactive_control", valid=verdict.valid, errors=errors
+    )
 
 
 def _alter(lines: list[bytes]) -> list[bytes]:

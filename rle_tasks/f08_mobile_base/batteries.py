@@ -23,8 +23,8 @@ import numpy as np
 from rle_design.scene import element_id
 from rle_design.stability import Scenario, force_angle, run_scenario, static_margin, support_polygon
 from rle_tasks.f08_mobile_base.poses import Pose
-from rle_tasks.f08_mobile_base.scene import STOWED, Scene, hold_torque
-from rle_tasks.f08_mobile_base.wheels import WHEELS, mecanum_speeds
+from rle_tasks.f08_mobile_base.public.scene import STOWED, Scene, hold_torque
+from rle_tasks.f08_mobile_base.public.wheels import WHEELS, mecanum_speeds
 
 STATIC_MARGIN_MIN = 0.04  # [m]
 FORCE_ANGLE_MIN_DEG = 8.0  # [deg]

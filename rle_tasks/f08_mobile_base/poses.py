@@ -17,7 +17,7 @@ import numpy as np
 from rle_design.catalog import load_catalog
 from rle_design.kinematics.ik import solve_ik
 from rle_design.scene import element_id
-from rle_tasks.f08_mobile_base.scene import MOUNT_SITE, STOWED, Scene
+from rle_tasks.f08_mobile_base.public.scene import MOUNT_SITE, STOWED, Scene
 
 REACH_FRACTION = 0.8
 PARK_GAP = 0.05  # [m]

@@ -15,7 +15,7 @@ from rle_tasks.f08_mobile_base.batteries import (
     STATIC_MARGIN_MIN,
     TILT_MAX_DEG,
 )
-from rle_tasks.f08_mobile_base.scene import ARMS
+from rle_tasks.f08_mobile_base.public.scene import ARMS
 
 LOAD_PASS = 0.5
 """``shelf_1kg`` (the required load) below this score is a failed load checkpoint [1]."""

@@ -8,8 +8,8 @@ import numpy as np
 from rle_design.catalog import load_catalog, part_fragment_path
 from rle_design.mjcf import Design, ModelContract, check_contract, match_profiles
 from rle_design.scene import element_id
-from rle_tasks.f08_mobile_base.scene import ADAPTER, BATTERY, CHASSIS, MOUNT_SITE
-from rle_tasks.f08_mobile_base.wheels import WHEELS
+from rle_tasks.f08_mobile_base.public.scene import ADAPTER, BATTERY, CHASSIS, MOUNT_SITE
+from rle_tasks.f08_mobile_base.public.wheels import WHEELS
 
 CONTRACT = ModelContract(
     required={"body": (CHASSIS, *WHEELS, BATTERY, ADAPTER), "site": (MOUNT_SITE,)},

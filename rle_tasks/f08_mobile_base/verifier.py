@@ -24,10 +24,10 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f08_mobile_base import batteries as B
+from rle_tasks.f08_mobile_base.env import run_trial
 from rle_tasks.f08_mobile_base.poses import battery_poses
-from rle_tasks.f08_mobile_base.scene import ARMS, CHASSIS, TASK_ID, VARIATIONS, build_scene
+from rle_tasks.f08_mobile_base.public.scene import ARMS, CHASSIS, TASK_ID, VARIATIONS, build_scene
 from rle_tasks.f08_mobile_base.scoring import DESIGN_NORMS, LOAD_PASS, RUBRIC
-from rle_tasks.f08_mobile_base.shelf_trials import run_trial
 from rle_tasks.f08_mobile_base.validity import check_validity, interpenetration
 
 QUICK_TARGETS = ("T01", "T12")

@@ -33,7 +33,7 @@ def make_dev_env(workspace: Path) -> None:
         if not sub.exists():
             shutil.copytree(HERE / "assets" / robot, sub)
             shutil.copy(TRIM_TEMPLATES / "zero_trim.py", sub / "trim.py")
-    shutil.copy(HERE / "helpers.py", ws / "gello_helpers.py")
+    shutil.copy(HERE / "public" / "gello_helpers.py", ws / "gello_helpers.py")
     shutil.copy(TRIM_TEMPLATES / "regressor_trim.py", ws / "example_trim.py")
     (ws / "instruction.md").write_text(instruction())
 

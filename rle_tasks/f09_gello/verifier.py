@@ -27,8 +27,9 @@ from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f09_gello import battery, clearance, device, helpers, scoring
+from rle_tasks.f09_gello import battery, clearance, device, scoring
 from rle_tasks.f09_gello.leaders import ROBOTS
+from rle_tasks.f09_gello.public import gello_helpers as helpers
 from rle_tasks.f09_gello.trim_runner import TrimRunner
 
 TASK_ID = "09-gello"

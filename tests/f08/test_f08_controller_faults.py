@@ -8,8 +8,8 @@ import pytest
 from rle_design.mjcf import load_design
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
 from rle_tasks.core.solutions import materialise
-from rle_tasks.f08_mobile_base.scene import build_scene
-from rle_tasks.f08_mobile_base.shelf_trials import layout, run_trial
+from rle_tasks.f08_mobile_base.env import layout, run_trial
+from rle_tasks.f08_mobile_base.public.scene import build_scene
 
 BODY = """import numpy as np
 def reset(arm, target, payload_kg, layout):

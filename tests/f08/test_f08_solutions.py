@@ -5,8 +5,8 @@ from __future__ import annotations
 import mujoco
 
 from rle_tasks.core.registry import get_task
-from rle_tasks.f08_mobile_base.harness import SKELETON
 from rle_tasks.f08_mobile_base.solutions.design_gen import generated_files
+from rle_tasks.f08_mobile_base.task import SKELETON
 
 
 def test_generator_reproduces_the_committed_frames_and_the_skeleton():

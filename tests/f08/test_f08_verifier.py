@@ -5,6 +5,9 @@ The quick reports use the public development key, the secret of the golden table
 """
 
 import functools
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -13,7 +16,7 @@ from rle_tasks.core.registry import get_task
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f08_mobile_base.scoring import CAP, WEIGHTS
+from rle_tasks.f08_mobile_base.scoring import CAP, RUBRIC, WEIGHTS
 from rle_tasks.f08_mobile_base.verifier import verify
 
 SECRET = Secret(PUBLIC_KEY, public=True)
@@ -109,7 +112,9 @@ def test_dev_env_lays_out_harness(tmp_path: Path):
     get_task("08-mobile-base").make_dev_env(tmp_path)
     for rel in (
         "instruction.md",
-        "preview.py",
+        "skeleton_robot.xml",
+        "mobile_base/scene.py",
+        "mobile_base/preview.py",
         "catalog/profiles.yaml",
         "catalog/shelf.yaml",
         "catalog/parts/mecanum_wheel.xml",
@@ -118,7 +123,26 @@ def test_dev_env_lays_out_harness(tmp_path: Path):
         "arms/xarm7/robot.xml",
     ):
         assert (tmp_path / rel).is_file(), rel
-    assert "arm_mount_site" in (tmp_path / "instruction.md").read_text()
+    text = (tmp_path / "instruction.md").read_text()
+    assert "arm_mount_site" in text and RUBRIC.markdown_table() in text
+
+
+@pytest.mark.render
+def test_workspace_preview_runs_from_the_workspace(tmp_path: Path):
+    """The public preview imports only the toolkit and its own package: it runs in the workspace."""
+    get_task("08-mobile-base").make_dev_env(tmp_path)
+    robot = materialise(TASK, "reference") / "robot.xml"
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    out = subprocess.run(
+        [sys.executable, "-m", "mobile_base.preview", str(robot), "--arm", "ur5e", "--png", "p.png"],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stderr
+    assert "wrote p.png" in out.stdout and (tmp_path / "p.png").stat().st_size > 10_000
 
 
 def test_missing_robot_xml_is_a_validity_failure(tmp_path: Path):

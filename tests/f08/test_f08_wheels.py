@@ -6,8 +6,8 @@ import pytest
 
 from rle_design.mjcf import load_design
 from rle_tasks.core.solutions import materialise
-from rle_tasks.f08_mobile_base.scene import build_scene
-from rle_tasks.f08_mobile_base.wheels import mecanum_speeds
+from rle_tasks.f08_mobile_base.public.scene import build_scene
+from rle_tasks.f08_mobile_base.public.wheels import mecanum_speeds
 
 
 @pytest.mark.parametrize("twist", [(0.4, 0.0, 0.0), (0.0, 0.4, 0.0), (0.0, 0.0, 0.8)])

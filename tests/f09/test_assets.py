@@ -12,8 +12,8 @@ from rle_design.kinematics import GravityMap, model_from_mujoco
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.device import ASSET_DIR
-from rle_tasks.f09_gello.helpers import workspace_grid
 from rle_tasks.f09_gello.leaders import ROBOTS, SCALE, pla_density, servo
+from rle_tasks.f09_gello.public.gello_helpers import workspace_grid
 
 PKG = ASSET_DIR.parent
 TASK = get_task("09-gello")

@@ -134,7 +134,7 @@ def test_thin_added_part_is_not_printable(tmp_path):
 
 def test_exclude_cannot_hide_a_counterweight_collision(tmp_path):
     from rle_tasks.f09_gello.clearance import collision_fraction
-    from rle_tasks.f09_gello.helpers import workspace_grid
+    from rle_tasks.f09_gello.public.gello_helpers import workspace_grid
 
     d = tmp_path / "ur5e"
     shutil.copytree(ASSET_DIR / "ur5e", d)

@@ -6,7 +6,7 @@ from rle_design.sandbox import ParticipantFault
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.device import ASSET_DIR, load_submission
-from rle_tasks.f09_gello.helpers import HOME, load_leader, peak_torque, residual, workspace_grid
+from rle_tasks.f09_gello.public.gello_helpers import HOME, load_leader, peak_torque, residual, workspace_grid
 from rle_tasks.f09_gello.trim_runner import TrimRunner
 
 

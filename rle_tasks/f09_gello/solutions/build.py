@@ -192,7 +192,7 @@ def clear_design(robot: str, n_poses: int = 256, passes: int = 2, verbose: bool 
 
     from rle_tasks.f09_gello.clearance import collision_fraction
     from rle_tasks.f09_gello.device import load_submission
-    from rle_tasks.f09_gello.helpers import workspace_grid
+    from rle_tasks.f09_gello.public.gello_helpers import workspace_grid
 
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
     grid = workspace_grid(m.jnt_range, n_poses)

@@ -22,7 +22,8 @@ from rle_design.scene import (
     robot_constants,
 )
 from rle_design.stability import StabilityProbe, SupportSet
-from rle_tasks.f08_mobile_base.wheels import WHEELS, WheelModel, install_wheels
+
+from .wheels import WHEELS, WheelModel, install_wheels
 
 TASK_ID = "08-mobile-base"
 ARMS = arm_ids()

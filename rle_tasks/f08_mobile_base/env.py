@@ -19,7 +19,7 @@ from rle_design.rollout import ContactBetween, HoldAtTarget, TiltLimit, run_epis
 from rle_design.sandbox import ParticipantFault
 from rle_design.stability import SupportLoad, SupportLost
 from rle_tasks.f08_mobile_base.batteries import LOSS_DURATION_S, LOSS_FRACTION, TILT_MAX_DEG
-from rle_tasks.f08_mobile_base.scene import Scene
+from rle_tasks.f08_mobile_base.public.scene import Scene
 
 CONTROL_HZ = 50
 EPISODE_S = 8.0

@@ -1,4 +1,4 @@
-"""Regenerate the stock leader assets: ``python -m rle_tasks.f09_gello.make_assets``.
+"""Regenerate the stock leader assets: ``python -m rle_tasks.f09_gello.solutions.make_assets``.
 
 Writes ``assets/<robot>/lead.xml`` and ``assets/<robot>/meshes/*.stl`` for every robot and prints
 the device mass and the peak shoulder gravity torque over the public workspace grid.
