@@ -98,7 +98,7 @@ def _import():
     return onnx, onnxruntime
 
 
-def _tensors(onnx, model):
+def _tensors(model):
     """Every tensor stored in the model: initializers and attribute tensors, subgraphs and functions."""
     graphs = [model.graph]
     nodes = [n for f in model.functions for n in f.node]
@@ -233,9 +233,7 @@ def load_onnx_policy(
         model = onnx.load_model_from_string(data)
     except Exception as exc:  # noqa: BLE001 - protobuf decode errors
         raise PolicyFault("onnx.load", f"{rel}: not a valid ONNX model: {exc}", path=rel) from None
-    if any(
-        t.data_location == onnx.TensorProto.EXTERNAL or len(t.external_data) for t in _tensors(onnx, model)
-    ):
+    if any(t.data_location == onnx.TensorProto.EXTERNAL or len(t.external_data) for t in _tensors(model)):
         raise PolicyFault(
             "onnx.external_data", f"{rel}: references external data files; embed every tensor", path=rel
         )

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -187,7 +187,7 @@ class FaultRecord:
     """
 
     function: str
-    fault: ParticipantFault = field(compare=False)
+    fault: ParticipantFault
 
     @property
     def code(self) -> str:
