@@ -143,28 +143,29 @@ def test_missing_function_and_import_error(tmp_path):
 
 
 def test_cumulative_cpu_budget_ends_a_burner_across_restarts(tmp_path):
-    # Each call burns 0.7 s of CPU then raises: the child restarts every call, the budget is shared.
+    # Each call burns 0.3 s of CPU then raises, so every call runs in a fresh child (about 0.5 s of
+    # CPU with its start, below the >= 1 s RLIMIT_CPU each child gets); the 2 s budget is shared.
     body = (
         "import time\n"
         "def act(x):\n"
         "    t = time.process_time()\n"
-        "    while time.process_time() - t < 0.7:\n"
+        "    while time.process_time() - t < 0.3:\n"
         "        pass\n"
         "    raise RuntimeError('burnt')\n"
     )
-    with _runner(tmp_path, body=body, budget=Budget(max_faults=None, cpu_s=1.5)) as run:
+    with _runner(tmp_path, body=body, budget=Budget(max_faults=None, cpu_s=2.0)) as run:
         codes = []
-        for _ in range(6):
+        for _ in range(12):
             try:
                 run.call("act", [0.0, 0.0, 0.0])
             except ParticipantFault as exc:
                 codes.append(exc.code)
             if codes[-1] == "policy.cpu_budget":
                 break
-    assert codes[:2] == ["sandbox.exception", "sandbox.exception"]
-    assert codes[-1] == "policy.cpu_budget" and len(codes) in (3, 4)
-    assert run.cpu_used_s >= 1.5 and run.exhausted
-    assert run.faults[-1].message.startswith("policy.act(): not called: the CPU budget of 1.5 s is used up")
+    assert codes[-1] == "policy.cpu_budget" and set(codes[:-1]) == {"sandbox.exception"}
+    assert 3 <= len(codes) - 1 <= 7 and run.restarts == len(codes) - 2
+    assert run.cpu_used_s >= 2.0 and run.exhausted and not run.alive
+    assert run.faults[-1].message.startswith("policy.act(): not called: the CPU budget of 2 s is used up")
 
 
 def test_cpu_budget_is_the_child_rlimit(tmp_path):
@@ -173,7 +174,8 @@ def test_cpu_budget_is_the_child_rlimit(tmp_path):
     with run, pytest.raises(ParticipantFault) as err:
         run.call("act", [0.0, 0.0, 0.0])
     assert err.value.code == "sandbox.cpu" and run.exhausted
-    assert 1.0 <= run.cpu_used_s < 4.0
+    # rusage and the kernel's RLIMIT_CPU check sample CPU time differently: about 1 s, not exactly
+    assert 0.5 <= run.cpu_used_s < 4.0
 
 
 def test_declaration_errors_name_the_alternatives(tmp_path):
