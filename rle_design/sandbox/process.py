@@ -75,6 +75,7 @@ class Sandbox:
         self._out_lock = threading.Lock()
         self._drain: threading.Thread | None = None
         self._flooded = False
+        self._cpu_s = 0.0
 
     # -- lifecycle -----------------------------------------------------------------------------------
     def __enter__(self) -> Sandbox:
@@ -93,6 +94,19 @@ class Sandbox:
     def alive(self) -> bool:
         """True while the child runs and can serve calls."""
         return self._proc is not None and self._death is None and self._proc.poll() is None
+
+    @property
+    def cpu_time_s(self) -> float:
+        """CPU time the child used (user + system) [s]: live while it runs (from ``/proc``), final
+        once it is reaped; 0 when unknown (never started, or reaped by someone else)."""
+        proc = self._proc
+        if proc is not None and proc.returncode is None:
+            try:
+                fields = Path(f"/proc/{proc.pid}/stat").read_text().rsplit(")", 1)[1].split()
+                return max(self._cpu_s, (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK"))
+            except (OSError, IndexError, ValueError):
+                pass
+        return self._cpu_s
 
     @property
     def stdout_tail(self) -> str:
@@ -350,6 +364,7 @@ class Sandbox:
             if pid:
                 proc.returncode = os.waitstatus_to_exitcode(status)
                 proc._rle_cpu = usage.ru_utime + usage.ru_stime  # type: ignore[attr-defined]
+                self._cpu_s = proc._rle_cpu  # type: ignore[attr-defined]
                 return proc.returncode, proc._rle_cpu  # type: ignore[attr-defined]
             if time.monotonic() > deadline:
                 with contextlib.suppress(ProcessLookupError, PermissionError):

@@ -16,8 +16,9 @@ import numpy as np
 
 from rle_design.errors import RleError
 from rle_design.mjcf import load_design, match_profiles
-from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
+from rle_design.sandbox import ParticipantFault, SandboxLimits
 from rle_design.scene import Variation, element_id
+from rle_tasks.core.policy import Budget, FunctionSpec, PolicyRunner, Protocol
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runner import run_parallel
 from rle_tasks.core.scoring import Outcome
@@ -32,6 +33,26 @@ from rle_tasks.f08_mobile_base.validity import check_validity, interpenetration
 
 QUICK_TARGETS = ("T01", "T12")
 MAX_FAULTS_PER_ARM = 3
+CONTROLLER_TIMEOUT_S = 30.0  # the card's hang cap per call [s]; VerifyContext.hang_cap_s caps it further
+# Shelf trials: one controller runner per (arm, payload); a hang ends it, after 3 faults trials are skipped.
+CONTROLLER_BUDGET = Budget(max_faults=MAX_FAULTS_PER_ARM, cpu_s=600.0, restart=True)
+CONTROLLER = Protocol(
+    module="submission",  # the name in every fault message of the shipped reports
+    functions=(
+        FunctionSpec(
+            "reset",
+            "arm: str, target: (3,) [m], payload_kg: float [kg], layout: dict (shelf_trials.layout)",
+            returns=None,
+            timeout_s=CONTROLLER_TIMEOUT_S,
+        ),
+        FunctionSpec(
+            "control",
+            "t [s], qpos: (nq,), qvel: (nv,), ctrl: (nu,); returns the command (nu,) at 50 Hz",
+            returns=("nu",),
+            timeout_s=CONTROLLER_TIMEOUT_S,
+        ),
+    ),
+)
 
 
 def _design_metrics(design, model) -> dict:
@@ -109,41 +130,32 @@ def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: Findings, k
 
     shelf = load_catalog("shelf")
     ids = QUICK_TARGETS if ctx.quick else tuple(t.id for t in shelf.entries)
-    faults = 0
-    files = {"robot.xml": str(root / "robot.xml")}
     scene = build_scene(
         design.fresh_spec, arm, kg, shelf=True, variation=_variation(ctx, f"{arm}/shelf/{kg}")
     )
     trials = {}
-    sb = None
-    for t in shelf.entries:
-        if t.id not in ids:
-            continue
-        rng = derive_rng(ctx.secret, TASK_ID, f"{arm}/shelf/{kg}/{t.id}")
-        target = np.array(t.pos) + rng.uniform(-0.01, 0.01, 3)
-        if faults >= MAX_FAULTS_PER_ARM:
-            trials[t.id] = {"success": False, "reason": "skipped after repeated controller faults"}
-            continue
-        try:
-            if sb is None:
-                sb = Sandbox(
-                    str(root / "controller.py"),
-                    limits=SandboxLimits(call_timeout_s=ctx.hang_cap_s, cpu_seconds=600.0),
-                    workdir_files=files,
-                )
-                sb.start()
-            trials[t.id] = run_trial(scene, sb, target, float(kg))
-        except ParticipantFault as exc:
-            faults += 1
-            if exc.code in ("sandbox.timeout", "sandbox.cpu"):
-                faults = MAX_FAULTS_PER_ARM  # a hanging controller is not retried: the hang cap is per call
-            trials[t.id] = {"success": False, "reason": f"controller fault {exc.code}: {exc.message}"}
-            report.add_error(exc.code, f"{arm} {kg} kg {t.id}: {exc.message}", "controller.py")
-            if sb is not None:
-                sb.close()
-            sb = None
-    if sb is not None:
-        sb.close()
+    with PolicyRunner(
+        root / "controller.py",
+        CONTROLLER,
+        dims={"nu": scene.model.nu},
+        hang_cap_s=ctx.hang_cap_s,
+        budget=CONTROLLER_BUDGET,
+        limits=SandboxLimits(cpu_seconds=CONTROLLER_BUDGET.cpu_s),
+        workdir_files={"robot.xml": root / "robot.xml"},
+    ) as controller:
+        for t in shelf.entries:
+            if t.id not in ids:
+                continue
+            rng = derive_rng(ctx.secret, TASK_ID, f"{arm}/shelf/{kg}/{t.id}")
+            target = np.array(t.pos) + rng.uniform(-0.01, 0.01, 3)
+            if controller.exhausted:
+                trials[t.id] = {"success": False, "reason": "skipped after repeated controller faults"}
+                continue
+            try:
+                trials[t.id] = run_trial(scene, controller, target, float(kg))
+            except ParticipantFault as exc:  # recorded by the runner, which restarts the controller
+                trials[t.id] = {"success": False, "reason": f"controller fault {exc.code}: {exc.message}"}
+                report.add_error(exc.code, f"{arm} {kg} kg {t.id}: {exc.message}", "controller.py")
     return trials
 
 
