@@ -18,12 +18,33 @@ from rle_design.catalog import load_catalog
 from rle_design.rollout import ContactBetween, HoldAtTarget, TiltLimit, run_episode
 from rle_design.sandbox import ParticipantFault
 from rle_design.stability import SupportLoad, SupportLost
+from rle_tasks.core.policy import Budget, FunctionSpec, Protocol
 from rle_tasks.f08_mobile_base.batteries import LOSS_DURATION_S, LOSS_FRACTION, TILT_MAX_DEG
 from rle_tasks.f08_mobile_base.public.scene import Scene
 
 CONTROL_HZ = 50
 EPISODE_S = 8.0
-CALL_TIMEOUT_S = 30.0  # the card's hang cap; the verifier sets it on the sandbox (VerifyContext.hang_cap_s)
+CALL_TIMEOUT_S = 30.0  # the card's hang cap per call [s]; VerifyContext.hang_cap_s caps it further
+MAX_FAULTS_PER_ARM = 3
+# Shelf trials: one controller runner per (arm, payload); a hang ends it, after 3 faults trials are skipped.
+CONTROLLER_BUDGET = Budget(max_faults=MAX_FAULTS_PER_ARM, cpu_s=600.0, restart=True)
+CONTROLLER = Protocol(
+    module="submission",  # the name in every fault message of the shipped reports
+    functions=(
+        FunctionSpec(
+            "reset",
+            "arm: str, target: (3,) [m], payload_kg: float [kg], layout: dict (layout())",
+            returns=None,
+            timeout_s=CALL_TIMEOUT_S,
+        ),
+        FunctionSpec(
+            "control",
+            "t [s], qpos: (nq,), qvel: (nv,), ctrl: (nu,); returns the command (nu,) at 50 Hz",
+            returns=("nu",),
+            timeout_s=CALL_TIMEOUT_S,
+        ),
+    ),
+)
 SAMPLE_EVERY = 5  # physics steps between wheel-load samples
 
 

@@ -18,41 +18,20 @@ from rle_design.errors import RleError
 from rle_design.mjcf import load_design, match_profiles
 from rle_design.sandbox import ParticipantFault, SandboxLimits
 from rle_design.scene import Variation, element_id
-from rle_tasks.core.policy import Budget, FunctionSpec, PolicyRunner, Protocol
+from rle_tasks.core.policy import PolicyRunner
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runner import run_parallel
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f08_mobile_base import batteries as B
-from rle_tasks.f08_mobile_base.env import run_trial
+from rle_tasks.f08_mobile_base.env import CONTROLLER, CONTROLLER_BUDGET, run_trial
 from rle_tasks.f08_mobile_base.poses import battery_poses
 from rle_tasks.f08_mobile_base.public.scene import ARMS, CHASSIS, TASK_ID, VARIATIONS, build_scene
 from rle_tasks.f08_mobile_base.scoring import DESIGN_NORMS, LOAD_PASS, RUBRIC
 from rle_tasks.f08_mobile_base.validity import check_validity, interpenetration
 
 QUICK_TARGETS = ("T01", "T12")
-MAX_FAULTS_PER_ARM = 3
-CONTROLLER_TIMEOUT_S = 30.0  # the card's hang cap per call [s]; VerifyContext.hang_cap_s caps it further
-# Shelf trials: one controller runner per (arm, payload); a hang ends it, after 3 faults trials are skipped.
-CONTROLLER_BUDGET = Budget(max_faults=MAX_FAULTS_PER_ARM, cpu_s=600.0, restart=True)
-CONTROLLER = Protocol(
-    module="submission",  # the name in every fault message of the shipped reports
-    functions=(
-        FunctionSpec(
-            "reset",
-            "arm: str, target: (3,) [m], payload_kg: float [kg], layout: dict (shelf_trials.layout)",
-            returns=None,
-            timeout_s=CONTROLLER_TIMEOUT_S,
-        ),
-        FunctionSpec(
-            "control",
-            "t [s], qpos: (nq,), qvel: (nv,), ctrl: (nu,); returns the command (nu,) at 50 Hz",
-            returns=("nu",),
-            timeout_s=CONTROLLER_TIMEOUT_S,
-        ),
-    ),
-)
 
 
 def _design_metrics(design, model) -> dict:

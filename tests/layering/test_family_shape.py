@@ -19,7 +19,9 @@ def _folder(package: str) -> Path:
 @pytest.mark.parametrize("package", list(PACKAGES.values()))
 def test_family_folder_shape(package):
     root = _folder(package)
-    missing = [f for f in REQUIRED if not (root / f).is_file()] + [d for d in FOLDERS if not (root / d).is_dir()]
+    missing = [f for f in REQUIRED if not (root / f).is_file()] + [
+        d for d in FOLDERS if not (root / d).is_dir()
+    ]
     assert missing == [], f"{package} lacks {missing}"
     assert callable(importlib.import_module(package).tasks)
     assert (root / "solutions" / "__init__.py").is_file() and (root / "solutions" / "reference").is_dir()
