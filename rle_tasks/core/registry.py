@@ -15,7 +15,8 @@ from collections.abc import Iterable
 
 import rle_tasks
 from rle_design.errors import RleError
-from rle_tasks.core.families import FamilyDataError, families, family, folder_family, placeholders
+from rle_tasks.core import families as _data
+from rle_tasks.core.families import FamilyDataError, family, folder_family, placeholders
 from rle_tasks.core.task import TaskSpec
 
 
@@ -52,7 +53,7 @@ def collect(packages: dict[int, str]) -> tuple[TaskSpec, ...]:
             if spec.family != number or not spec.id.startswith(f"{number:02d}-"):
                 raise RleError(f"package {name} registers task '{spec.id}' of family {spec.family:02d}")
             specs[spec.id] = spec
-    order = {f.number: i for i, f in enumerate(families())}
+    order = {f.number: i for i, f in enumerate(_data.families())}
     listed = {p.id: i for i, p in enumerate(placeholders())}
     return tuple(sorted(specs.values(), key=lambda s: (order[s.family], listed.get(s.id, len(listed)), s.id)))
 
