@@ -111,7 +111,7 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/hanging_trim",
-            sha256="86f6bd726d55fdf3b9b8d38c4f647580121e3126862bff22f79b282462eece08",
+            sha256="bb03c53f22a70d3d0d8d97119163aaa4aaeaeb11ee44ce983fb94f5f4805a47d",
             quick_score=0.464598290058,
             base="reference",
             files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
