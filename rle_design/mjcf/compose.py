@@ -1,8 +1,7 @@
 """Composition entry points kept for existing callers; the implementation is ``rle_design.scene``.
 
-``compose(spec, arm, payload)`` keeps its old positional behaviour: ``floor`` and ``options`` map
-onto an ``Arena``, and ``mount_site`` defaults to ``LEGACY_MOUNT_SITE`` until every caller passes its
-own site (new code calls ``rle_design.scene.compose`` with ``mount_site=``).
+``compose(spec, arm, payload, mount_site=...)`` keeps its old positional behaviour: ``floor`` and
+``options`` map onto an ``Arena``; the mount site is the caller's (the toolkit names no task's site).
 """
 
 from __future__ import annotations
@@ -48,9 +47,6 @@ SceneOptions = PhysicsOptions
 
 _PHYSICS = PhysicsOptions()
 
-LEGACY_MOUNT_SITE = "arm_mount_site"
-"""Site used by ``compose`` when the caller names none (family 08's callers; to be removed)."""
-
 
 def __getattr__(name: str):
     if name == "ARM_IDS":  # former constant: the arm list now comes from the catalog
@@ -80,8 +76,9 @@ def compose(
     payload_id: str | None = None,
     floor: bool = True,
     options: PhysicsOptions | None = _PHYSICS,
-    mount_site: str = LEGACY_MOUNT_SITE,
+    mount_site: str | None = None,
 ) -> mujoco.MjSpec:
-    """``rle_design.scene.compose`` with the former signature (``floor`` flag, ``options``, default site)."""
+    """``rle_design.scene.compose`` with the former signature (``floor`` flag, ``options``); an arm needs
+    ``mount_site``."""
     arena = Arena(physics=options) if floor else Arena.bare(physics=options)
     return _compose(robot, arm_id, payload_id, mount_site=mount_site, arena=arena)

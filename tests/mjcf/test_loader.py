@@ -192,7 +192,7 @@ def test_loaded_design_composes_with_an_arm(artifact):
     xml = """<mujoco><worldbody><body name="base" pos="0 0 0.2"><freejoint/>
     <geom type="box" size=".25 .2 .1" mass="38"/><site name="arm_mount_site" pos="0 0 0.1"/></body></worldbody></mujoco>"""
     design = load_design(artifact({"robot.xml": xml}))
-    model = compile_spec(compose(design.spec, "xarm7"))
+    model = compile_spec(compose(design.spec, "xarm7", mount_site="arm_mount_site"))
     assert model.nu == 7 and model.body("base").mass[0] == 38.0
 
 

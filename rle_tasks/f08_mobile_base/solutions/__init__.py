@@ -41,20 +41,20 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="5f16304fb3aebc199092a6f474ba63857bba2829cbb6cdef8ddd9540b9e03b85",
+            sha256="c6494d1e72dbe28463e492a77eaea5aee611d97fd5fed62d830dda99c4be7574",
             quick_score=0.815564973125,
             files=((".", "solutions/reference"),),
         ),
         Solution(
             "baseline/bad_mount",
-            sha256="b47614d3ed5787fb4e8ef2c4e1d847cf0f3f0e50c5862835b914422bdc70ef9a",
+            sha256="fbe8856dca20b9a97d6abf99e3c5ad398dfed573d1e95383250f4598c9f103c1",
             quick_score=0.15,
             base="reference",
             files=(("robot.xml", "solutions/baseline/bad_mount/robot.xml"),),
         ),
         Solution(
             "baseline/non_catalog_profile",
-            sha256="1039fa5e2461c48d72bc2106d5674c07870b2fe706e692c4a4a9cd15450f7b63",
+            sha256="b9a915a7352a4e43a2ce8896751dd01c677c83c3ffd28706327603c1011a3555",
             quick_score=0.15,
             base="reference",
             transforms=(non_catalog_rail,),
@@ -68,7 +68,7 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/tall_narrow",
-            sha256="8db3deb2857b0e5e899a8e6e7e8d141ca38316287811afd14cd35c02bd4d8acb",
+            sha256="e0d7248479ab56450ce8a3704a945727186d028ddf07c8de5bf3b3aa3f072ad1",
             quick_score=0.15,
             base="reference",
             files=(("robot.xml", "solutions/baseline/tall_narrow/robot.xml"),),

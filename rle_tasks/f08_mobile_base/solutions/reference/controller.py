@@ -50,7 +50,7 @@ class _Model:
 
     def __init__(self, arm, payload_kg):
         spec = load_design(".").fresh_spec()
-        compose(spec, arm, {1: "payload_1kg", 2: "payload_2kg"}.get(payload_kg))
+        compose(spec, arm, {1: "payload_1kg", 2: "payload_2kg"}.get(payload_kg), mount_site="arm_mount_site")
         shelf = load_catalog("shelf").extra
         x0, w, dep, t = shelf["front_x"], shelf["width"], shelf["depth"], shelf["board_thickness"]
         top = max(shelf["level_heights"]) + 0.30
