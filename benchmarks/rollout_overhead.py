@@ -6,6 +6,7 @@ Scene: the shipped ``08-mobile-base`` reference base with a Panda, the 1 kg payl
 * raw: ``mujoco.mj_step(model, data, nstep=N)`` (the physics floor);
 * rollout: ``run_episode`` calling a sandboxed controller (``controller.py`` returning its ``ctrl``
   input, one sandbox round trip per period) and stepping in C between calls;
+* rollout with an in-process controller: the loop's own cost, without the sandbox round trip;
 * rollout + trial terms: the same with the shelf trial's terms (wheel loads every 5 steps, contact,
   tilt, support loss and hold checks every period), for information.
 
@@ -64,7 +65,10 @@ def main() -> int:
             cmd = box.call("control", float(d.time), d.qpos, d.qvel, d.ctrl, shape=(m.nu,), finite=True)
             d.ctrl[:] = np.asarray(cmd, dtype=float)
 
-        raw, loop, terms = [], [], []
+        def local(model: mujoco.MjModel, d: mujoco.MjData, t: float) -> None:
+            d.ctrl[:] = np.asarray(d.ctrl.copy(), dtype=float)
+
+        raw, loop, terms, inproc = [], [], [], []
         for _ in range(a.repeats):
             d = scene.rest_data()
             t0 = time.perf_counter()
@@ -74,6 +78,10 @@ def main() -> int:
             t0 = time.perf_counter()
             run_episode(m, d, n, control=control, control_every=n_sub)
             loop.append(time.perf_counter() - t0)
+            d = scene.rest_data()
+            t0 = time.perf_counter()
+            run_episode(m, d, n, control=local, control_every=n_sub)
+            inproc.append(time.perf_counter() - t0)
             d = scene.rest_data()
             _, tt = trial_terms(scene, d.site_xpos[scene.tool_site] + 10.0)
             t0 = time.perf_counter()
@@ -85,8 +93,10 @@ def main() -> int:
         "raw_s": round(min(raw), 4),
         "rollout_s": round(min(loop), 4),
         "rollout_terms_s": round(min(terms), 4),
+        "rollout_in_process_s": round(min(inproc), 4),
         "ratio": round(min(loop) / min(raw), 3),
         "ratio_with_terms": round(min(terms) / min(raw), 3),
+        "ratio_in_process_controller": round(min(inproc) / min(raw), 3),
         "per_call_overhead_ms": round(1000 * (min(loop) - min(raw)) / (n // n_sub), 4),
         "target_ratio_max": TARGET,
     }
