@@ -15,7 +15,7 @@ import numpy as np
 
 from rle_design.scene.elements import element_id
 
-__all__ = ["ContactSample", "SupportSet", "centre_of_pressure", "sample_contacts"]
+__all__ = ["ContactSample", "SupportSet", "centre_of_pressure", "sample_contacts", "support_normals"]
 
 
 @dataclass(frozen=True)
@@ -73,40 +73,54 @@ def _owner_table(ngeom: int, supports: SupportSet) -> tuple[np.ndarray, np.ndarr
     return owner, ground
 
 
-def sample_contacts(model: mujoco.MjModel, data: mujoco.MjData, supports: SupportSet) -> ContactSample:
-    """Normal force and contact point of each support from ``data.contact`` (after mj_step/mj_forward).
+def _support_forces(
+    model: mujoco.MjModel, data: mujoco.MjData, supports: SupportSet
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Normal force [N] of each support-ground contact, its support index and its contact index.
 
     Vectorised over contacts: with elliptic cones the normal force is the first row of each contact's
     constraint block (``efc_force[efc_address]``), which is what ``mj_contactForce`` returns; with
     pyramidal cones ``mj_contactForce`` is called per contact.
     """
-    k = len(supports.names)
     owner, ground = _owner_table(model.ngeom, supports)
     n = data.ncon
+    if not n:
+        return np.zeros(0), np.zeros(0, dtype=int), np.zeros(0, dtype=int)
+    con = data.contact
+    g1, g2 = con.geom1[:n], con.geom2[:n]
+    adr = con.efc_address[:n]
+    swap = ground[g1]
+    body_g = np.where(swap, g2, g1)
+    other = np.where(swap, g1, g2)
+    idx = np.nonzero(ground[other] & (owner[body_g] >= 0) & (adr >= 0))[0]
+    if model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC:
+        fn = data.efc_force[adr[idx]]
+    else:
+        wrench = np.zeros(6)
+        fn = np.empty(idx.size)
+        for j, c in enumerate(idx):
+            mujoco.mj_contactForce(model, data, int(c), wrench)
+            fn[j] = wrench[0]
+    return np.maximum(fn, 0.0), owner[body_g[idx]], idx
+
+
+def support_normals(model: mujoco.MjModel, data: mujoco.MjData, supports: SupportSet) -> np.ndarray:
+    """Normal force of each support [N] (the ``normal`` of ``sample_contacts``, without points)."""
+    normal = np.zeros(len(supports.names))
+    fn, who, _ = _support_forces(model, data, supports)
+    np.add.at(normal, who, fn)
+    return normal
+
+
+def sample_contacts(model: mujoco.MjModel, data: mujoco.MjData, supports: SupportSet) -> ContactSample:
+    """Normal force and contact point of each support from ``data.contact`` (after mj_step/mj_forward)."""
+    k = len(supports.names)
     normal = np.zeros(k)
     moment = np.zeros((k, 3))
-    if n:
-        con = data.contact
-        g1, g2 = con.geom1[:n], con.geom2[:n]
-        adr = con.efc_address[:n]
-        swap = ground[g1]
-        body_g = np.where(swap, g2, g1)
-        other = np.where(swap, g1, g2)
-        sel = ground[other] & (owner[body_g] >= 0) & (adr >= 0)
-        idx = np.nonzero(sel)[0]
-        if idx.size:
-            if model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC:
-                fn = data.efc_force[adr[idx]]
-            else:
-                wrench = np.zeros(6)
-                fn = np.empty(idx.size)
-                for j, c in enumerate(idx):
-                    mujoco.mj_contactForce(model, data, int(c), wrench)
-                    fn[j] = wrench[0]
-            fn = np.maximum(fn, 0.0)
-            who = owner[body_g[idx]]
-            np.add.at(normal, who, fn)
-            np.add.at(moment, who, fn[:, None] * con.pos[:n][idx])
+    fn, who, idx = _support_forces(model, data, supports)
+    if idx.size:
+        np.add.at(normal, who, fn)
+        np.add.at(moment, who, fn[:, None] * data.contact.pos[: data.ncon][idx])
     points = np.full((k, 3), np.nan)
     loaded = normal > 0
     points[loaded] = moment[loaded] / normal[loaded, None]

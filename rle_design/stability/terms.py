@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 
 from rle_design.rollout import Event, Term
-from rle_design.stability.contacts import SupportSet, sample_contacts
+from rle_design.stability.contacts import SupportSet, support_normals
 from rle_design.stability.support_loss import SupportLossMonitor
 
 __all__ = ["SupportLoad", "SupportLost"]
@@ -43,7 +43,7 @@ class SupportLoad(Term):
         self.window: list[np.ndarray] = []
 
     def update(self, model: mujoco.MjModel, data: mujoco.MjData, t: float) -> Event | None:
-        self.window = (self.window + [sample_contacts(model, data, self.supports).normal])[-self.smooth :]
+        self.window = (self.window + [support_normals(model, data, self.supports)])[-self.smooth :]
         self.monitor.update(float(data.time), np.mean(self.window, axis=0))
         return None
 
