@@ -125,9 +125,6 @@ class Findings:
     def add_error(self, code: str, message: str, path: str | None = None) -> None:
         self.errors.append(ErrorEntry(code, message, path))
 
-    def extend(self, other: Findings) -> None:
-        self.errors.extend(other.errors)
-
 
 @dataclass(frozen=True)
 class VerifierReport:

@@ -253,9 +253,6 @@ class Rubric:
         amounts = {d.code: d.amount for d in self.deductions}
         return min(self.max_deduction, sum(amounts.get(c, 0.0) for c in set(codes)))
 
-    def empty_report(self) -> VerifierReport:
-        return VerifierReport(task_id=self.task_id, family=self.family, workflow=self.workflow)
-
     def report(
         self,
         outcomes: Mapping[str, Outcome],
