@@ -15,7 +15,7 @@ venv: $(STAMP)
 $(STAMP): pyproject.toml Makefile
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[dev,viz]'
+	$(PY) -m pip install --quiet -e '.[dev,viz,learn]'
 	@# robosuite is an asset source only (arm MJCF and meshes). Its runtime pins an old MuJoCo and
 	@# numpy<2 through mink, so it is installed without dependencies and never imported.
 	$(PY) -m pip install --quiet --no-deps $(ROBOSUITE)
