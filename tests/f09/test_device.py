@@ -30,11 +30,26 @@ def _codes(sub) -> list[str]:
     return [f.code for f in sub.structure + sub.validity]
 
 
-def test_stock_leader_is_clean():
+def test_stock_leader_is_clean(tmp_path):
     for robot in ("panda", "ur5e", "xarm7"):
-        sub = load_submission(robot, ASSET_DIR / robot)
+        d = shutil.copytree(ASSET_DIR / robot, tmp_path / robot)  # copies follow the shared-mesh links
+        sub = load_submission(robot, d)
         assert sub.usable and not sub.validity
         assert sub.mass < 0.6
+
+
+def test_the_shared_base_mesh_is_stored_once_and_copies_are_self_contained(tmp_path):
+    """The package keeps one base plate mesh; a leader directory in the package is not a submission
+    (its link leaves it), a copy of it is."""
+    common = ASSET_DIR / "common" / "meshes" / "base.stl"
+    assert common.is_file() and not common.is_symlink()
+    for robot in ("panda", "ur5e", "xarm7"):
+        link = ASSET_DIR / robot / "meshes" / "base.stl"
+        assert link.is_symlink() and link.resolve() == common.resolve()
+    assert "artifact.symlink_escape" in _codes(load_submission("ur5e", ASSET_DIR / "ur5e"))
+    d = shutil.copytree(ASSET_DIR / "ur5e", tmp_path / "ur5e")
+    assert not (d / "meshes" / "base.stl").is_symlink()
+    assert (d / "meshes" / "base.stl").read_bytes() == common.read_bytes()
 
 
 @pytest.mark.parametrize(
