@@ -63,20 +63,38 @@ def _send(meta, value=None):
             f"reply of {codec.frame_size(parts)} bytes exceeds the cap of {_CONFIG['max_reply_bytes']} bytes"
         )
         parts = codec.encode_frame({"ok": False, "code": "sandbox.output_too_large", "message": msg})
-    for part in parts:
-        view = memoryview(part)
-        while view:
-            view = view[os.write(_WFD, view) :]
+    views = [memoryview(p).cast("B") for p in parts if len(p)]
+    while views:
+        k = os.writev(_WFD, views[:1024])
+        while views and k >= len(views[0]):
+            k -= len(views.pop(0))
+        if views and k:
+            views[0] = views[0][k:]
+
+
+_PENDING = bytearray()  # request bytes read past the frame being parsed
 
 
 def _read_exact(n):
     buf = bytearray(n)
-    view, got = memoryview(buf), 0
+    view, got = memoryview(buf), min(n, len(_PENDING))
+    if got:
+        view[:got] = _PENDING[:got]
+        del _PENDING[:got]
     while got < n:
-        k = os.readv(_RFD, [view[got:]])
-        if k == 0:
-            os._exit(0)  # parent went away
-        got += k
+        if n - got < 65536:  # a whole small frame in one read
+            chunk = os.read(_RFD, 65536)
+            if not chunk:
+                os._exit(0)  # parent went away
+            take = min(len(chunk), n - got)
+            view[got : got + take] = chunk[:take]
+            _PENDING.extend(chunk[take:])
+            got += take
+        else:
+            k = os.readv(_RFD, [view[got:]])
+            if k == 0:
+                os._exit(0)
+            got += k
     return buf
 
 

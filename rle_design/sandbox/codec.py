@@ -15,6 +15,7 @@ package on ``sys.path``), so it imports nothing but the standard library and num
 
 from __future__ import annotations
 
+import functools
 import json
 import struct
 from typing import Any
@@ -25,6 +26,7 @@ MAGIC = b"RLE1"
 PREFIX = struct.Struct("<4sIQ")
 MAX_DEPTH = 64
 _KINDS = "biufc"
+_JSON = json.JSONEncoder(separators=(",", ":"))  # one encoder: json.dumps(**kw) builds one per call
 
 
 class CodecError(ValueError):
@@ -66,9 +68,7 @@ def encode_frame(meta: dict[str, Any], value: Any = None) -> list[bytes | memory
     """
     buffers: list[bytes | memoryview] = []
     tree = _encode(value, buffers, 0)
-    header = json.dumps(
-        {"m": meta, "v": tree, "b": [len(b) for b in buffers]}, separators=(",", ":")
-    ).encode()
+    header = _JSON.encode({"m": meta, "v": tree, "b": [len(b) for b in buffers]}).encode()
     total = sum(len(b) for b in buffers)
     return [PREFIX.pack(MAGIC, len(header), total) + header, *buffers]
 
@@ -106,6 +106,18 @@ def _decode(node: Any, buffers: list[memoryview], depth: int) -> Any:
     raise CodecError("unknown tag in value tree")
 
 
+@functools.lru_cache(maxsize=64)
+def _dtype(dtype_str: str) -> np.dtype:
+    """The allowed numeric dtype named ``dtype_str`` (cached: the same few cross on every call)."""
+    try:
+        dtype = np.dtype(dtype_str)
+    except TypeError:
+        raise CodecError(f"unknown dtype {dtype_str!r}") from None
+    if dtype.kind not in _KINDS or dtype.fields is not None or dtype.subdtype is not None or dtype.hasobject:
+        raise CodecError(f"dtype {dtype} is not allowed")
+    return dtype
+
+
 def _decode_array(spec: Any, buffers: list[memoryview]) -> np.ndarray:
     if not (
         isinstance(spec, list) and len(spec) == 3 and isinstance(spec[0], int) and isinstance(spec[1], str)
@@ -116,12 +128,7 @@ def _decode_array(spec: Any, buffers: list[memoryview]) -> np.ndarray:
         raise CodecError("array tag refers to a missing buffer")
     if len(dtype_str) > 8 or not all(isinstance(s, int) and s >= 0 for s in shape) or len(shape) > 32:
         raise CodecError("malformed array dtype or shape")
-    try:
-        dtype = np.dtype(dtype_str)
-    except TypeError:
-        raise CodecError(f"unknown dtype {dtype_str!r}") from None
-    if dtype.kind not in _KINDS or dtype.fields is not None or dtype.subdtype is not None or dtype.hasobject:
-        raise CodecError(f"dtype {dtype} is not allowed")
+    dtype = _dtype(dtype_str)
     count = 1
     for s in shape:
         count *= s

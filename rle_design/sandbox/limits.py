@@ -29,6 +29,10 @@ class SandboxLimits:
         max_output_total_bytes: Total stdout and stderr a child may write over its life; a child
             flooding past it is killed with ``sandbox.output_flood`` (log flooding is a denial of
             service on the verifier) [B].
+        reply_spin_s: How long the parent polls for a reply before it sleeps in ``select`` [s]. A
+            reply that arrives while the parent polls needs no wake-up, which on a virtual machine
+            costs more than a short call itself; 0 always sleeps (use it when verifier workers
+            outnumber the cores, where a polling parent takes CPU from its child).
     """
 
     cpu_seconds: float = 120.0
@@ -41,6 +45,7 @@ class SandboxLimits:
     network: bool = False
     max_reply_bytes: int = 256 << 20
     max_output_total_bytes: int = 32 << 20
+    reply_spin_s: float = 200e-6
 
     def __post_init__(self) -> None:
         for name in ("cpu_seconds", "call_timeout_s", "startup_timeout_s"):
@@ -55,5 +60,7 @@ class SandboxLimits:
         ):
             if getattr(self, name) <= 0:
                 raise ValueError(f"SandboxLimits.{name} must be > 0, got {getattr(self, name)}")
+        if not 0.0 <= self.reply_spin_s <= 0.01:
+            raise ValueError(f"SandboxLimits.reply_spin_s must be in [0, 0.01] s, got {self.reply_spin_s}")
         if self.max_processes < 0:
             raise ValueError(f"SandboxLimits.max_processes must be >= 0, got {self.max_processes}")

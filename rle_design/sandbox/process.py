@@ -28,6 +28,8 @@ from rle_design.sandbox.limits import SandboxLimits
 
 _BOOTSTRAP = Path(__file__).with_name("_bootstrap.py")
 _LIVE: weakref.WeakSet[Sandbox] = weakref.WeakSet()
+_CHUNK = 1 << 16  # bytes read at once for small frames
+_IOV_MAX = 1024  # buffers per writev (Linux UIO_MAXIOV)
 
 
 class _ChildGone(Exception):
@@ -72,6 +74,7 @@ class Sandbox:
         self._req_w = self._rep_r = -1
         self._death: str | None = None
         self._out = bytearray()
+        self._pending = bytearray()  # reply bytes read past the frame being parsed
         self._out_lock = threading.Lock()
         self._drain: threading.Thread | None = None
         self._flooded = False
@@ -174,6 +177,8 @@ class Sandbox:
             os.close(req_r)
             os.close(rep_w)
         os.set_blocking(self._req_w, False)
+        os.set_blocking(self._rep_r, False)
+        self._pending.clear()
         _LIVE.add(self)
         self._drain = threading.Thread(
             target=self._drain_output, name=f"sandbox-{self.name}-out", daemon=True
@@ -295,29 +300,55 @@ class Sandbox:
 
     # -- channel -------------------------------------------------------------------------------------
     def _write_all(self, parts: list, deadline: float) -> None:
-        for part in parts:
-            view = memoryview(part).cast("B")
-            while view:
-                if not select.select([], [self._req_w], [], max(0.0, deadline - time.monotonic()))[1]:
-                    raise _Expired
-                try:
-                    view = view[os.write(self._req_w, view) :]
-                except BlockingIOError:
-                    continue
-                except (BrokenPipeError, OSError):
-                    raise _ChildGone from None
+        """Write a frame's parts with as few ``writev`` calls as the pipe allows."""
+        views = [memoryview(p).cast("B") for p in parts if len(p)]
+        while views:
+            try:
+                k = os.writev(self._req_w, views[:_IOV_MAX])
+            except BlockingIOError:
+                k = 0
+            except OSError:  # BrokenPipeError among them: the child is gone
+                raise _ChildGone from None
+            while views and k >= len(views[0]):
+                k -= len(views.pop(0))
+            if views and k:
+                views[0] = views[0][k:]
+            elif views and not select.select([], [self._req_w], [], max(0.0, deadline - time.monotonic()))[1]:
+                raise _Expired
 
     def _read_exact(self, n: int, deadline: float) -> bytearray:
+        """``n`` bytes of the reply stream; small reads take up to 64 KiB at once (one syscall for a
+        whole small frame) and keep what follows for the next read."""
         buf = bytearray(n)
-        view, got = memoryview(buf), 0
+        spin_until: float | None = None
+        view, got = memoryview(buf), min(n, len(self._pending))
+        if got:
+            view[:got] = self._pending[:got]
+            del self._pending[:got]
         while got < n:
-            remaining = deadline - time.monotonic()
-            if remaining <= 0 or not select.select([self._rep_r], [], [], remaining)[0]:
-                raise _Expired
-            k = os.readv(self._rep_r, [view[got:]])
-            if k == 0:
-                raise _ChildGone
-            got += k
+            try:
+                if n - got < _CHUNK:
+                    chunk = os.read(self._rep_r, _CHUNK)
+                    if not chunk:
+                        raise _ChildGone
+                    take = min(len(chunk), n - got)
+                    view[got : got + take] = chunk[:take]
+                    self._pending += chunk[take:]
+                    got += take
+                else:
+                    k = os.readv(self._rep_r, [view[got:]])
+                    if k == 0:
+                        raise _ChildGone
+                    got += k
+            except BlockingIOError:
+                now = time.monotonic()
+                if spin_until is None:
+                    spin_until = now + self.limits.reply_spin_s
+                if now < spin_until:
+                    continue  # poll: a waiting reader need not be woken, which costs more than the call
+                remaining = deadline - now
+                if remaining <= 0 or not select.select([self._rep_r], [], [], remaining)[0]:
+                    raise _Expired from None
         return buf
 
     def _drain_output(self) -> None:

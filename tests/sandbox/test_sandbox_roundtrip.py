@@ -131,3 +131,29 @@ def test_codec_refuses_object_arrays_and_unknown_tags():
         codec.CodecError, match=r"array of shape \(3,\) and dtype float64 does not match 16 bytes"
     ):
         codec.decode_frame(header, bytearray(16))
+
+
+@pytest.mark.parametrize("spin_s", [0.0, 200e-6])
+def test_frames_larger_than_the_pipe_and_many_buffers_round_trip(policy, spin_s):
+    """Frames cross the 64 KiB pipe buffer and the read chunk in pieces; with and without polling.
+
+    A 240 x 320 RGB-D frame is 240*320*(3 + 4) = 537,600 B, eight times the pipe capacity, and 300
+    small arrays make a frame of 300 buffers written with one ``writev``.
+    """
+    rng = np.random.default_rng(7)
+    frame = {"rgb": rng.integers(0, 255, (240, 320, 3), dtype=np.uint8), "depth": rng.random((240, 320))}
+    many = [np.full(3, float(i)) for i in range(300)]
+    with Sandbox(policy, limits=SandboxLimits(reply_spin_s=spin_s)) as box:
+        for _ in range(3):  # the stream stays aligned frame after frame
+            back = box.call("echo", frame)
+            np.testing.assert_array_equal(back["rgb"], frame["rgb"])
+            np.testing.assert_array_equal(back["depth"], frame["depth"])
+            assert [float(a[0]) for a in box.call("echo", many)] == [float(i) for i in range(300)]
+            np.testing.assert_array_equal(box.call("act", np.ones(3), shape=(3,)), -2.0 * np.ones(3))
+
+
+def test_reply_spin_is_bounded():
+    with pytest.raises(ValueError, match="reply_spin_s"):
+        SandboxLimits(reply_spin_s=0.5)
+    with pytest.raises(ValueError, match="reply_spin_s"):
+        SandboxLimits(reply_spin_s=-1e-6)
