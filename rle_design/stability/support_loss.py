@@ -47,7 +47,7 @@ class SupportLossMonitor:
         self._below_since[start] = t
         self._below_since[~below] = np.nan
         run = np.where(below, t - self._below_since, 0.0)
-        self.longest = np.maximum(self.longest, np.nan_to_num(run))
+        self.longest = np.fmax(self.longest, run)  # run is NaN-free; fmax would skip a NaN
 
     @property
     def lost(self) -> bool:

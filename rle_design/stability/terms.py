@@ -43,8 +43,11 @@ class SupportLoad(Term):
         self.window: list[np.ndarray] = []
 
     def update(self, model: mujoco.MjModel, data: mujoco.MjData, t: float) -> Event | None:
-        self.window = (self.window + [support_normals(model, data, self.supports)])[-self.smooth :]
-        self.monitor.update(float(data.time), np.mean(self.window, axis=0))
+        self.window.append(support_normals(model, data, self.supports))
+        if len(self.window) > self.smooth:
+            del self.window[0]
+        # the mean as np.mean computes it (sum over axis 0, then one division), without its overhead
+        self.monitor.update(float(data.time), np.add.reduce(np.array(self.window), axis=0) / len(self.window))
         return None
 
     @property
