@@ -167,14 +167,14 @@ class SimulationWarnings(Term):
 
     name = "warning"
 
-    def __init__(self, every: int = 1) -> None:
-        self.every = every
+    def __init__(self, every: int = 1, final: bool = True) -> None:
+        self.every, self.final = every, final  # final: also checked after the last step
         self._start = np.zeros(0, dtype=int)
 
     @staticmethod
     def counts(data: mujoco.MjData) -> np.ndarray:
         """Occurrences of each warning so far (index = ``mujoco.mjtWarning``)."""
-        return np.array([w.number for w in data.warning], dtype=int)
+        return np.array(data.warning.number, dtype=int)  # one array read, not one object per warning
 
     def reset(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         self._start = self.counts(data)

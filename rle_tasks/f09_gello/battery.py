@@ -12,6 +12,11 @@ feedforward torque ``tau_ff`` applied through ``qfrc_applied`` for the whole sce
   ``MOVE_RAD`` in the pushed direction within ``PROBE_S``, in the harder direction (bracketed around the friction-model
   prediction ``tau_f + |r - tau_ff|``, bisection when the bracket fails) [N m];
 * push recovery: a force pulse at the handle, then the creep over the last ``CREEP_WINDOW_S`` [rad].
+
+Every scenario watches MuJoCo's warning counters (``data.warning``): a scenario that raises one (bad
+qacc, NaN, buffer overflow: a diverged or overflowed simulation, whose automatic state reset would
+otherwise read as motion or as holding) raises ``SimulationFailed`` naming the warning; it is never
+a pass.
 """
 
 from __future__ import annotations
@@ -19,6 +24,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from rle_design.errors import RleError
 from rle_design.kinematics import GravityMap, KinematicModel, spring_torque
 from rle_design.rollout import Event, Term, run_episode
 from rle_design.scene import element_id
@@ -29,6 +35,23 @@ PROBE_S = 0.2
 BACKDRIVE_CAP = 1.5
 HELD_FRICTION = 100.0
 CREEP_WINDOW_S = 0.5
+
+
+class SimulationFailed(RleError):
+    """A battery scenario raised a MuJoCo warning; the message names it and its time."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__(message, code="battery.simulation_warning")
+
+
+def _checked(d: mujoco.MjData) -> None:
+    """Raise ``SimulationFailed`` if any warning counter is non-zero. ``_reset`` zeroes the counters
+    (``mj_resetData``) and they only grow, so one read after a scenario sees every warning in it, also
+    when a term ended the episode early (a diverged state reset reads as motion)."""
+    grown = np.flatnonzero(np.asarray(d.warning.number))
+    if grown.size:
+        names = ", ".join(mujoco.mjtWarning(int(i)).name for i in grown)
+        raise SimulationFailed(f"simulation warning {names} by t = {d.time:.3f} s")
 
 
 def residual_map(
@@ -93,6 +116,7 @@ def hold_drift(m: mujoco.MjModel, q0: np.ndarray, tau_ff: np.ndarray, hold_s: fl
     _reset(m, d, q0, tau_ff)
     drift = _Drift(q0)
     run_episode(m, d, int(round(hold_s / m.opt.timestep)), terms=[drift])
+    _checked(d)
     return drift.worst
 
 
@@ -101,7 +125,9 @@ def _moves(
 ) -> bool:
     """Whether ``joint`` moves by more than ``MOVE_RAD`` in direction ``sign`` within ``PROBE_S``."""
     _reset(m, d, q0, tau)
-    return run_episode(m, d, int(round(PROBE_S / m.opt.timestep)), terms=[_Moved(q0, joint, sign)]).success
+    moved = run_episode(m, d, int(round(PROBE_S / m.opt.timestep)), terms=[_Moved(q0, joint, sign)]).success
+    _checked(d)
+    return moved
 
 
 def breakaway(
@@ -186,4 +212,5 @@ def push_recovery(
     run_episode(m, d, steps - window, control=push)
     mark = d.qpos.copy()
     run_episode(m, d, window, control=push)
+    _checked(d)
     return float(np.max(np.abs(d.qpos - mark)))

@@ -9,6 +9,9 @@ failure that skips the submitted-arm battery):
 * ``contract.joint_frame``: every stock body keeps its parent, position and orientation, every stock
   joint its position, axis, range and reference angle ``ref`` (1e-6);
 * ``contract.stock_servo``: stock joint frictionloss, damping and armature unchanged;
+* tendons are springs only: ``contract.fixed_tendon`` (not a straight site-to-site spatial tendon),
+  ``contract.tendon_friction``, ``contract.tendon_damping``, ``contract.tendon_armature``,
+  ``contract.tendon_limit``; every spring (tendon or joint stiffness) is listed in the report;
 * ``contract.stock_geometry`` / ``contract.stock_inertia``: stock geoms (type, size, placement) and
   stock body inertials (mass, centre of mass, inertia) unchanged: add mass as new welded bodies.
 
@@ -179,6 +182,7 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
                 f"(frictionloss {m.dof_frictionloss[mj]:.6g}, stock {s.dof_frictionloss[j]:.6g} N m)",
                 "joint",
             )
+    out += _tendon_findings(m, path)
     for g in range(s.ngeom):
         name = mujoco.mj_id2name(s, OBJ.mjOBJ_GEOM, g)
         mg = element_id(m, "geom", name) if has_element(m, "geom", name) else -1
@@ -197,6 +201,59 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
                 f"stock geom '{name}' removed or changed (link geometry, servo bodies "
                 "and the base mount must be preserved)",
                 "geom",
+            )
+    return out
+
+
+def _tendon_findings(m: mujoco.MjModel, path: str) -> list[Finding]:
+    """Tendons may only be springs: a straight site-to-site spatial tendon with ``stiffness`` and
+    ``springlength``. Friction, damping, armature and limits would hold the arm without
+    compensating it (or destabilise the simulation), and a fixed tendon is no part that can be built."""
+    out = []
+    for t in range(m.ntendon):
+        name = mujoco.mj_id2name(m, OBJ.mjOBJ_TENDON, t) or f"tendon{t}"
+        adr, num = int(m.tendon_adr[t]), int(m.tendon_num[t])
+        kinds = {int(k) for k in m.wrap_type[adr : adr + num]}
+        checks = (
+            ("contract.fixed_tendon", kinds != {int(mujoco.mjtWrap.mjWRAP_SITE)}, "is not a straight site-to-site spatial tendon (springs only)"),
+            ("contract.tendon_friction", m.tendon_frictionloss[t] > 0, f"has frictionloss {m.tendon_frictionloss[t]:.6g} N"),
+            ("contract.tendon_damping", m.tendon_damping[t] > 0, f"has damping {m.tendon_damping[t]:.6g} N s/m"),
+            ("contract.tendon_armature", m.tendon_armature[t] > 0, f"has armature {m.tendon_armature[t]:.6g} kg"),
+            ("contract.tendon_limit", bool(m.tendon_limited[t]), "is limited (a tendon stop)"),
+        )  # fmt: skip
+        for code, bad, what in checks:
+            if bad:
+                out.append(
+                    Finding(
+                        code,
+                        f"tendon '{name}' {what}: only springs (stiffness, springlength) are allowed",
+                        element="tendon",
+                        path=path,
+                    )
+                )
+    return out
+
+
+def springs_summary(m: mujoco.MjModel) -> list[dict]:
+    """Every element of ``m`` that adds passive torque, as reported: tendon springs and joint springs."""
+    out = []
+    for t in range(m.ntendon):
+        if m.tendon_stiffness[t] > 0:
+            out.append(
+                {
+                    "tendon": mujoco.mj_id2name(m, OBJ.mjOBJ_TENDON, t) or f"tendon{t}",
+                    "stiffness_N_per_m": float(m.tendon_stiffness[t]),
+                    "springlength_m": [float(x) for x in m.tendon_lengthspring[t]],
+                }
+            )
+    for j in range(m.njnt):
+        if m.jnt_stiffness[j] > 0:
+            out.append(
+                {
+                    "joint": mujoco.mj_id2name(m, OBJ.mjOBJ_JOINT, j),
+                    "stiffness_Nm_per_rad": float(m.jnt_stiffness[j]),
+                    "springref_rad": float(m.qpos_spring[m.jnt_qposadr[j]]),
+                }
             )
     return out
 

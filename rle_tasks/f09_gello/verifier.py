@@ -63,6 +63,7 @@ QUICK = Battery(grid=256, clearance=48, test_poses=2, copies=1, hold_s=0.5)
 PUSH_N = 1.0
 PUSH_S = 0.05
 PUSH_TOTAL_S = 1.0
+WARNED_MOTION_RAD = float(np.pi)  # drift and creep recorded for a pose whose simulation warned [rad]
 
 
 @dataclass
@@ -117,17 +118,38 @@ def _hold_back_push(
     net: np.ndarray,
     hold_s: float,
     push_dirs: np.ndarray | None,
+    failed: list[str],
 ) -> dict[str, list[float]]:
+    """Hold drift, backdrive and push creep per pose; a pose whose scenarios raise a MuJoCo warning
+    gets the worst values (score 0) and its warning is appended to ``failed``."""
     bm = device.battery_model(dev)
     out: dict[str, list[float]] = {"drift": [], "backdrive": [], "push": []}
     for k, q in enumerate(poses):
-        out["drift"].append(battery.hold_drift(bm, q, ff[k], hold_s))
-        out["backdrive"].append(float(np.max(battery.backdrive(bm, q, ff[k], net[k]))))
-        if push_dirs is not None:
-            out["push"].append(
+        try:
+            drift = battery.hold_drift(bm, q, ff[k], hold_s)
+            back = float(np.max(battery.backdrive(bm, q, ff[k], net[k])))
+            push = (
                 battery.push_recovery(bm, q, ff[k], PUSH_N * push_dirs[k], PUSH_S, PUSH_TOTAL_S)
+                if push_dirs is not None
+                else None
             )
+        except battery.SimulationFailed as exc:
+            failed.append(f"test pose {k}: {exc.message}")
+            drift, back, push = WARNED_MOTION_RAD, battery.BACKDRIVE_CAP, WARNED_MOTION_RAD
+        out["drift"].append(drift)
+        out["backdrive"].append(back)
+        if push_dirs is not None:
+            out["push"].append(push)
     return out
+
+
+def _report_warnings(report: Findings, robot: str, scenario: str, failed: list[str]) -> None:
+    for line in failed:
+        report.add_error(
+            "battery.simulation_warning",
+            f"{robot} {scenario}: {line}; the simulation diverged or overflowed, the pose scores 0",
+            f"{robot}/lead.xml",
+        )
 
 
 def _residuals(
@@ -189,6 +211,8 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: Findings)
     res.valid = not sub.structure and not sub.validity
     res.deduction = scoring.RUBRIC.deduction(f.code for f in sub.validity)
     res.measured["device_mass_kg"] = sub.mass
+    if sub.model is not None:
+        res.measured["springs"] = device.springs_summary(sub.model)  # every element adding passive torque
 
     trim = TrimRunner(sub_dir / "trim.py", dof, hang_cap_s=ctx.hang_cap_s)
     try:
@@ -208,7 +232,9 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: Findings)
         )
         if ff is not None:
             ff = np.clip(ff, -REFERENCE_FF_BOUND, REFERENCE_FF_BOUND)
-            out = _hold_back_push(ref_dev, poses, ff, ref_r - ff, size.hold_s, None)
+            failed: list[str] = []
+            out = _hold_back_push(ref_dev, poses, ff, ref_r - ff, size.hold_s, None, failed)
+            _report_warnings(report, robot, "adapted reference arm", failed)
             res.scores["reference_hold"] = scoring.mean_score("reference_hold", out["drift"])
             res.scores["reference_backdrive"] = scoring.mean_score("reference_backdrive", out["backdrive"])
             res.measured["reference_drift_rad"] = out["drift"]
@@ -251,7 +277,9 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
 
     r_test = battery.residual_mujoco(m, poses)
     zero = np.zeros_like(r_test)
-    out = _hold_back_push(m, poses, zero, r_test, size.hold_s, None)
+    failed: list[str] = []
+    out = _hold_back_push(m, poses, zero, r_test, size.hold_s, None, failed)
+    _report_warnings(report, robot, "passive battery", failed)
     res.scores["passive_hold"] = scoring.mean_score("passive_hold", out["drift"])
     res.scores["passive_backdrive"] = scoring.mean_score("passive_backdrive", out["backdrive"])
     res.measured["passive_drift_rad"] = out["drift"]
@@ -281,7 +309,9 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
             else np.clip(ff, -scoring.SERVO_LIMIT, scoring.SERVO_LIMIT)
         )
         r_dev = battery.residual_mujoco(dev, poses)
-        out = _hold_back_push(dev, poses, ff, r_dev - ff, size.hold_s, push_dirs)
+        failed = []
+        out = _hold_back_push(dev, poses, ff, r_dev - ff, size.hold_s, push_dirs, failed)
+        _report_warnings(report, robot, f"hidden copy {c}", failed)
         drift += out["drift"]
         back += out["backdrive"]
         push += out["push"]
