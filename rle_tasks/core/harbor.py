@@ -4,8 +4,8 @@ Layout of ``OUT/<task id>/``::
 
     task.toml              schema 1.4; [task] name "rle-bench/<id>"; budgets; environment_mode "separate"
     instruction.md         the instruction I, the artifact contract A and the budget B
-    environment/           agent image: Dockerfile + a snapshot of the project (without the family's
-                           ``solutions`` package)
+    environment/           agent image: the public toolkit and the task's public workspace only
+                           (``harbor_images``)
     tests/                 verifier image: Dockerfile, test.sh, and a snapshot of the project
     solution/solve.sh      copies the reference solution into /logs/artifacts (only when one is shipped)
 
@@ -18,24 +18,16 @@ secret comes from the host's ``RLE_SECRET`` (the public development key when it 
 from __future__ import annotations
 
 import json
-import os
 import shutil
 from collections.abc import Sequence
 from pathlib import Path
 
 from rle_design.errors import RleError
+from rle_tasks.core.harbor_images import AGENT_USER, agent_context, verifier_context
 from rle_tasks.core.report import VERIFIER_VERSION
 from rle_tasks.core.task import TaskSpec
 
 ORG = "rle-bench"
-BASE_IMAGE = "python:3.11-slim-bookworm"
-APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6"
-ROBOSUITE = "robosuite==1.5.2"
-AGENT_USER = "agent"
-"""Unprivileged user the agent runs as (submitted code never runs as root; see harbor#1779)."""
-_PROJECT_FILES = ("pyproject.toml", "README.md", "LICENSE")
-_PROJECT_DIRS = ("rle_design", "rle_tasks")
-_IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".pytest_cache")
 
 
 def _toml_str(text: str) -> str:
@@ -79,34 +71,6 @@ def _resolve_specs(task_ids: Sequence[str | TaskSpec] | None) -> list[TaskSpec]:
             raise RleError(f"task '{spec.id}' is listed twice", code="harbor.duplicate")
         specs.append(spec)
     return specs
-
-
-def _solution_sources(spec: TaskSpec, root: Path) -> list[Path]:
-    """Shipped solutions in the source tree, left out of the agent image: the task's solutions module
-    and every family's ``solutions`` package."""
-    out = sorted(root.glob("rle_tasks/*/solutions"))
-    if spec.solutions_module:
-        path = root.joinpath(*spec.solutions_module.split("."))
-        out += [p for p in (path, path.with_suffix(".py")) if p.exists()]
-    return out
-
-
-def _copy_project(root: Path, dst: Path, exclude: Sequence[Path] = ()) -> None:
-    """Snapshot of the installable project; directories in ``exclude`` are left out."""
-    excluded = {p.resolve() for p in exclude}
-
-    def ignore(directory: str, names: list[str]) -> set[str]:
-        skip = set(_IGNORE(directory, names))
-        skip |= {n for n in names if (Path(directory) / n).resolve() in excluded}
-        return skip
-
-    dst.mkdir(parents=True)
-    for name in _PROJECT_FILES:
-        if (root / name).is_file():
-            shutil.copy2(root / name, dst / name)
-    for name in _PROJECT_DIRS:
-        if (root / name).is_dir():
-            shutil.copytree(root / name, dst / name, ignore=ignore, symlinks=False)
 
 
 def task_toml(spec: TaskSpec) -> str:
@@ -183,31 +147,12 @@ def instruction_md(spec: TaskSpec) -> str:
         budget += f" {b.steps} charged interaction steps (each reset and executed action costs one)."
     parts += ["", "## Budget", "", budget, "", "## Tools", ""]
     parts.append(
-        f"The `rle` command is installed: `rle show {spec.id}` repeats this task card, "
-        f"`rle dev {spec.id} --workspace DIR` lays out the development environment, and "
-        "`rle preview FILE.xml --png OUT.png` renders an MJCF file."
+        "`/workspace` holds the development environment of this task (what `rle dev` lays out: the "
+        "instruction, public helpers and assets). The design toolkit `rle_design` is importable; "
+        'render an MJCF file with `python -c "from rle_design.viz.preview import preview; '
+        "preview('robot.xml', png='robot.png', block=False)\"`."
     )
     return "\n".join(parts) + "\n"
-
-
-def base_image() -> str:
-    """Base image of both containers: ``RLE_HARBOR_BASE_IMAGE`` (e.g. pinned by digest) or ``BASE_IMAGE``."""
-    return os.environ.get("RLE_HARBOR_BASE_IMAGE") or BASE_IMAGE
-
-
-def _dockerfile(extra: str = "") -> str:
-    return f"""FROM {base_image()}
-ENV DEBIAN_FRONTEND=noninteractive PIP_NO_CACHE_DIR=1 PIP_DISABLE_PIP_VERSION_CHECK=1 \\
-    MUJOCO_GL=egl PYOPENGL_PLATFORM=egl
-# Offscreen OpenGL on CPU: EGL with Mesa llvmpipe, OSMesa as fallback.
-RUN apt-get update \\
- && apt-get install -y --no-install-recommends {APT_PACKAGES} \\
- && rm -rf /var/lib/apt/lists/*
-COPY rle-bench /opt/rle-bench
-# robosuite is an asset source only (arm MJCF and meshes): installed without its dependencies.
-RUN pip install -e /opt/rle-bench && pip install --no-deps {ROBOSUITE}
-RUN mkdir -p /logs/artifacts
-{extra}"""
 
 
 def _test_sh(spec: TaskSpec) -> str:
@@ -259,22 +204,8 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     (task_dir / "task.toml").write_text(task_toml(spec))
     (task_dir / "instruction.md").write_text(instruction_md(spec))
 
-    env = task_dir / "environment"
-    _copy_project(root, env / "rle-bench", exclude=_solution_sources(spec, root))
-    workspace = f"RUN rle dev {spec.id} --workspace /workspace --no-serve\n" if spec.make_dev_env else ""
-    agent = (
-        f"{workspace}RUN useradd --create-home --uid 1000 {AGENT_USER} && mkdir -p /workspace \\\n"
-        f" && chown -R {AGENT_USER} /workspace /logs/artifacts\nWORKDIR /workspace\n"
-    )
-    (env / "Dockerfile").write_text(_dockerfile(agent))
-
-    tests = task_dir / "tests"
-    _copy_project(root, tests / "rle-bench")
-    (tests / "Dockerfile").write_text(
-        _dockerfile("COPY test.sh /tests/test.sh\nRUN chmod +x /tests/test.sh\n")
-    )
-    (tests / "test.sh").write_text(_test_sh(spec))
-    (tests / "test.sh").chmod(0o755)
+    agent_context(spec, task_dir / "environment", root)
+    verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec)})
 
     if "reference" in spec.solutions:
         from rle_tasks.core.solutions import materialise
