@@ -11,8 +11,9 @@ Layout of ``OUT/<task id>/``::
 
 The agent writes its artifact into ``/logs/artifacts``, the only directory that crosses into the
 verifier container. ``tests/test.sh`` runs ``rle verify`` there and turns the report into
-``/logs/verifier/reward.json``: ``reward`` (the task score) and one key per checkpoint. The verifier
-secret comes from the host's ``RLE_SECRET`` (the public development key when it is unset).
+``/logs/verifier/reward.json`` (``rle_tasks.core.harbor_reward``): ``reward`` (the task score),
+``secret_private`` and one key per checkpoint. The verifier secret comes from the host's ``RLE_SECRET``
+and has no default: without it the task does not verify.
 """
 
 from __future__ import annotations
@@ -104,7 +105,8 @@ def task_toml(spec: TaskSpec) -> str:
         "[verifier]",
         f"timeout_sec = {_number(b.verifier_timeout_s)}",
         'environment_mode = "separate"',
-        'env = { RLE_SECRET = "${RLE_SECRET:-}" }',
+        # No default: Harbor refuses to start the verifier when the host has no RLE_SECRET.
+        'env = { RLE_SECRET = "${RLE_SECRET}", RLE_ALLOW_PUBLIC_KEY = "${RLE_ALLOW_PUBLIC_KEY:-0}" }',
         "",
         "[environment]",
         f"cpus = {b.cpus}",
@@ -157,28 +159,13 @@ def instruction_md(spec: TaskSpec) -> str:
 
 def _test_sh(spec: TaskSpec) -> str:
     return f"""#!/usr/bin/env bash
-# Verifier of {ORG}/{spec.id}, run in the separate verifier image: only /logs/artifacts crosses over.
-set -uo pipefail
-mkdir -p /logs/verifier /logs/artifacts
-rle verify {spec.id} /logs/artifacts --json /logs/verifier/report.json --jobs "$(nproc)" \\
-    2>&1 | tee /logs/verifier/verify.log
-status=${{PIPESTATUS[0]}}
-python3 - <<'PY'
-import json
-import pathlib
-
-report = pathlib.Path("/logs/verifier/report.json")
-reward = {{"reward": 0.0}}
-if report.is_file():
-    data = json.loads(report.read_text())
-    reward["reward"] = float(data.get("score", 0.0))
-    for checkpoint in data.get("checkpoints", []):
-        key = checkpoint["id"] if checkpoint["id"] != "reward" else "checkpoint_reward"
-        reward[key] = float(checkpoint["score"])
-pathlib.Path("/logs/verifier/reward.json").write_text(json.dumps(reward) + "\\n")
-PY
-# 0: a report was produced (whatever its score); 1: an internal verifier fault, shown as an error.
-exit "$status"
+# Verifier of {ORG}/{spec.id}, run as root in the separate verifier image: only /logs/artifacts crosses
+# over. rle_tasks.core.harbor_reward closes /logs/verifier to the sandboxed code, runs `rle verify` on a
+# private copy of the artifact and writes reward.json atomically; any verifier fault exits non-zero
+# without a reward file, so Harbor reports an error instead of a score.
+set -euo pipefail
+LOGS=/logs
+exec python3 -m rle_tasks.core.harbor_reward {spec.id} --logs "$LOGS" --jobs "$(nproc)"
 """
 
 

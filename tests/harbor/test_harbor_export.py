@@ -76,7 +76,10 @@ def test_task_toml_fields(tmp_path, spec):
     assert cfg["agent"] == {"timeout_sec": 7200, "user": "agent"}  # never root (harbor lint root-agent)
     assert cfg["verifier"]["timeout_sec"] == 1800
     assert cfg["verifier"]["environment_mode"] == "separate"
-    assert cfg["verifier"]["env"] == {"RLE_SECRET": "${RLE_SECRET:-}"}
+    assert cfg["verifier"]["env"] == {
+        "RLE_SECRET": "${RLE_SECRET}",
+        "RLE_ALLOW_PUBLIC_KEY": "${RLE_ALLOW_PUBLIC_KEY:-0}",
+    }
     env = cfg["environment"]
     assert (env["cpus"], env["memory_mb"], env["gpus"]) == (4, 8192, 0)
     assert env["network_mode"] == "no-network"
@@ -115,8 +118,7 @@ def test_files_images_and_scripts(tmp_path, spec):
     test_sh = task_dir / "tests" / "test.sh"
     assert os.access(test_sh, os.X_OK)
     text = test_sh.read_text()
-    assert "rle verify 08-mobile-base /logs/artifacts --json /logs/verifier/report.json" in text
-    assert "/logs/verifier/reward.json" in text
+    assert "exec python3 -m rle_tasks.core.harbor_reward 08-mobile-base --logs" in text
     assert subprocess.run(["bash", "-n", str(test_sh)], capture_output=True).returncode == 0
 
     solve = task_dir / "solution" / "solve.sh"
@@ -124,25 +126,15 @@ def test_files_images_and_scripts(tmp_path, spec):
     assert (task_dir / "solution" / "reference" / "base.xml").read_text() == "<mujoco/>\n"
 
 
-def test_reward_snippet_turns_the_report_into_flat_numbers(tmp_path, spec):
-    """Run test.sh's python snippet on a real report, with /logs redirected into tmp_path."""
-    (task_dir,) = export_harbor(tmp_path / "out", [spec])
-    text = (task_dir / "tests" / "test.sh").read_text()
-    snippet = text.split("<<'PY'\n", 1)[1].split("\nPY\n", 1)[0]
-    logs = tmp_path / "logs" / "verifier"
-    logs.mkdir(parents=True)
+def test_reward_from_a_real_report():
+    from rle_tasks.core.harbor_reward import reward_from_report
+
     checkpoints = (Checkpoint("validity", 0.25, 1.0, True), Checkpoint("reward", 0.75, 0.5, False))
     report = VerifierReport(
         "08-mobile-base", "08", "mechanical_design", score=0.625, valid=True, checkpoints=checkpoints
     )
-    report.write(logs / "report.json")
-    snippet = snippet.replace("/logs/verifier", str(logs))
-    subprocess.run([sys.executable, "-c", snippet], check=True)
-    reward = json.loads((logs / "reward.json").read_text())
-    assert reward == {"reward": 0.625, "validity": 1.0, "checkpoint_reward": 0.5}
-    (logs / "report.json").unlink()
-    subprocess.run([sys.executable, "-c", snippet], check=True)
-    assert json.loads((logs / "reward.json").read_text()) == {"reward": 0.0}
+    reward = reward_from_report(json.loads(report.to_json()), secret_private=True)
+    assert reward == {"reward": 0.625, "secret_private": 1.0, "validity": 1.0, "checkpoint_reward": 0.5}
 
 
 def test_base_image_can_be_pinned(tmp_path, spec, monkeypatch):
