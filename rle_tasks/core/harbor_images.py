@@ -3,13 +3,14 @@
 The agent image (``environment/``) holds the public toolkit and the task's public workspace only:
 
     environment/Dockerfile
-    environment/requirements.txt       the project's runtime dependencies
+    environment/requirements.lock      exact versions of every dependency (``make lock``)
     environment/rle-bench/rle_design/  the design and verification toolkit (never imports rle_tasks)
     environment/workspace/             what ``rle dev TASK`` lays out (instruction, helpers, assets)
 
 Nothing of ``rle_tasks`` is in it: no shipped solutions, no generators that rebuild them, no verifier
 modules, hidden-evaluation code or the development key. The verifier image (``tests/``) holds the whole
-project.
+project. Both install the project's lock file without resolving anything (``--no-deps``), so the
+agent's self-checks and the verifier run the same versions.
 """
 
 from __future__ import annotations
@@ -18,13 +19,16 @@ import os
 import shutil
 from pathlib import Path
 
+from rle_design.errors import RleError
 from rle_tasks.core.task import TaskSpec
 
 BASE_IMAGE = "python:3.11-slim-bookworm"
 APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6"
 ROBOSUITE = "robosuite==1.5.2"
+TORCH_INDEX = "https://download.pytorch.org/whl/cpu"
+"""Where the CPU build of torch pinned in the lock file (``torch==2.13.0+cpu``) is served."""
 """Asset source only (arm MJCF and meshes): installed without its dependencies (they pin old MuJoCo)."""
-LOCK_FILE = "requirements.txt"
+LOCK_FILE = "requirements.lock"
 AGENT_USER = "agent"
 """Unprivileged user the agent runs as (submitted code never runs as root; see harbor#1779)."""
 PUBLIC_PACKAGES = ("rle_design",)
@@ -39,12 +43,19 @@ def base_image() -> str:
     return os.environ.get("RLE_HARBOR_BASE_IMAGE") or BASE_IMAGE
 
 
-def _write_requirements(root: Path, dest: Path) -> None:
-    """The project's runtime dependencies (``[project] dependencies``) as a requirements file."""
-    import tomllib
+def lock_file(root: Path) -> Path:
+    """The project's lock file (``requirements.lock`` beside ``pyproject.toml``).
 
-    deps = tomllib.loads((root / "pyproject.toml").read_text())["project"]["dependencies"]
-    dest.write_text("\n".join(deps) + "\n")
+    Raises:
+        RleError: ``harbor.lock`` when the checkout has none (``make lock`` writes it).
+    """
+    path = root / LOCK_FILE
+    if not path.is_file():
+        raise RleError(
+            f"{path} does not exist: both images install the exact versions of the lock file; run `make lock`",
+            code="harbor.lock",
+        )
+    return path
 
 
 def _copy_packages(root: Path, dst: Path, packages: tuple[str, ...], files: tuple[str, ...]) -> None:
@@ -67,8 +78,8 @@ RUN apt-get update \\
  && apt-get install -y --no-install-recommends {APT_PACKAGES} \\
  && rm -rf /var/lib/apt/lists/*
 COPY {LOCK_FILE} {lock}
-# robosuite is an asset source, without dependencies.
-RUN pip install -r {lock} \\
+# Exact versions of the lock file; robosuite is an asset source, without dependencies.
+RUN pip install --no-deps -r {lock} --extra-index-url {TORCH_INDEX} \\
  && pip install --no-deps {ROBOSUITE}
 """
 
@@ -78,10 +89,10 @@ def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> None:
     from rle_tasks.core.devenv import layout_workspace
 
     env_dir.mkdir(parents=True)
-    _write_requirements(root, env_dir / LOCK_FILE)
+    shutil.copyfile(lock_file(root), env_dir / LOCK_FILE)
     _copy_packages(root, env_dir / "rle-bench", PUBLIC_PACKAGES, ("LICENSE",))
     layout_workspace(spec, env_dir / "workspace", serve=False)
-    dockerfile = _install("/opt/rle-bench/requirements.txt") + (
+    dockerfile = _install("/opt/rle-bench/requirements.lock") + (
         "COPY rle-bench /opt/rle-bench\n"
         "ENV PYTHONPATH=/opt/rle-bench\n"
         "COPY workspace /workspace\n"
@@ -101,16 +112,16 @@ def verifier_context(tests_dir: Path, root: Path, scripts: dict[str, str]) -> No
         scripts: ``{file name: text}`` written beside the Dockerfile and copied to ``/tests``.
     """
     tests_dir.mkdir(parents=True)
-    _write_requirements(root, tests_dir / LOCK_FILE)
+    shutil.copyfile(lock_file(root), tests_dir / LOCK_FILE)
     _copy_packages(root, tests_dir / "rle-bench", VERIFIER_PACKAGES, _PROJECT_FILES)
     copies = ""
     for name, text in scripts.items():
         (tests_dir / name).write_text(text)
         (tests_dir / name).chmod(0o755)
         copies += f"COPY {name} /tests/{name}\n"
-    dockerfile = _install("/opt/rle-bench/requirements.txt") + (
+    dockerfile = _install("/opt/rle-bench/requirements.lock") + (
         "COPY rle-bench /opt/rle-bench\n"
-        "RUN pip install -e /opt/rle-bench && mkdir -p /logs/artifacts\n"
+        "RUN pip install --no-deps -e /opt/rle-bench && mkdir -p /logs/artifacts\n"
         f"{copies}"
     )
     (tests_dir / "Dockerfile").write_text(dockerfile)

@@ -67,7 +67,7 @@ def test_agent_context_holds_only_toolkit_and_public_workspace(exported, tmp_pat
                 problems.append(f"{rel}: forbidden path component {sorted(parts & FORBIDDEN_PARTS)}")
             if digest in leaks:
                 problems.append(f"{rel}: same bytes as {leaks[digest]}")
-            if rel in ("Dockerfile", "requirements.txt"):
+            if rel in ("Dockerfile", "requirements.lock"):
                 continue
             if rel.startswith("rle-bench/rle_design/"):
                 ok = toolkit.get(rel.removeprefix("rle-bench/rle_design/")) == digest
