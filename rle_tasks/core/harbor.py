@@ -101,10 +101,13 @@ def task_toml(spec: TaskSpec) -> str:
         "[agent]",
         f"timeout_sec = {_number(b.wall_time_s)}",
         f"user = {_toml_str(AGENT_USER)}",
+        # Offline while the agent works (Harbor still allows the agent's model endpoint).
+        'network_mode = "no-network"',
         "",
         "[verifier]",
         f"timeout_sec = {_number(b.verifier_timeout_s)}",
         'environment_mode = "separate"',
+        'network_mode = "no-network"',
         # No default: Harbor refuses to start the verifier when the host has no RLE_SECRET.
         'env = { RLE_SECRET = "${RLE_SECRET}", RLE_ALLOW_PUBLIC_KEY = "${RLE_ALLOW_PUBLIC_KEY:-0}" }',
         "",
@@ -112,7 +115,9 @@ def task_toml(spec: TaskSpec) -> str:
         f"cpus = {b.cpus}",
         f"memory_mb = {b.memory_mb}",
         f"gpus = {b.gpus}",
-        'network_mode = "no-network"',
+        # Container start and agent setup may download (installed agents set themselves up); the
+        # [agent] and [verifier] phases run offline.
+        'network_mode = "public"',
         "build_timeout_sec = 1800",
         "",
     ]
@@ -165,7 +170,10 @@ def _test_sh(spec: TaskSpec) -> str:
 # without a reward file, so Harbor reports an error instead of a score.
 set -euo pipefail
 LOGS=/logs
-exec python3 -m rle_tasks.core.harbor_reward {spec.id} --logs "$LOGS" --jobs "$(nproc)"
+# Workers: the task's CPU budget ({spec.budget.cpus}), fewer where the container sees fewer cores (nproc
+# reports the host's cores under a CPU quota, so it is only an upper bound).
+JOBS=$(( $(nproc) < {spec.budget.cpus} ? $(nproc) : {spec.budget.cpus} ))
+exec python3 -m rle_tasks.core.harbor_reward {spec.id} --logs "$LOGS" --jobs "$JOBS"
 """
 
 
@@ -173,7 +181,9 @@ _SOLVE_SH = """#!/usr/bin/env bash
 # Oracle: submit the shipped reference solution.
 set -euo pipefail
 mkdir -p /logs/artifacts
-cp -a /solution/reference/. /logs/artifacts/
+# A plain recursive copy: /logs/artifacts may be owned by another uid, whose attributes cp -a would
+# try (and fail) to overwrite.
+cp -r /solution/reference/. /logs/artifacts/
 """
 
 

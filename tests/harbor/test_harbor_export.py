@@ -3,8 +3,10 @@
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 import tomllib
 from pathlib import Path
 
@@ -73,7 +75,9 @@ def test_task_toml_fields(tmp_path, spec):
     assert cfg["schema_version"] == "1.4"
     assert cfg["task"]["name"] == "rle-bench/08-mobile-base" and ORG_NAME.match(cfg["task"]["name"])
     assert cfg["task"]["description"] == 'Universal mobile-manipulator base ("test" spec)'
-    assert cfg["agent"] == {"timeout_sec": 7200, "user": "agent"}  # never root (harbor lint root-agent)
+    # never root (harbor lint root-agent); offline while working
+    assert cfg["agent"] == {"timeout_sec": 7200, "user": "agent", "network_mode": "no-network"}
+    assert cfg["verifier"]["network_mode"] == "no-network"
     assert cfg["verifier"]["timeout_sec"] == 1800
     assert cfg["verifier"]["environment_mode"] == "separate"
     assert cfg["verifier"]["env"] == {
@@ -82,7 +86,7 @@ def test_task_toml_fields(tmp_path, spec):
     }
     env = cfg["environment"]
     assert (env["cpus"], env["memory_mb"], env["gpus"]) == (4, 8192, 0)
-    assert env["network_mode"] == "no-network"
+    assert env["network_mode"] == "public"  # container start and agent setup only
     assert cfg["metadata"]["required_artifacts"] == ["base.xml"]
     assert cfg["metadata"]["interaction_steps"] == 5000
     assert set(cfg) == {"schema_version", "task", "metadata", "agent", "verifier", "environment"}
@@ -118,11 +122,12 @@ def test_files_images_and_scripts(tmp_path, spec):
     test_sh = task_dir / "tests" / "test.sh"
     assert os.access(test_sh, os.X_OK)
     text = test_sh.read_text()
-    assert "exec python3 -m rle_tasks.core.harbor_reward 08-mobile-base --logs" in text
+    assert 'exec python3 -m rle_tasks.core.harbor_reward 08-mobile-base --logs "$LOGS" --jobs "$JOBS"' in text
+    assert "JOBS=$(( $(nproc) < 4 ? $(nproc) : 4 ))" in text  # the task's CPU budget caps the workers
     assert subprocess.run(["bash", "-n", str(test_sh)], capture_output=True).returncode == 0
 
     solve = task_dir / "solution" / "solve.sh"
-    assert os.access(solve, os.X_OK) and "cp -a /solution/reference/. /logs/artifacts/" in solve.read_text()
+    assert os.access(solve, os.X_OK) and "cp -r /solution/reference/. /logs/artifacts/" in solve.read_text()
     assert (task_dir / "solution" / "reference" / "base.xml").read_text() == "<mujoco/>\n"
 
 
@@ -189,7 +194,7 @@ def test_validates_with_harbor_task_config(tmp_path, spec):
     cfg = TaskConfig.model_validate_toml((task_dir / "task.toml").read_text())
     assert cfg.task.name == "rle-bench/08-mobile-base"
     assert cfg.verifier.environment_mode.value == "separate"
-    assert cfg.environment.network_mode.value == "no-network"
+    assert cfg.environment.network_mode.value == "public"
     assert (cfg.environment.cpus, cfg.environment.memory_mb, cfg.environment.gpus) == (4, 8192, 0)
     assert Path(task_dir / "tests" / "Dockerfile").is_file()
 
@@ -202,3 +207,42 @@ def test_cli_export_of_unimplemented_task_exits_2(tmp_path, capsys):
     assert err.startswith(
         "rle export: error [harbor.unimplemented]: task '03-tower' is registered but not implemented"
     )
+
+
+@pytest.mark.skipif(os.geteuid() != 0 or shutil.which("setpriv") is None, reason="needs root and setpriv")
+def test_solve_sh_copies_into_an_artifacts_directory_of_another_uid(tmp_path, spec):
+    """Harbor mounts /logs/artifacts owned by another uid; the oracle (not root) must still copy into it."""
+    (task_dir,) = export_harbor(tmp_path / "out", [spec])
+    base = Path(tempfile.mkdtemp(prefix="rle-solve-", dir="/tmp"))
+    try:
+        base.chmod(0o755)
+        shutil.copytree(task_dir / "solution", base / "solution")
+        for p in [base / "solution", *(base / "solution").rglob("*")]:
+            p.chmod(0o755 if p.is_dir() else 0o644)
+        artifacts = base / "logs" / "artifacts"
+        artifacts.mkdir(parents=True)
+        artifacts.chmod(0o777)  # root-owned, writable by all, as a mounted directory of another uid
+        (base / "logs").chmod(0o755)
+        script = (task_dir / "solution" / "solve.sh").read_text()
+        script = script.replace("/solution/", f"{base}/solution/").replace("/logs/", f"{base}/logs/")
+        proc = subprocess.run(
+            ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "bash", "-c", script],
+            capture_output=True,
+            text=True,
+        )
+        assert proc.returncode == 0, proc.stderr
+        assert (artifacts / "base.xml").read_text() == "<mujoco/>\n"
+    finally:
+        shutil.rmtree(base, ignore_errors=True)
+
+
+def test_jobs_follow_the_cpu_budget(tmp_path, spec):
+    (task_dir,) = export_harbor(tmp_path / "out", [spec])
+    line = next(
+        ln for ln in (task_dir / "tests" / "test.sh").read_text().splitlines() if ln.startswith("JOBS=")
+    )
+    for cores, expected in ((64, 4), (2, 2)):
+        shell = f"nproc() {{ echo {cores}; }}; {line}; echo $JOBS"
+        assert subprocess.run(["bash", "-c", shell], capture_output=True, text=True).stdout.strip() == str(
+            expected
+        )
