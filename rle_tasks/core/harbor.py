@@ -4,6 +4,7 @@ Layout of ``OUT/<task id>/``::
 
     task.toml              schema 1.4; [task] name "rle-bench/<id>"; budgets; environment_mode "separate"
     instruction.md         the instruction I, the artifact contract A and the budget B
+    README.md              for the operator: expected score, how to set the secret, resources
     environment/           agent image: the public toolkit and the task's public workspace only
                            (``harbor_images``)
     tests/                 verifier image: Dockerfile, test.sh, and a snapshot of the project
@@ -25,6 +26,7 @@ from pathlib import Path
 
 from rle_design.errors import RleError
 from rle_tasks.core.harbor_images import AGENT_USER, agent_context, verifier_context
+from rle_tasks.core.harbor_readme import readme
 from rle_tasks.core.report import VERIFIER_VERSION
 from rle_tasks.core.task import TaskSpec
 
@@ -200,6 +202,7 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     task_dir.mkdir(parents=True)
     (task_dir / "task.toml").write_text(task_toml(spec))
     (task_dir / "instruction.md").write_text(instruction_md(spec))
+    (task_dir / "README.md").write_text(readme(spec))
 
     agent_context(spec, task_dir / "environment", root)
     verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec)})

@@ -90,3 +90,17 @@ def test_verifier_context_holds_the_whole_project(exported):
         snap = task_dir / "tests" / "rle-bench"
         assert (snap / "rle_tasks" / "core" / "verify.py").is_file()
         assert (snap / "rle_design" / "sandbox" / "process.py").is_file()
+
+
+def test_every_task_directory_has_an_operator_readme(exported):
+    from rle_tasks.core.solutions import declaration
+
+    for spec in (t for t in all_tasks() if t.implemented):
+        text = (exported[spec.id] / "README.md").read_text()
+        assert text.startswith(f"# rle-bench/{spec.id}: {spec.title}\n")
+        if "reference" in spec.solutions:
+            assert f"scores **{declaration(spec).get('reference').quick_score:.3f}**" in text
+        assert 'export RLE_SECRET="$(openssl rand -hex 32)"' in text
+        b = spec.budget
+        assert f"| CPUs / memory / GPUs | {b.cpus} / {b.memory_mb} MiB / {b.gpus} |" in text
+        assert f"| agent wall time | {b.wall_time_s / 3600:.1f} h |" in text
