@@ -182,23 +182,6 @@ def test_default_exports_every_implemented_task(tmp_path):
     assert [p.name for p in written] == implemented
 
 
-def test_validates_with_harbor_task_config(tmp_path, spec):
-    try:
-        from harbor.models.task.config import TaskConfig
-    except ImportError:
-        pytest.skip(
-            "harbor is not installed: every harbor release on PyPI (0.25.0 included) declares "
-            f"Requires-Python >=3.12, and this environment runs Python {sys.version.split()[0]}"
-        )
-    (task_dir,) = export_harbor(tmp_path, [spec])
-    cfg = TaskConfig.model_validate_toml((task_dir / "task.toml").read_text())
-    assert cfg.task.name == "rle-bench/08-mobile-base"
-    assert cfg.verifier.environment_mode.value == "separate"
-    assert cfg.environment.network_mode.value == "public"
-    assert (cfg.environment.cpus, cfg.environment.memory_mb, cfg.environment.gpus) == (4, 8192, 0)
-    assert Path(task_dir / "tests" / "Dockerfile").is_file()
-
-
 def test_cli_export_of_unimplemented_task_exits_2(tmp_path, capsys):
     from rle_tasks.cli import main
 
