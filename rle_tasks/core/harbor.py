@@ -202,9 +202,8 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     task_dir.mkdir(parents=True)
     (task_dir / "task.toml").write_text(task_toml(spec))
     (task_dir / "instruction.md").write_text(instruction_md(spec))
-    (task_dir / "README.md").write_text(readme(spec))
-
-    agent_context(spec, task_dir / "environment", root)
+    metered = agent_context(spec, task_dir / "environment", root)
+    (task_dir / "README.md").write_text(readme(spec, metered))
     verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec)})
 
     if "reference" in spec.solutions:

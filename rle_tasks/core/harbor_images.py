@@ -84,14 +84,37 @@ RUN pip install --no-deps -r {lock} --extra-index-url {TORCH_INDEX} \\
 """
 
 
-def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> None:
-    """Write the agent image's build context: Dockerfile, lock file, toolkit, public workspace."""
+def public_workspace(spec: TaskSpec, dest: Path) -> bool:
+    """Lay out what ``rle dev`` writes for ``spec`` into ``dest``, without a metered server's client.
+
+    The ledger server of a metered development environment holds a key derived from the verifier
+    secret, so it cannot run in the agent's image; its ``client.py`` (which would point at a socket
+    on the exporting host) is left out, and the family's public modules run the environment in-process.
+
+    Returns:
+        True when the task's development environment is metered (its client was left out).
+    """
     from rle_tasks.core.devenv import layout_workspace
 
+    layout_workspace(spec, dest, serve=False)
+    client = dest / "client.py"
+    metered = client.is_file() and client.read_text().startswith('"""Metered development environment')
+    if metered:
+        client.unlink()
+        shutil.rmtree(dest / ".rle", ignore_errors=True)
+    return metered
+
+
+def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> bool:
+    """Write the agent image's build context: Dockerfile, lock file, toolkit, public workspace.
+
+    Returns:
+        True when the task's development environment is metered (see ``public_workspace``).
+    """
     env_dir.mkdir(parents=True)
     shutil.copyfile(lock_file(root), env_dir / LOCK_FILE)
     _copy_packages(root, env_dir / "rle-bench", PUBLIC_PACKAGES, ("LICENSE",))
-    layout_workspace(spec, env_dir / "workspace", serve=False)
+    metered = public_workspace(spec, env_dir / "workspace")
     dockerfile = _install("/opt/rle-bench/requirements.lock") + (
         "COPY rle-bench /opt/rle-bench\n"
         "ENV PYTHONPATH=/opt/rle-bench\n"
@@ -101,6 +124,7 @@ def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> None:
         "WORKDIR /workspace\n"
     )
     (env_dir / "Dockerfile").write_text(dockerfile)
+    return metered
 
 
 def verifier_context(tests_dir: Path, root: Path, scripts: dict[str, str]) -> None:

@@ -21,9 +21,16 @@ def _reference_line(spec: TaskSpec) -> str:
     )
 
 
-def readme(spec: TaskSpec) -> str:
-    """The README text of one exported task."""
+def readme(spec: TaskSpec, metered: bool = False) -> str:
+    """The README text of one exported task (``metered``: its development environment is metered)."""
     b, c = spec.budget, spec.contract
+    metered_note = (
+        "\nThe metered development environment of `rle dev` is not served in the agent's image: its "
+        "ledger server holds a key derived from the secret. The public modules in `/workspace` run the "
+        "environment in-process, so an interaction budget is not enforced there.\n"
+        if metered
+        else ""
+    )
     steps = f"{b.steps} charged interaction steps" if b.steps is not None else "unmetered"
     return f"""# rle-bench/{spec.id}: {spec.title}
 
@@ -62,7 +69,7 @@ verifier fault leaves no reward file, so Harbor reports an error instead of a ze
 | network | public while the container starts and the agent installs; none for the agent and verifier phases |
 
 ## Images
-
+{metered_note}
 `environment/` (the agent's image) holds the public toolkit `rle_design` and the task's public
 workspace (`/workspace`, what `rle dev` lays out); no solutions, generators or verifier code.
 `tests/` (the verifier's image) holds the whole project. Both install `requirements.lock` (exact

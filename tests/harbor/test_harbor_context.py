@@ -78,9 +78,9 @@ def test_agent_context_holds_only_toolkit_and_public_workspace(exported, tmp_pat
             if not ok:
                 problems.append(f"{rel}: neither toolkit nor public workspace")
         assert not problems, f"{spec.id} agent context:\n" + "\n".join(problems)
-        assert set(public) == {
-            r.removeprefix("workspace/") for r in _files(env) if r.startswith("workspace/")
-        }
+        # everything `rle dev` lays out, except the client of a metered server (which needs the key)
+        shipped = {r.removeprefix("workspace/") for r in _files(env) if r.startswith("workspace/")}
+        assert set(public) - shipped <= {"client.py"} and shipped <= set(public)
         dockerfile = (env / "Dockerfile").read_text()
         assert "rle_tasks" not in dockerfile and "COPY workspace /workspace" in dockerfile
 

@@ -229,3 +229,30 @@ def test_jobs_follow_the_cpu_budget(tmp_path, spec):
         assert subprocess.run(["bash", "-c", shell], capture_output=True, text=True).stdout.strip() == str(
             expected
         )
+
+
+SLIDER = """<mujoco><worldbody><body><joint name="x" type="slide"/><geom size="0.1" mass="1"/></body>
+</worldbody><actuator><motor joint="x"/></actuator></mujoco>"""
+
+
+def _metered_dev_env(workspace):
+    from rle_design.ledger import MeteredEnv
+
+    (Path(workspace) / "helpers.py").write_text("X = 1\n")
+    return MeteredEnv(SLIDER, n_substeps=5)
+
+
+def test_metered_dev_env_ships_without_its_server_client(tmp_path):
+    """The ledger server needs a key derived from the secret: its client is left out of the image."""
+    spec = TaskSpec(
+        "07-metered",
+        7,
+        "metered",
+        verify=_verify,
+        budget=Budget(wall_time_s=60.0, steps=100),
+        make_dev_env=_metered_dev_env,
+    )
+    (task_dir,) = export_harbor(tmp_path / "out", [spec])
+    ws = task_dir / "environment" / "workspace"
+    assert sorted(p.name for p in ws.iterdir()) == ["helpers.py", "instruction.md"]
+    assert "not served in the agent's image" in (task_dir / "README.md").read_text()
