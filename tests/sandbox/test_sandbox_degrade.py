@@ -169,3 +169,25 @@ def test_verifier_report_records_the_layers(tmp_path):
     assert not internal and report.sandbox_layers == probe_layers()
     assert set(report.sandbox_layers) == {"netns", "uid_drop", "no_new_privs", "nproc"}
     assert json.loads(report.to_json())["sandbox_layers"] == report.sandbox_layers
+
+
+@root_only
+@pytest.mark.skipif(shutil.which("capsh") is None, reason="capsh is not installed (libcap2-bin)")
+def test_sandbox_suite_passes_with_docker_default_capabilities():
+    """The whole sandbox suite (this test excluded) in a parent without the capabilities Docker withholds."""
+    drop = ",".join(c for c in ALL_CAPS if c not in DOCKER_DEFAULT)
+    here = Path(__file__).parent
+    cmd = (
+        f"{sys.executable} -m pytest -q -p no:cacheprovider {here} "
+        "-k 'not test_sandbox_suite_passes_with_docker_default_capabilities'"
+    )
+    proc = subprocess.run(
+        ["capsh", f"--drop={drop}", "--", "-c", cmd],
+        env={**os.environ, "PYTHONPATH": str(REPO_ROOT)},
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=REPO_ROOT,
+    )
+    assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-2000:]
+    assert " passed" in proc.stdout and " failed" not in proc.stdout
