@@ -1,26 +1,63 @@
 # RLE-Bench: two commands on a fresh machine, `make demo` and `make test`.
-# Each target bootstraps .venv on first use and is idempotent afterwards.
+# Each target bootstraps .venv on first use and is idempotent afterwards. Python dependencies are
+# installed at the exact versions of requirements.lock (`make lock` refreshes it from pyproject.toml).
 PYTHON ?= python3
+# Python >= 3.12 for the Harbor side venv: a pyenv install when there is one, else python3.12 on PATH.
+PYTHON312 ?= $(firstword $(wildcard $(HOME)/.pyenv/versions/3.12*/bin/python3) python3.12)
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.rle-installed
+LOCK := requirements.lock
+HARBOR_LOCK := requirements-harbor.lock
+HARBOR_VENV := .venv-harbor
+TOOLS := .venv-tools
+UV := uv==0.13.9
 ROBOSUITE := robosuite==1.5.2
+# Where the CPU build of torch (torch==2.13.0+cpu in the lock file) comes from when resolving: the
+# local wheel directory pip is configured with, else PyTorch's CPU index.
+TORCH_INDEX ?= https://download.pytorch.org/whl/cpu
+LOCK_SOURCES ?= $(if $(PIP_FIND_LINKS),--find-links $(PIP_FIND_LINKS),--extra-index-url $(TORCH_INDEX) --index-strategy unsafe-best-match)
+UV_COMPILE = $(TOOLS)/bin/uv pip compile --quiet --python-platform x86_64-manylinux_2_28 --custom-compile-command "make lock"
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test test-full lint format bench clean venv
+.PHONY: demo test test-full lint format bench clean venv lock harbor-venv
 
 venv: $(STAMP)
 
-$(STAMP): pyproject.toml Makefile
+$(STAMP): pyproject.toml $(LOCK) Makefile
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[dev,viz,learn]'
+	$(PY) -m pip install --quiet --no-deps -r $(LOCK)
+	$(PY) -m pip install --quiet --no-deps -e .
+	$(PY) -m pip check
 	@# robosuite is an asset source only (arm MJCF and meshes). Its runtime pins an old MuJoCo and
 	@# numpy<2 through mink, so it is installed without dependencies and never imported.
 	$(PY) -m pip install --quiet --no-deps $(ROBOSUITE)
 	$(PY) scripts/check_system.py
 	@touch $(STAMP)
+
+$(TOOLS)/.installed:
+	$(PYTHON) -m venv $(TOOLS)
+	$(TOOLS)/bin/pip install --quiet $(UV)
+	@touch $@
+
+# Refresh both lock files (needs the package index); commit the result.
+lock: $(TOOLS)/.installed
+	$(UV_COMPILE) pyproject.toml --extra dev --extra viz --extra learn --python-version 3.11 \
+	    $(LOCK_SOURCES) -o $(LOCK)
+	@# harbor 0.25.0 pins certifi>=2026.10.19, newer than some registries serve; any recent certifi works.
+	printf 'harbor==0.25.0\n' > $(TOOLS)/harbor.in
+	printf 'certifi>=2024.1\n' > $(TOOLS)/harbor-overrides.txt
+	$(UV_COMPILE) $(TOOLS)/harbor.in --override $(TOOLS)/harbor-overrides.txt --python-version 3.12 \
+	    -o $(HARBOR_LOCK)
+
+# Harbor (Python >= 3.12) in a side venv, for the Harbor export tests (they skip without it).
+harbor-venv: $(HARBOR_VENV)/.installed
+
+$(HARBOR_VENV)/.installed: $(HARBOR_LOCK)
+	@test -x $(HARBOR_VENV)/bin/python || $(PYTHON312) -m venv $(HARBOR_VENV)
+	$(HARBOR_VENV)/bin/pip install --quiet --no-deps -r $(HARBOR_LOCK)
+	@touch $@
 
 demo: $(STAMP)
 	$(VENV)/bin/rle demo
@@ -43,4 +80,4 @@ bench: $(STAMP)
 	$(PY) -m benchmarks
 
 clean:
-	rm -rf $(VENV) out .pytest_cache .ruff_cache
+	rm -rf $(VENV) $(HARBOR_VENV) $(TOOLS) out .pytest_cache .ruff_cache

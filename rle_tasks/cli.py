@@ -178,8 +178,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--tasks", nargs="*", default=None)
     s.set_defaults(fn=_cmd_export)
 
-    s = sub.add_parser("index", help="RLE Index from reports")
-    s.add_argument("reports", nargs="+")
+    s = sub.add_parser("index", help="RLE Index from reports and Harbor job directories")
+    s.add_argument("reports", nargs="+", help="verifier report files and/or Harbor job directories")
     s.add_argument("--html", default=None)
     s.add_argument("--name", default="submission", help="system name shown on the leaderboard")
     s.set_defaults(fn=_cmd_index)

@@ -20,8 +20,8 @@ size                        RLIMIT_CORE=0
 no fork                     RLIMIT_NPROC=max_processes                  kernel: for a non-root uid
                             audit hook on os.fork/exec/spawn/system/    always (Python-level)
                             subprocess/posix_spawn/pty
-no network                  new network namespace (only loopback,       root only (kernel)
-                            down)
+no network                  new network namespace (only loopback,       root with CAP_SYS_ADMIN
+                            down)                                       (kernel)
                             audit hook on every ``socket.*`` event      always (Python-level)
 no writes outside workdir   uid/gid drop to nobody/nogroup, workdir     root only (kernel)
                             owned by nobody (mode 700)
@@ -37,6 +37,12 @@ such as torch need it) can call libc directly and bypass it. The kernel layers a
 and most of them need the parent to run as root (as in the evaluation container); the test
 ``test_kernel_layers_stop_a_ctypes_bypass`` checks them against raw libc calls. The hook also
 refuses reading another process's ``/proc/<pid>/`` entries (the parent's environ).
+
+A kernel layer the environment refuses is left off, never failed: in a default Docker container
+(no CAP_SYS_ADMIN) ``unshare(CLONE_NEWNET)`` fails with EPERM, so the child has no network namespace
+of its own (the container's network policy and the audit hook remain). ``Sandbox.layers`` says which
+layers a child got; ``probe_layers()`` says which ones this process can establish, and verifier
+reports record it (``sandbox_layers``).
 
 Not running as root, the child keeps the caller's uid: the kernel still enforces the rlimits
 (RLIMIT_NPROC=0 stops fork and thread creation for an unprivileged uid), but a ctypes-level bypass
@@ -58,7 +64,8 @@ at its CPU-time limit if it is spinning.
 """
 
 from rle_design.sandbox.faults import FAULT_CODES, ParticipantFault
+from rle_design.sandbox.layers import LAYERS, probe_layers
 from rle_design.sandbox.limits import SandboxLimits
 from rle_design.sandbox.process import Sandbox
 
-__all__ = ["FAULT_CODES", "ParticipantFault", "Sandbox", "SandboxLimits"]
+__all__ = ["FAULT_CODES", "LAYERS", "ParticipantFault", "Sandbox", "SandboxLimits", "probe_layers"]

@@ -4,38 +4,33 @@ Layout of ``OUT/<task id>/``::
 
     task.toml              schema 1.4; [task] name "rle-bench/<id>"; budgets; environment_mode "separate"
     instruction.md         the instruction I, the artifact contract A and the budget B
-    environment/           agent image: Dockerfile + a snapshot of the project (without the family's
-                           ``solutions`` package)
+    README.md              for the operator: expected score, how to set the secret, resources
+    environment/           agent image: the public toolkit and the task's public workspace only
+                           (``harbor_images``)
     tests/                 verifier image: Dockerfile, test.sh, and a snapshot of the project
     solution/solve.sh      copies the reference solution into /logs/artifacts (only when one is shipped)
 
 The agent writes its artifact into ``/logs/artifacts``, the only directory that crosses into the
 verifier container. ``tests/test.sh`` runs ``rle verify`` there and turns the report into
-``/logs/verifier/reward.json``: ``reward`` (the task score) and one key per checkpoint. The verifier
-secret comes from the host's ``RLE_SECRET`` (the public development key when it is unset).
+``/logs/verifier/reward.json`` (``rle_tasks.core.harbor_reward``): ``reward`` (the task score),
+``secret_private`` and one key per checkpoint. The verifier secret comes from the host's ``RLE_SECRET``
+and has no default: without it the task does not verify.
 """
 
 from __future__ import annotations
 
 import json
-import os
 import shutil
 from collections.abc import Sequence
 from pathlib import Path
 
 from rle_design.errors import RleError
+from rle_tasks.core.harbor_images import AGENT_USER, agent_context, verifier_context
+from rle_tasks.core.harbor_readme import readme
 from rle_tasks.core.report import VERIFIER_VERSION
 from rle_tasks.core.task import TaskSpec
 
 ORG = "rle-bench"
-BASE_IMAGE = "python:3.11-slim-bookworm"
-APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6"
-ROBOSUITE = "robosuite==1.5.2"
-AGENT_USER = "agent"
-"""Unprivileged user the agent runs as (submitted code never runs as root; see harbor#1779)."""
-_PROJECT_FILES = ("pyproject.toml", "README.md", "LICENSE")
-_PROJECT_DIRS = ("rle_design", "rle_tasks")
-_IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".pytest_cache")
 
 
 def _toml_str(text: str) -> str:
@@ -81,34 +76,6 @@ def _resolve_specs(task_ids: Sequence[str | TaskSpec] | None) -> list[TaskSpec]:
     return specs
 
 
-def _solution_sources(spec: TaskSpec, root: Path) -> list[Path]:
-    """Shipped solutions in the source tree, left out of the agent image: the task's solutions module
-    and every family's ``solutions`` package."""
-    out = sorted(root.glob("rle_tasks/*/solutions"))
-    if spec.solutions_module:
-        path = root.joinpath(*spec.solutions_module.split("."))
-        out += [p for p in (path, path.with_suffix(".py")) if p.exists()]
-    return out
-
-
-def _copy_project(root: Path, dst: Path, exclude: Sequence[Path] = ()) -> None:
-    """Snapshot of the installable project; directories in ``exclude`` are left out."""
-    excluded = {p.resolve() for p in exclude}
-
-    def ignore(directory: str, names: list[str]) -> set[str]:
-        skip = set(_IGNORE(directory, names))
-        skip |= {n for n in names if (Path(directory) / n).resolve() in excluded}
-        return skip
-
-    dst.mkdir(parents=True)
-    for name in _PROJECT_FILES:
-        if (root / name).is_file():
-            shutil.copy2(root / name, dst / name)
-    for name in _PROJECT_DIRS:
-        if (root / name).is_dir():
-            shutil.copytree(root / name, dst / name, ignore=ignore, symlinks=False)
-
-
 def task_toml(spec: TaskSpec) -> str:
     """The ``task.toml`` text of one task."""
     b = spec.budget
@@ -136,17 +103,23 @@ def task_toml(spec: TaskSpec) -> str:
         "[agent]",
         f"timeout_sec = {_number(b.wall_time_s)}",
         f"user = {_toml_str(AGENT_USER)}",
+        # Offline while the agent works (Harbor still allows the agent's model endpoint).
+        'network_mode = "no-network"',
         "",
         "[verifier]",
         f"timeout_sec = {_number(b.verifier_timeout_s)}",
         'environment_mode = "separate"',
-        'env = { RLE_SECRET = "${RLE_SECRET:-}" }',
+        'network_mode = "no-network"',
+        # No default: Harbor refuses to start the verifier when the host has no RLE_SECRET.
+        'env = { RLE_SECRET = "${RLE_SECRET}", RLE_ALLOW_PUBLIC_KEY = "${RLE_ALLOW_PUBLIC_KEY:-0}" }',
         "",
         "[environment]",
         f"cpus = {b.cpus}",
         f"memory_mb = {b.memory_mb}",
         f"gpus = {b.gpus}",
-        'network_mode = "no-network"',
+        # Container start and agent setup may download (installed agents set themselves up); the
+        # [agent] and [verifier] phases run offline.
+        'network_mode = "public"',
         "build_timeout_sec = 1800",
         "",
     ]
@@ -183,57 +156,26 @@ def instruction_md(spec: TaskSpec) -> str:
         budget += f" {b.steps} charged interaction steps (each reset and executed action costs one)."
     parts += ["", "## Budget", "", budget, "", "## Tools", ""]
     parts.append(
-        f"The `rle` command is installed: `rle show {spec.id}` repeats this task card, "
-        f"`rle dev {spec.id} --workspace DIR` lays out the development environment, and "
-        "`rle preview FILE.xml --png OUT.png` renders an MJCF file."
+        "`/workspace` holds the development environment of this task (what `rle dev` lays out: the "
+        "instruction, public helpers and assets). The design toolkit `rle_design` is importable; "
+        'render an MJCF file with `python -c "from rle_design.viz.preview import preview; '
+        "preview('robot.xml', png='robot.png', block=False)\"`."
     )
     return "\n".join(parts) + "\n"
 
 
-def base_image() -> str:
-    """Base image of both containers: ``RLE_HARBOR_BASE_IMAGE`` (e.g. pinned by digest) or ``BASE_IMAGE``."""
-    return os.environ.get("RLE_HARBOR_BASE_IMAGE") or BASE_IMAGE
-
-
-def _dockerfile(extra: str = "") -> str:
-    return f"""FROM {base_image()}
-ENV DEBIAN_FRONTEND=noninteractive PIP_NO_CACHE_DIR=1 PIP_DISABLE_PIP_VERSION_CHECK=1 \\
-    MUJOCO_GL=egl PYOPENGL_PLATFORM=egl
-# Offscreen OpenGL on CPU: EGL with Mesa llvmpipe, OSMesa as fallback.
-RUN apt-get update \\
- && apt-get install -y --no-install-recommends {APT_PACKAGES} \\
- && rm -rf /var/lib/apt/lists/*
-COPY rle-bench /opt/rle-bench
-# robosuite is an asset source only (arm MJCF and meshes): installed without its dependencies.
-RUN pip install -e /opt/rle-bench && pip install --no-deps {ROBOSUITE}
-RUN mkdir -p /logs/artifacts
-{extra}"""
-
-
 def _test_sh(spec: TaskSpec) -> str:
     return f"""#!/usr/bin/env bash
-# Verifier of {ORG}/{spec.id}, run in the separate verifier image: only /logs/artifacts crosses over.
-set -uo pipefail
-mkdir -p /logs/verifier /logs/artifacts
-rle verify {spec.id} /logs/artifacts --json /logs/verifier/report.json --jobs "$(nproc)" \\
-    2>&1 | tee /logs/verifier/verify.log
-status=${{PIPESTATUS[0]}}
-python3 - <<'PY'
-import json
-import pathlib
-
-report = pathlib.Path("/logs/verifier/report.json")
-reward = {{"reward": 0.0}}
-if report.is_file():
-    data = json.loads(report.read_text())
-    reward["reward"] = float(data.get("score", 0.0))
-    for checkpoint in data.get("checkpoints", []):
-        key = checkpoint["id"] if checkpoint["id"] != "reward" else "checkpoint_reward"
-        reward[key] = float(checkpoint["score"])
-pathlib.Path("/logs/verifier/reward.json").write_text(json.dumps(reward) + "\\n")
-PY
-# 0: a report was produced (whatever its score); 1: an internal verifier fault, shown as an error.
-exit "$status"
+# Verifier of {ORG}/{spec.id}, run as root in the separate verifier image: only /logs/artifacts crosses
+# over. rle_tasks.core.harbor_reward closes /logs/verifier to the sandboxed code, runs `rle verify` on a
+# private copy of the artifact and writes reward.json atomically; any verifier fault exits non-zero
+# without a reward file, so Harbor reports an error instead of a score.
+set -euo pipefail
+LOGS=/logs
+# Workers: the task's CPU budget ({spec.budget.cpus}), fewer where the container sees fewer cores (nproc
+# reports the host's cores under a CPU quota, so it is only an upper bound).
+JOBS=$(( $(nproc) < {spec.budget.cpus} ? $(nproc) : {spec.budget.cpus} ))
+exec python3 -m rle_tasks.core.harbor_reward {spec.id} --logs "$LOGS" --jobs "$JOBS"
 """
 
 
@@ -241,7 +183,9 @@ _SOLVE_SH = """#!/usr/bin/env bash
 # Oracle: submit the shipped reference solution.
 set -euo pipefail
 mkdir -p /logs/artifacts
-cp -a /solution/reference/. /logs/artifacts/
+# A plain recursive copy: /logs/artifacts may be owned by another uid, whose attributes cp -a would
+# try (and fail) to overwrite.
+cp -r /solution/reference/. /logs/artifacts/
 """
 
 
@@ -258,23 +202,9 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     task_dir.mkdir(parents=True)
     (task_dir / "task.toml").write_text(task_toml(spec))
     (task_dir / "instruction.md").write_text(instruction_md(spec))
-
-    env = task_dir / "environment"
-    _copy_project(root, env / "rle-bench", exclude=_solution_sources(spec, root))
-    workspace = f"RUN rle dev {spec.id} --workspace /workspace --no-serve\n" if spec.make_dev_env else ""
-    agent = (
-        f"{workspace}RUN useradd --create-home --uid 1000 {AGENT_USER} && mkdir -p /workspace \\\n"
-        f" && chown -R {AGENT_USER} /workspace /logs/artifacts\nWORKDIR /workspace\n"
-    )
-    (env / "Dockerfile").write_text(_dockerfile(agent))
-
-    tests = task_dir / "tests"
-    _copy_project(root, tests / "rle-bench")
-    (tests / "Dockerfile").write_text(
-        _dockerfile("COPY test.sh /tests/test.sh\nRUN chmod +x /tests/test.sh\n")
-    )
-    (tests / "test.sh").write_text(_test_sh(spec))
-    (tests / "test.sh").chmod(0o755)
+    metered = agent_context(spec, task_dir / "environment", root)
+    (task_dir / "README.md").write_text(readme(spec, metered))
+    verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec)})
 
     if "reference" in spec.solutions:
         from rle_tasks.core.solutions import materialise

@@ -258,14 +258,32 @@ def profile_figure(results: Sequence[IndexResult]) -> str:
     return _png(fig)
 
 
-def write_index_html(results: Sequence[IndexResult], path: Path) -> Path:
-    """Self-contained HTML page (figures embedded as base64 PNGs) with the leaderboard and tables."""
+def write_index_html(
+    results: Sequence[IndexResult], path: Path, resources: dict[str, Any] | None = None
+) -> Path:
+    """Self-contained HTML page (figures embedded as base64 PNGs) with the leaderboard and tables.
+
+    Args:
+        results: One index result per system.
+        path: Output file.
+        resources: ``{system: harbor_results.Resources}`` from Harbor job directories; adds the
+            performance-versus-cost figure, the resources table and the failed trials.
+    """
     from html import escape
 
     if not results:
         raise RleError("no results to show", code="index.input")
     board = leaderboard_figure(results)
     profile = profile_figure(results)
+    cost = ""
+    if resources:
+        from rle_tasks.core.harbor_results import cost_figure, resources_html
+
+        cost = (
+            "<h2>Performance versus cost</h2>"
+            f'<img alt="performance versus cost" src="data:image/png;base64,{cost_figure(results, resources)}">'
+            f"<h2>Resources</h2>{resources_html(resources)}"
+        )
     head = "".join(f"<th>{escape(r.name)}</th>" for r in results)
 
     def row(label: str, values: list[float]) -> str:
@@ -294,8 +312,9 @@ workflow, and the RLE Index is the mean of the four workflow scores (paper eq. 1
 <h2>Leaderboard</h2>
 <img alt="leaderboard" src="data:image/png;base64,{board}">
 <table><tr><th>score [%]</th>{head}</tr>{"".join(rows)}</table>
-<h2>Capability profile</h2>
+<h2>Capability profile (per workflow)</h2>
 <img alt="capability profile" src="data:image/png;base64,{profile}">
+{cost}
 <h2>Families</h2>
 <table><tr><th>family</th>{head}</tr>{"".join(fam_rows)}</table>
 <h2>Missing reports</h2>{missing}
@@ -306,24 +325,46 @@ workflow, and the RLE Index is the mean of the four workflow scores (paper eq. 1
     return path
 
 
+def _gather(paths: Sequence[str | os.PathLike], name: str) -> tuple[list[IndexResult], dict[str, Any]]:
+    """Index results per system from report files (system ``name``) and Harbor job directories."""
+    from rle_tasks.core.harbor_results import is_job_dir, read_job, systems
+
+    reports = [p for p in paths if not is_job_dir(Path(p))]
+    records = [r for p in paths if is_job_dir(Path(p)) for r in read_job(Path(p))]
+    results = [compute_index(reports, name=name)] if reports or not records else []
+    rows = {}
+    for system, (result, res) in systems(records).items():
+        if system == name and reports:
+            raise RleError(f"system '{system}' is named by both reports and a job", code="index.duplicate")
+        results.append(result)
+        rows[system] = res
+    return results, rows
+
+
 def index_command(
     paths: Sequence[str | os.PathLike], html: str | os.PathLike | None = None, name: str = "submission"
 ) -> int:
-    """``rle index REPORTS... [--html OUT] [--name NAME]``: print the tables, optionally write the page.
+    """``rle index REPORTS|JOB_DIRS... [--html OUT] [--name NAME]``: print the tables, optionally write
+    the page. A Harbor job directory contributes one result per system (agent and model) and the
+    resources table; report files form the system ``name``.
 
     Returns:
         0 on success; 2 (with the reason on stderr) when a report is missing, unreadable, unknown or
         duplicated.
     """
     try:
-        result = compute_index(paths, name=name)
+        results, rows = _gather(paths, name)
     except RleError as exc:
         print(f"rle index: error [{exc.code}]: {exc}", file=sys.stderr)
         return 2
-    print(format_tables(result))
+    print("\n\n".join(format_tables(r) for r in results))
+    if rows:
+        from rle_tasks.core.harbor_results import format_resources
+
+        print("\n" + format_resources(rows))
     if html is not None:
         try:
-            out = write_index_html([result], Path(html))
+            out = write_index_html(results, Path(html), rows)
         except OSError as exc:
             print(f"rle index: error [index.output]: cannot write {html}: {exc.strerror}", file=sys.stderr)
             return 2

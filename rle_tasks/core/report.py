@@ -144,6 +144,7 @@ class VerifierReport:
     seed_digest: str = ""
     verifier_version: str = VERIFIER_VERSION
     elapsed_s: float = 0.0
+    sandbox_layers: dict[str, bool] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "valid", bool(self.valid))

@@ -1,6 +1,7 @@
 """Running a task's verifier on an artifact directory: the guard shared by every family.
 
-The guard fills the report's provenance fields (artifact digest, secret label, seed digest, timing),
+The guard fills the report's provenance fields (artifact digest, secret label, seed digest, timing,
+the sandbox isolation layers active in this environment),
 turns unreadable input into a participant fault, and turns our own bugs into an internal fault with
 the traceback in the report instead of an exception escaping to the user.
 """
@@ -21,6 +22,16 @@ class InternalVerifierFault(RleError):
     """A bug of ours inside a verifier (exit code 1)."""
 
     code = "verifier.internal"
+
+
+def _sandbox_layers() -> dict[str, bool]:
+    """Isolation layers a sandboxed child gets here (all off when no child can start)."""
+    from rle_design.sandbox import LAYERS, probe_layers
+
+    try:
+        return probe_layers()
+    except RleError:
+        return dict.fromkeys(LAYERS, False)
 
 
 def empty_report(task: TaskSpec) -> VerifierReport:
@@ -66,5 +77,6 @@ def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> 
         secret=ctx.secret.label,
         seed_digest=seed_digest(ctx.secret, task.id),
         elapsed_s=time.perf_counter() - t0,
+        sandbox_layers=_sandbox_layers(),
     )
     return report, internal

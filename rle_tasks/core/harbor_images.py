@@ -1,0 +1,151 @@
+"""Build contexts and Dockerfiles of the two images of an exported Harbor task.
+
+The agent image (``environment/``) holds the public toolkit and the task's public workspace only:
+
+    environment/Dockerfile
+    environment/requirements.lock      exact versions of every dependency (``make lock``)
+    environment/rle-bench/rle_design/  the design and verification toolkit (never imports rle_tasks)
+    environment/workspace/             what ``rle dev TASK`` lays out (instruction, helpers, assets)
+
+Nothing of ``rle_tasks`` is in it: no shipped solutions, no generators that rebuild them, no verifier
+modules, hidden-evaluation code or the development key. The verifier image (``tests/``) holds the whole
+project. Both install the project's lock file without resolving anything (``--no-deps``), so the
+agent's self-checks and the verifier run the same versions.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+from rle_design.errors import RleError
+from rle_tasks.core.task import TaskSpec
+
+BASE_IMAGE = "python:3.11-slim-bookworm"
+APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6"
+ROBOSUITE = "robosuite==1.5.2"
+TORCH_INDEX = "https://download.pytorch.org/whl/cpu"
+"""Where the CPU build of torch pinned in the lock file (``torch==2.13.0+cpu``) is served."""
+"""Asset source only (arm MJCF and meshes): installed without its dependencies (they pin old MuJoCo)."""
+LOCK_FILE = "requirements.lock"
+AGENT_USER = "agent"
+"""Unprivileged user the agent runs as (submitted code never runs as root; see harbor#1779)."""
+PUBLIC_PACKAGES = ("rle_design",)
+"""Packages of the agent image: the public toolkit."""
+VERIFIER_PACKAGES = ("rle_design", "rle_tasks")
+_PROJECT_FILES = ("pyproject.toml", "README.md", "LICENSE")
+_IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".pytest_cache")
+
+
+def base_image() -> str:
+    """Base image of both containers: ``RLE_HARBOR_BASE_IMAGE`` (e.g. pinned by digest) or ``BASE_IMAGE``."""
+    return os.environ.get("RLE_HARBOR_BASE_IMAGE") or BASE_IMAGE
+
+
+def lock_file(root: Path) -> Path:
+    """The project's lock file (``requirements.lock`` beside ``pyproject.toml``).
+
+    Raises:
+        RleError: ``harbor.lock`` when the checkout has none (``make lock`` writes it).
+    """
+    path = root / LOCK_FILE
+    if not path.is_file():
+        raise RleError(
+            f"{path} does not exist: both images install the exact versions of the lock file; run `make lock`",
+            code="harbor.lock",
+        )
+    return path
+
+
+def _copy_packages(root: Path, dst: Path, packages: tuple[str, ...], files: tuple[str, ...]) -> None:
+    dst.mkdir(parents=True)
+    for name in files:
+        if (root / name).is_file():
+            shutil.copy2(root / name, dst / name)
+    for name in packages:
+        if (root / name).is_dir():
+            shutil.copytree(root / name, dst / name, ignore=_IGNORE, symlinks=False)
+
+
+def _install(lock: str) -> str:
+    """Dockerfile lines installing the system libraries and the locked Python dependencies."""
+    return f"""FROM {base_image()}
+ENV DEBIAN_FRONTEND=noninteractive PIP_NO_CACHE_DIR=1 PIP_DISABLE_PIP_VERSION_CHECK=1 \\
+    MUJOCO_GL=egl PYOPENGL_PLATFORM=egl
+# Offscreen OpenGL on CPU: EGL with Mesa llvmpipe, OSMesa as fallback.
+RUN apt-get update \\
+ && apt-get install -y --no-install-recommends {APT_PACKAGES} \\
+ && rm -rf /var/lib/apt/lists/*
+COPY {LOCK_FILE} {lock}
+# Exact versions of the lock file; robosuite is an asset source, without dependencies.
+RUN pip install --no-deps -r {lock} --extra-index-url {TORCH_INDEX} \\
+ && pip install --no-deps {ROBOSUITE}
+"""
+
+
+def public_workspace(spec: TaskSpec, dest: Path) -> bool:
+    """Lay out what ``rle dev`` writes for ``spec`` into ``dest``, without a metered server's client.
+
+    The ledger server of a metered development environment holds a key derived from the verifier
+    secret, so it cannot run in the agent's image; its ``client.py`` (which would point at a socket
+    on the exporting host) is left out, and the family's public modules run the environment in-process.
+
+    Returns:
+        True when the task's development environment is metered (its client was left out).
+    """
+    from rle_tasks.core.devenv import layout_workspace
+
+    layout_workspace(spec, dest, serve=False)
+    client = dest / "client.py"
+    metered = client.is_file() and client.read_text().startswith('"""Metered development environment')
+    if metered:
+        client.unlink()
+        shutil.rmtree(dest / ".rle", ignore_errors=True)
+    return metered
+
+
+def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> bool:
+    """Write the agent image's build context: Dockerfile, lock file, toolkit, public workspace.
+
+    Returns:
+        True when the task's development environment is metered (see ``public_workspace``).
+    """
+    env_dir.mkdir(parents=True)
+    shutil.copyfile(lock_file(root), env_dir / LOCK_FILE)
+    _copy_packages(root, env_dir / "rle-bench", PUBLIC_PACKAGES, ("LICENSE",))
+    metered = public_workspace(spec, env_dir / "workspace")
+    dockerfile = _install("/opt/rle-bench/requirements.lock") + (
+        "COPY rle-bench /opt/rle-bench\n"
+        "ENV PYTHONPATH=/opt/rle-bench\n"
+        "COPY workspace /workspace\n"
+        f"RUN useradd --create-home --uid 1000 {AGENT_USER} && mkdir -p /logs/artifacts \\\n"
+        f" && chown -R {AGENT_USER} /workspace /logs/artifacts\n"
+        "WORKDIR /workspace\n"
+    )
+    (env_dir / "Dockerfile").write_text(dockerfile)
+    return metered
+
+
+def verifier_context(tests_dir: Path, root: Path, scripts: dict[str, str]) -> None:
+    """Write the verifier image's build context: the whole project and the verification scripts.
+
+    Args:
+        tests_dir: The task's ``tests/`` directory (created).
+        root: Project source root.
+        scripts: ``{file name: text}`` written beside the Dockerfile and copied to ``/tests``.
+    """
+    tests_dir.mkdir(parents=True)
+    shutil.copyfile(lock_file(root), tests_dir / LOCK_FILE)
+    _copy_packages(root, tests_dir / "rle-bench", VERIFIER_PACKAGES, _PROJECT_FILES)
+    copies = ""
+    for name, text in scripts.items():
+        (tests_dir / name).write_text(text)
+        (tests_dir / name).chmod(0o755)
+        copies += f"COPY {name} /tests/{name}\n"
+    dockerfile = _install("/opt/rle-bench/requirements.lock") + (
+        "COPY rle-bench /opt/rle-bench\n"
+        "RUN pip install --no-deps -e /opt/rle-bench && mkdir -p /logs/artifacts\n"
+        f"{copies}"
+    )
+    (tests_dir / "Dockerfile").write_text(dockerfile)

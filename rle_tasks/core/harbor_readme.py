@@ -1,0 +1,80 @@
+"""``README.md`` of an exported Harbor task directory: what an operator needs before ``harbor run``."""
+
+from __future__ import annotations
+
+from rle_tasks.core.task import TaskSpec
+
+
+def _reference_line(spec: TaskSpec) -> str:
+    if "reference" not in spec.solutions or not spec.solutions_module:
+        return "This task ships no reference solution, so the oracle agent has nothing to submit."
+    from rle_tasks.core.solutions import declaration
+
+    ref = declaration(spec).get("reference")
+    return (
+        f"The reference solution (`solution/reference/`, submitted by Harbor's oracle agent) scores "
+        f"**{ref.quick_score:.3f}** in the verifier's quick mode with the public development key (the "
+        f"golden score pinned in `{spec.solutions_module}` and checked by the project's tests). The "
+        "exported verifier runs the full evaluation on hidden variations derived from your private "
+        "secret, so expect a score near this value, not the same digits; an oracle run measures it "
+        f"(`harbor run --path . --agent oracle`)."
+    )
+
+
+def readme(spec: TaskSpec, metered: bool = False) -> str:
+    """The README text of one exported task (``metered``: its development environment is metered)."""
+    b, c = spec.budget, spec.contract
+    metered_note = (
+        "\nThe metered development environment of `rle dev` is not served in the agent's image: its "
+        "ledger server holds a key derived from the secret. The public modules in `/workspace` run the "
+        "environment in-process, so an interaction budget is not enforced there.\n"
+        if metered
+        else ""
+    )
+    steps = f"{b.steps} charged interaction steps" if b.steps is not None else "unmetered"
+    return f"""# rle-bench/{spec.id}: {spec.title}
+
+Workflow: {spec.workflow}; family {spec.family:02d}. `instruction.md` is what the agent reads.
+
+## Expected score
+
+{_reference_line(spec)}
+
+## Secret
+
+The verifier derives its hidden evaluation from `RLE_SECRET`, read from the environment of the host
+that runs `harbor` (`task.toml` passes it with no default). Without it Harbor refuses to start the
+verifier, and the verifier itself refuses an empty one, so no run is ever scored on the public key by
+accident:
+
+```bash
+export RLE_SECRET="$(openssl rand -hex 32)"  # keep it: the same secret reproduces the same scores
+harbor run --path . --agent oracle
+```
+
+The agent container never receives the secret. A smoke test on the public development key is possible
+only on purpose (`RLE_SECRET= RLE_ALLOW_PUBLIC_KEY=1`), and its reward says so (`secret_private` 0).
+`reward.json` holds `reward` (the task score), `secret_private` and one number per checkpoint; a
+verifier fault leaves no reward file, so Harbor reports an error instead of a zero.
+
+## Resources
+
+| | |
+|---|---|
+| agent wall time | {b.wall_time_s / 3600:.1f} h |
+| CPUs / memory / GPUs | {b.cpus} / {b.memory_mb} MiB / {b.gpus} |
+| interaction budget | {steps} |
+| verifier timeout | {b.verifier_timeout_s / 60:.0f} min (workers: at most {b.cpus}) |
+| artifact size limit | {c.max_total_bytes / 2**20:.0f} MiB |
+| network | public while the container starts and the agent installs; none for the agent and verifier phases |
+
+## Images
+{metered_note}
+`environment/` (the agent's image) holds the public toolkit `rle_design` and the task's public
+workspace (`/workspace`, what `rle dev` lays out); no solutions, generators or verifier code.
+`tests/` (the verifier's image) holds the whole project. Both install `requirements.lock` (exact
+versions). The base image is `python:3.11-slim-bookworm`; to pin it by digest (`harbor lint --select
+ALL`), export with `RLE_HARBOR_BASE_IMAGE=python:3.11-slim-bookworm@sha256:<digest>`. The verifier
+runs as root so that submitted code runs sandboxed as `nobody`; without CAP_SYS_ADMIN (Docker's default)
+the sandbox has no network namespace of its own, which the report records (`sandbox_layers`).
+"""

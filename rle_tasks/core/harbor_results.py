@@ -1,0 +1,252 @@
+"""Results back from Harbor: trial records of a job directory, grouped by system, into the RLE Index.
+
+A Harbor 0.25 job directory holds one folder per trial, each with a ``result.json`` (``TrialResult``):
+``task_name`` (``rle-bench/<task id>``), ``agent_info`` (agent name, ``model_info``),
+``verifier_result.rewards`` (``reward`` is the task score written by ``tests/test.sh``),
+``agent_result`` (input tokens including cached ones, cached tokens, output tokens, cost in USD),
+``started_at``/``finished_at`` and ``exception_info``. The job's own ``result.json`` has no
+``trial_name`` and is skipped.
+
+A system is an agent with its model. A trial without a reward (a verifier fault, an agent crash, a
+run that never finished) scores 0 and is listed as failed; several trials of one task are averaged;
+tasks no trial reached are the index's missing tasks (also 0).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from datetime import datetime
+from fractions import Fraction
+from pathlib import Path
+
+from rle_design.errors import RleError
+from rle_tasks.core.index import IndexResult, compute_index
+from rle_tasks.core.task import TaskSpec
+
+ORG_PREFIX = "rle-bench/"
+
+
+@dataclass(frozen=True)
+class TrialRecord:
+    """One Harbor trial.
+
+    Attributes:
+        system: ``agent (model)``, or the agent name when no model is recorded.
+        task_id: RLE-Bench task id (the ``rle-bench/`` prefix removed).
+        trial: Trial name (its folder).
+        reward: The ``reward`` value, or None when the trial produced none (failed).
+        cost_usd: Agent cost [USD] (0 when not reported).
+        input_tokens: Input tokens including cached ones.
+        cached_tokens: Cached input tokens.
+        output_tokens: Output tokens.
+        elapsed_s: Trial wall time, ``finished_at - started_at`` [s] (0 when unknown).
+        exception: ``Type: message`` of the recorded exception, or "".
+    """
+
+    system: str
+    task_id: str
+    trial: str
+    reward: float | None
+    cost_usd: float = 0.0
+    input_tokens: int = 0
+    cached_tokens: int = 0
+    output_tokens: int = 0
+    elapsed_s: float = 0.0
+    exception: str = ""
+
+    @property
+    def failed(self) -> bool:
+        return self.reward is None
+
+
+@dataclass(frozen=True)
+class Resources:
+    """Resources of one system over its trials (the paper's resources table).
+
+    Attributes:
+        trials: Trials run.
+        failed: Trials without a reward (scored 0).
+        mean_cost_usd: Mean agent cost per trial [USD].
+        elapsed_h: Total trial wall time [h].
+        input_tokens: Mean input tokens per trial (including cached).
+        cached_tokens: Mean cached input tokens per trial.
+        output_tokens: Mean output tokens per trial.
+        failed_trials: ``task id/trial: reason`` of each failed trial.
+    """
+
+    trials: int
+    failed: int
+    mean_cost_usd: float
+    elapsed_h: float
+    input_tokens: float
+    cached_tokens: float
+    output_tokens: float
+    failed_trials: tuple[str, ...] = ()
+
+
+def _time(text: object) -> datetime | None:
+    if not isinstance(text, str):
+        return None
+    try:
+        return datetime.fromisoformat(text)
+    except ValueError:
+        return None
+
+
+def _int(value: object) -> int:
+    return int(value) if isinstance(value, int | float) and not isinstance(value, bool) else 0
+
+
+def read_trial(path: Path) -> TrialRecord | None:
+    """The record of one trial ``result.json`` (None for a file that is not a trial result).
+
+    Raises:
+        RleError: ``index.input`` when the file is not JSON.
+    """
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError) as exc:
+        raise RleError(f"cannot read Harbor trial result {path}: {exc}", code="index.input") from None
+    if not isinstance(data, dict) or "trial_name" not in data or "task_name" not in data:
+        return None
+    agent = data.get("agent_info") or {}
+    model = (agent.get("model_info") or {}).get("name")
+    system = f"{agent.get('name', 'unknown')} ({model})" if model else str(agent.get("name", "unknown"))
+    rewards = (data.get("verifier_result") or {}).get("rewards") or {}
+    reward = rewards.get("reward")
+    usage = data.get("agent_result") or {}
+    start, end = _time(data.get("started_at")), _time(data.get("finished_at"))
+    exc = data.get("exception_info") or {}
+    return TrialRecord(
+        system=system,
+        task_id=str(data["task_name"]).removeprefix(ORG_PREFIX),
+        trial=str(data["trial_name"]),
+        reward=float(reward) if isinstance(reward, int | float) else None,
+        cost_usd=float(usage.get("cost_usd") or 0.0),
+        input_tokens=_int(usage.get("n_input_tokens")),
+        cached_tokens=_int(usage.get("n_cache_tokens")),
+        output_tokens=_int(usage.get("n_output_tokens")),
+        elapsed_s=(end - start).total_seconds() if start and end else 0.0,
+        exception=f"{exc.get('exception_type')}: {exc.get('exception_message')}" if exc else "",
+    )
+
+
+def is_job_dir(path: Path) -> bool:
+    """True for a directory holding at least one Harbor trial folder (``*/result.json``)."""
+    return path.is_dir() and any(p.is_file() for p in path.glob("*/result.json"))
+
+
+def read_job(job_dir: Path) -> list[TrialRecord]:
+    """Every trial of a Harbor job directory, sorted by trial name.
+
+    Raises:
+        RleError: ``index.input`` when ``job_dir`` holds no trial results.
+    """
+    records = [r for p in sorted(Path(job_dir).glob("*/result.json")) if (r := read_trial(p)) is not None]
+    if not records:
+        raise RleError(f"{job_dir} holds no Harbor trial results (*/result.json)", code="index.input")
+    return records
+
+
+def resources(records: Sequence[TrialRecord]) -> Resources:
+    """The resources row of one system's trials."""
+    n = len(records)
+
+    def mean(values: Iterable[float]) -> float:
+        return float(sum(Fraction(v) for v in values) / n) if n else 0.0
+
+    failed = tuple(f"{r.task_id}/{r.trial}: {r.exception or 'no reward'}" for r in records if r.failed)
+    return Resources(
+        trials=n,
+        failed=len(failed),
+        mean_cost_usd=mean(r.cost_usd for r in records),
+        elapsed_h=float(sum(Fraction(r.elapsed_s) for r in records) / 3600),
+        input_tokens=mean(r.input_tokens for r in records),
+        cached_tokens=mean(r.cached_tokens for r in records),
+        output_tokens=mean(r.output_tokens for r in records),
+        failed_trials=failed,
+    )
+
+
+def systems(
+    records: Iterable[TrialRecord], tasks: Sequence[TaskSpec] | None = None
+) -> dict[str, tuple[IndexResult, Resources]]:
+    """``{system: (index result, resources)}``: each task's score is the mean reward of its trials
+    (a failed trial counts 0), in order of first appearance of the system.
+
+    Raises:
+        RleError: A trial names a task the registry does not know (``index.unknown_task``).
+    """
+    by_system: dict[str, list[TrialRecord]] = {}
+    for r in records:
+        by_system.setdefault(r.system, []).append(r)
+    out = {}
+    for system, trials in by_system.items():
+        per_task: dict[str, list[Fraction]] = {}
+        for r in trials:
+            per_task.setdefault(r.task_id, []).append(Fraction(r.reward or 0.0))
+        reports = [{"task_id": tid, "score": float(sum(v) / len(v))} for tid, v in per_task.items()]
+        result = compute_index(reports, name=system, tasks=tasks)
+        out[system] = (result, resources(trials))
+    return out
+
+
+def format_resources(rows: dict[str, Resources]) -> str:
+    """The resources table as plain text (means per trial; elapsed hours summed)."""
+    head = f"{'system':<32}{'trials':>7}{'failed':>7}{'cost $':>9}{'hours':>8}{'input':>11}{'cached':>11}{'output':>10}"
+    lines = ["Resources (means per trial; hours summed over trials)", head]
+    for name, r in rows.items():
+        lines.append(
+            f"{name[:31]:<32}{r.trials:>7}{r.failed:>7}{r.mean_cost_usd:>9.2f}{r.elapsed_h:>8.2f}"
+            f"{r.input_tokens:>11.0f}{r.cached_tokens:>11.0f}{r.output_tokens:>10.0f}"
+        )
+    for name, r in rows.items():
+        for entry in r.failed_trials:
+            lines.append(f"failed ({name}): {entry}")
+    return "\n".join(lines)
+
+
+def resources_html(rows: dict[str, Resources]) -> str:
+    """The resources table and the failed-trial list as HTML."""
+    from html import escape
+
+    cells = "".join(
+        f"<tr><td>{escape(name)}</td><td>{r.trials}</td><td>{r.failed}</td><td>{r.mean_cost_usd:.2f}</td>"
+        f"<td>{r.elapsed_h:.2f}</td><td>{r.input_tokens:.0f}</td><td>{r.cached_tokens:.0f}</td>"
+        f"<td>{r.output_tokens:.0f}</td></tr>"
+        for name, r in rows.items()
+    )
+    failed = "".join(
+        f"<li>{escape(name)}: {escape(entry)}</li>" for name, r in rows.items() for entry in r.failed_trials
+    )
+    return (
+        "<table><tr><th>system</th><th>trials</th><th>failed (scored 0)</th><th>mean cost [USD]</th>"
+        "<th>elapsed [h]</th><th>input tokens</th><th>cached tokens</th><th>output tokens</th></tr>"
+        f"{cells}</table><p>Tokens and cost are means per trial; elapsed hours are summed.</p>"
+        f"<h3>Failed trials</h3><ul>{failed or '<li>none</li>'}</ul>"
+    )
+
+
+def cost_figure(results: Sequence[IndexResult], rows: dict[str, Resources]) -> str:
+    """RLE Index [%] against mean cost per trial [USD], one point per system, as a base64 PNG."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rle_tasks.core.index import _png
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for r in results:
+        cost = rows[r.name].mean_cost_usd if r.name in rows else 0.0
+        ax.scatter([cost], [100 * r.index], s=40)
+        ax.annotate(r.name, (cost, 100 * r.index), textcoords="offset points", xytext=(5, 5), fontsize=8)
+    ax.set_xlabel("mean cost per trial [USD]")
+    ax.set_ylabel("RLE Index [%]")
+    ax.set_ylim(0, 105)
+    ax.set_xlim(left=0)
+    ax.set_title("Performance versus cost")
+    ax.grid(alpha=0.3)
+    return _png(fig)
