@@ -9,6 +9,8 @@ failure that skips the submitted-arm battery):
 * ``contract.joint_frame``: every stock body keeps its parent, position and orientation, every stock
   joint its position, axis, range and reference angle ``ref`` (1e-6);
 * ``contract.stock_servo``: stock joint frictionloss, damping and armature unchanged;
+* ``contract.stock_body_addition``: no geom added to a stock body (its inertial is explicit, so the
+  geom's mass would not count): parts go on new bodies welded to a link;
 * tendons are springs only: ``contract.fixed_tendon`` (not a straight site-to-site spatial tendon),
   ``contract.tendon_friction``, ``contract.tendon_damping``, ``contract.tendon_armature``,
   ``contract.tendon_limit``; every spring (tendon or joint stiffness) is listed in the report;
@@ -183,6 +185,19 @@ def _structure(robot: str, m: mujoco.MjModel, path: str) -> list[Finding]:
                 "joint",
             )
     out += _tendon_findings(m, path)
+    stock_geoms = {mujoco.mj_id2name(s, OBJ.mjOBJ_GEOM, g) for g in range(s.ngeom)}
+    stock_bodies = {mujoco.mj_id2name(s, OBJ.mjOBJ_BODY, b) for b in range(1, s.nbody)}
+    for g in range(m.ngeom):
+        gname = mujoco.mj_id2name(m, OBJ.mjOBJ_GEOM, g)
+        bname = mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, int(m.geom_bodyid[g]))
+        if bname in stock_bodies and gname not in stock_geoms:
+            # a stock body's inertial is explicit: a geom added to it would carry no mass at all
+            bad(
+                "contract.stock_body_addition",
+                f"geom '{gname or f'geom{g}'}' added to stock body '{bname}': add parts as new bodies "
+                "welded to the link, where their mass and printability are counted",
+                "geom",
+            )
     for g in range(s.ngeom):
         name = mujoco.mj_id2name(s, OBJ.mjOBJ_GEOM, g)
         mg = element_id(m, "geom", name) if has_element(m, "geom", name) else -1

@@ -104,3 +104,36 @@ def test_a_diverging_scenario_fails_with_the_warning_name():
     # the same scenario on a stable hinge (k = 1 N m/rad) runs without a warning
     m.jnt_stiffness[0] = 1.0
     assert battery.hold_drift(m, q0, ff, 0.5) > 0.0
+
+
+def _dense_geom_on_link2(root):
+    """A dense, non-colliding geom on a stock body: it used to change nothing in the report."""
+    link2 = next(b for b in root.iter("body") if b.get("name") == "link2")
+    etree.SubElement(
+        link2, "geom", name="dense_extra", type="box", size="0.01 0.01 0.01", density="100000",
+        contype="0", conaffinity="0",
+    )  # fmt: skip
+
+
+def _extra_root_with_joint(root):
+    """A second root body with its own hinge: it used to fault inside the verifier (a shape error)."""
+    body = etree.SubElement(root.find("worldbody"), "body", name="extra", pos="0.3 0 0.1")
+    etree.SubElement(body, "joint", name="extra_j", type="hinge", axis="0 1 0")
+    etree.SubElement(body, "geom", type="box", size="0.02 0.02 0.02", mass="0.1")
+
+
+@pytest.mark.parametrize(
+    "edit, codes",
+    [
+        (_dense_geom_on_link2, {"contract.stock_body_addition"}),
+        (_extra_root_with_joint, {"contract.multiple_roots", "contract.extra_joint"}),
+    ],
+)
+def test_additions_the_contract_does_not_name_are_refused_by_name(tmp_path, edit, codes):
+    d = shutil.copytree(materialise(TASK, "reference"), tmp_path / "sub")
+    for robot in ROBOTS:
+        _edit(d, robot, edit)
+    report, internal = run_verify(TASK, d, VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True))
+    assert not internal, report.errors
+    assert codes <= {e.code for e in report.errors}
+    assert not report.valid and report.score <= 0.2 + 1e-9, report.score
