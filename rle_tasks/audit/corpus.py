@@ -433,6 +433,38 @@ def physics_cases() -> list[Case]:
         ),
         ("massless_body", "mjcf.compile", _massless),
         (
+            "tendon_friction",
+            "contract.tendon_friction",
+            _inject_root(
+                '<tendon><fixed name="hold" frictionloss="1.2"><joint joint="j2" coef="1"/></fixed></tendon>'
+            ),
+        ),
+        (
+            "tendon_damping",
+            "contract.tendon_damping",
+            lambda xml: xml.replace(
+                '<spatial name="shoulder_spring"', '<spatial name="shoulder_spring" damping="100"', 1
+            ),
+        ),
+        (
+            "geom_on_stock_body",
+            "contract.stock_body_addition",
+            lambda xml: xml.replace(
+                '<geom name="link2_shell"',
+                '<geom name="dense_extra" type="box" size="0.01 0.01 0.01" density="100000" contype="0" '
+                'conaffinity="0"/><geom name="link2_shell"',
+                1,
+            ),
+        ),
+        (
+            "extra_root_with_joint",
+            "contract.extra_joint",
+            _inject_worldbody(
+                '<body name="extra" pos="0.3 0 0.1"><joint name="extra_j" axis="0 1 0"/>'
+                '<geom size="0.02" mass="0.1"/></body>'
+            ),
+        ),
+        (
             "negative_inertia",
             "contract.invalid_inertia",
             _inside_first_body(

@@ -23,6 +23,7 @@ import numpy as np
 
 from rle_design.errors import MjcfError
 from rle_design.kinematics import GravityMap, model_from_mujoco, springs_from_mujoco
+from rle_design.scene import element_id, has_element
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import derive_rng
@@ -345,7 +346,10 @@ def _render(sub, home: np.ndarray, path: Path, res: VariantResult) -> None:
         except ValueError:
             m = sub.model  # render the device as verified
     d = mujoco.MjData(m)
-    d.qpos[:] = home
+    # home by stock joint name: a leader with other joints (refused, still drawn) keeps its qpos0 there
+    for name, q in zip(device.stock_names(sub.robot)[1], home):
+        if has_element(m, "joint", name):
+            d.qpos[m.jnt_qposadr[element_id(m, "joint", name)]] = q
     mujoco.mj_forward(m, d)
     try:
         render_png(m, d, path, width=480, height=360)

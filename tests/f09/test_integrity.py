@@ -117,7 +117,8 @@ def _dense_geom_on_link2(root):
 
 def _extra_root_with_joint(root):
     """A second root body with its own hinge: it used to fault inside the verifier (a shape error)."""
-    body = etree.SubElement(root.find("worldbody"), "body", name="extra", pos="0.3 0 0.1")
+    body = etree.Element("body", name="extra", pos="0.3 0 0.1")
+    root.find("worldbody").insert(0, body)  # the first root: its joint comes before the leader's
     etree.SubElement(body, "joint", name="extra_j", type="hinge", axis="0 1 0")
     etree.SubElement(body, "geom", type="box", size="0.02 0.02 0.02", mass="0.1")
 
@@ -133,7 +134,8 @@ def test_additions_the_contract_does_not_name_are_refused_by_name(tmp_path, edit
     d = shutil.copytree(materialise(TASK, "reference"), tmp_path / "sub")
     for robot in ROBOTS:
         _edit(d, robot, edit)
-    report, internal = run_verify(TASK, d, VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True))
+    ctx = VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True, out_dir=tmp_path / "figs")
+    report, internal = run_verify(TASK, d, ctx)  # with figures: the render once faulted on such a leader
     assert not internal, report.errors
     assert codes <= {e.code for e in report.errors}
     assert not report.valid and report.score <= 0.2 + 1e-9, report.score
