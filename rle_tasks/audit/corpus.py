@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import re
 import shutil
 import struct
 import zipfile
@@ -487,6 +488,17 @@ def physics_cases() -> list[Case]:
         ("gravcomp", "contract.gravcomp", _first_body_attr('gravcomp="1"')),
         ("gravity_changed", "contract.option_changed", _inject_root('<option gravity="0 0 -5"/>')),
         ("weld_to_world", "contract.world_weld", _weld("weld")),
+        (
+            "inertial_below_floor",
+            "f08.inertial_mismatch",
+            # the reference chassis' own mass, declared 0.5 m below its frame (under the floor)
+            lambda xml: re.sub(
+                r'(<body name="chassis"[^>]*>)',
+                r'\1<inertial pos="0 0 -0.5" mass="6.8904" diaginertia="0.5 0.5 0.5"/>',
+                xml,
+                count=1,
+            ),
+        ),
     ]
     cases += [
         Case(f"physics/f08_{n}", F08, code, _edit_xml(F08, edit), max_score=0.15) for n, code, edit in f8

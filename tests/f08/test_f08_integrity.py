@@ -1,0 +1,39 @@
+"""Issue-19 regression on 08: a declared <inertial> that contradicts the geometry is invalid."""
+
+import shutil
+
+import pytest
+from lxml import etree
+
+from rle_design.mjcf import load_design
+from rle_tasks.core.solutions import materialise
+from rle_tasks.f08_mobile_base.validity import check_validity
+
+
+def _with_chassis_inertial(tmp_path, pos: str, mass: float | None = None):
+    d = shutil.copytree(materialise("08-mobile-base", "reference"), tmp_path / "sub")
+    m = load_design(d).compile()
+    total = float(m.body_mass[m.body("chassis").id]) if mass is None else mass
+    path = d / "robot.xml"
+    tree = etree.parse(str(path))
+    chassis = next(b for b in tree.getroot().iter("body") if b.get("name") == "chassis")
+    chassis.insert(0, etree.Element("inertial", pos=pos, mass=f"{total:.6f}", diaginertia="0.5 0.5 0.5"))
+    tree.write(str(path))
+    return load_design(d)
+
+
+def test_the_reference_inertials_follow_from_its_geoms():
+    assert check_validity(load_design(materialise("08-mobile-base", "reference"))) == []
+
+
+def test_the_profiles_mass_with_a_centre_of_mass_below_the_floor_is_invalid(tmp_path):
+    # the chassis' own mass, declared 0.5 m below its frame (under the floor): the exploit of the audit
+    findings = check_validity(_with_chassis_inertial(tmp_path, "0 0 -0.5"))
+    mismatch = [msg for code, msg in findings if code == "f08.inertial_mismatch"]
+    assert len(mismatch) == 1 and "body 'chassis'" in mismatch[0] and "-0.5" in mismatch[0]
+
+
+@pytest.mark.parametrize("mass", [1.0, 20.0])
+def test_a_declared_mass_other_than_the_geometry_is_invalid(tmp_path, mass):
+    findings = check_validity(_with_chassis_inertial(tmp_path, "0 0 0", mass))
+    assert "f08.inertial_mismatch" in {c for c, _ in findings}
