@@ -248,10 +248,20 @@ class Rubric:
             f"cap '{cid}' is not declared for {self.task_id}; declared: {[c.id for c in self.caps]}"
         )
 
-    def deduction(self, codes: Iterable[str]) -> float:
-        """Deduction of one variant: the distinct codes' amounts, summed and capped [1]."""
+    def deduction(self, findings: Iterable[str | tuple[str, float]]) -> float:
+        """Deduction of one variant: the distinct codes' amounts, summed and capped [1].
+
+        Args:
+            findings: Codes, or ``(code, fraction)`` pairs for a deduction that grows with the size of
+                the shortfall (``fraction`` in [0, 1] of the declared amount; a code seen twice counts
+                once, at its largest fraction).
+        """
         amounts = {d.code: d.amount for d in self.deductions}
-        return min(self.max_deduction, sum(amounts.get(c, 0.0) for c in set(codes)))
+        worst: dict[str, float] = {}
+        for f in findings:
+            code, frac = (f, 1.0) if isinstance(f, str) else (f[0], min(1.0, max(0.0, float(f[1]))))
+            worst[code] = max(worst.get(code, 0.0), frac)
+        return min(self.max_deduction, sum(amounts.get(c, 0.0) * frac for c, frac in worst.items()))
 
     def report(
         self,

@@ -17,7 +17,9 @@ failure that skips the submitted-arm battery):
 * ``contract.stock_geometry`` / ``contract.stock_inertia``: stock geoms (type, size, placement) and
   stock body inertials (mass, centre of mass, inertia) unchanged: add mass as new welded bodies.
 
-Validity rules (deductions, the battery still runs): device mass <= 2.30 kg (``contract.over_mass``);
+Validity rules (deductions, the battery still runs): device mass <= 2.30 kg (``contract.over_mass``,
+a deduction growing linearly to its full 0.10 at 3.00 kg; a heavier device is a structure failure,
+``contract.mass_bound``);
 added mesh parts printable in PLA (``contract.printability``); added bodies no denser than steel
 (``contract.point_mass``).
 """
@@ -48,6 +50,10 @@ from rle_tasks.f09_gello.assembly import HANDLE_SITE
 
 ASSET_DIR = Path(__file__).resolve().parent / "assets"
 MAX_MASS_KG = 2.30
+"""The card's device mass cap [kg]: above it the deduction grows linearly with the excess."""
+HARD_MASS_KG = 3.00
+"""Mass at which the over-mass deduction is full (0.10) and beyond which a leader is refused [kg]
+(README: derivation)."""
 STEEL_DENSITY = 7850.0
 TOL = 1e-6
 OBJ = mujoco.mjtObj
@@ -298,15 +304,24 @@ def mesh_of(m: mujoco.MjModel, mesh_id: int) -> trimesh.Trimesh:
     return trimesh.Trimesh(m.mesh_vert[va : va + vn].copy(), m.mesh_face[fa : fa + fn].copy(), process=False)
 
 
+def over_mass_fraction(mass: float) -> float:
+    """Fraction of the full over-mass deduction for a device of ``mass`` [kg]: 0 at the cap, 1 at
+    ``HARD_MASS_KG``, linear in between [1]."""
+    return float(np.clip((mass - MAX_MASS_KG) / (HARD_MASS_KG - MAX_MASS_KG), 0.0, 1.0))
+
+
 def _validity(robot: str, m: mujoco.MjModel, added: list[int], path: str) -> tuple[list[Finding], float]:
     from rle_design.mjcf.printability import printability_report
 
     out: list[Finding] = []
     mass = float(m.body_mass[1:].sum())
-    if mass > MAX_MASS_KG:
+    if MAX_MASS_KG < mass <= HARD_MASS_KG:
         out.append(
             Finding(
-                "contract.over_mass", f"device mass {mass:.3f} kg exceeds {MAX_MASS_KG:.2f} kg", path=path
+                "contract.over_mass",
+                f"device mass {mass:.3f} kg exceeds {MAX_MASS_KG:.2f} kg: deduction "
+                f"{over_mass_fraction(mass):.2f} x 0.10 (full at {HARD_MASS_KG:.2f} kg)",
+                path=path,
             )
         )
     for b in added:
@@ -363,7 +378,25 @@ def load_submission(robot: str, directory: Path) -> Submission:
         b for b in range(1, m.nbody) if mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) not in stock_bodies
     ]
     sub.validity, sub.mass = _validity(robot, m, sub.added_bodies, rel)
+    if sub.mass > HARD_MASS_KG:
+        sub.structure.append(
+            Finding(
+                "contract.mass_bound",
+                f"device mass {sub.mass:.3f} kg exceeds the hard bound {HARD_MASS_KG:.2f} kg "
+                f"(cap {MAX_MASS_KG:.2f} kg): not the card's device",
+                path=rel,
+            )
+        )
     return sub
+
+
+def deductions(sub: Submission) -> list[tuple[str, float]]:
+    """``(code, fraction)`` of each validity finding for ``Rubric.deduction`` (over-mass grows with
+    the excess; the others are full)."""
+    return [
+        (f.code, over_mass_fraction(sub.mass) if f.code == "contract.over_mass" else 1.0)
+        for f in sub.validity
+    ]
 
 
 def battery_model(m: mujoco.MjModel) -> mujoco.MjModel:

@@ -210,7 +210,7 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: Findings)
     for f in sub.structure + sub.validity:
         report.add_error(f.code, f.message, f.path)
     res.valid = not sub.structure and not sub.validity
-    res.deduction = scoring.RUBRIC.deduction(f.code for f in sub.validity)
+    res.deduction = scoring.RUBRIC.deduction(device.deductions(sub))
     res.measured["device_mass_kg"] = sub.mass
     if sub.model is not None:
         res.measured["springs"] = device.springs_summary(sub.model)  # every element adding passive torque

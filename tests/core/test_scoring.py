@@ -74,6 +74,17 @@ def test_variant_mean_aggregation_with_deductions():
     assert rep.score == pytest.approx(0.59)
 
 
+def test_a_deduction_grows_with_the_shortfall():
+    r = _rubric(aggregate="variant_mean")
+    # heavy 0.10 x 0.3 = 0.03; the same code twice counts once at its largest fraction (0.6 -> 0.06)
+    assert r.deduction([("heavy", 0.3)]) == pytest.approx(0.03)
+    assert r.deduction([("heavy", 0.3), ("heavy", 0.6)]) == pytest.approx(0.06)
+    # fractions are clamped to [0, 1]; a plain code is a full deduction: 0.10 + 0.05 x 0.5 = 0.125 -> cap 0.12
+    assert r.deduction([("heavy", 7.0), ("thin", 0.5)]) == pytest.approx(0.12)
+    assert r.deduction([("heavy", -1.0)]) == 0.0
+    assert r.deduction(["thin", ("heavy", 0.2)]) == pytest.approx(0.05 + 0.02)
+
+
 def test_pass_rules_and_missing_outcomes():
     r = _rubric(
         checkpoints=(

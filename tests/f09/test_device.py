@@ -9,12 +9,16 @@ import pytest
 from rle_design.scene import Variation, element_id
 from rle_tasks.f09_gello.device import (
     ASSET_DIR,
+    HARD_MASS_KG,
+    MAX_MASS_KG,
     apply_variation,
     battery_model,
+    deductions,
     device_variations,
     load_submission,
     stock_model,
 )
+from rle_tasks.f09_gello.scoring import RUBRIC
 
 
 def _variant(tmp_path, old: str, new: str, robot: str = "ur5e"):
@@ -94,6 +98,26 @@ def test_point_mass_and_over_mass_are_validity_findings(tmp_path):
     assert sub.usable
     assert sorted(f.code for f in sub.validity) == ["contract.over_mass", "contract.point_mass"]
     assert sub.validity[0].message.startswith("device mass 2.947 kg exceeds 2.30 kg")
+    # the deduction grows with the excess: (2.947 - 2.30) / (3.00 - 2.30) = 0.924 of 0.10
+    assert deductions(sub) == [
+        ("contract.over_mass", pytest.approx(0.647 / 0.70, abs=2e-3)),
+        ("contract.point_mass", 1.0),
+    ]
+    assert RUBRIC.deduction(deductions(sub)) == pytest.approx(0.10)  # 0.0924 + 0.05, capped at 0.10
+
+
+@pytest.mark.parametrize(("extra_kg", "code"), [(2.2, None), (3.0, "contract.mass_bound")])
+def test_the_over_mass_deduction_is_linear_up_to_the_hard_bound(tmp_path, extra_kg, code):
+    # a steel cube of the extra mass on the base: side = (m / 7850)^(1/3), so no point-mass finding
+    side = (extra_kg / 7850.0) ** (1 / 3)
+    block = f'<body name="lead" pos="0 0 0.05"><geom type="box" size="{side / 2} {side / 2} {side / 2}" mass="{extra_kg}"/></body>'
+    sub = _variant(tmp_path, '<site name="mount_site"', block + '<site name="mount_site"')
+    if code is None:  # stock ur5e 0.447 kg + 2.2 kg = 2.647 kg: (2.647 - 2.30) / 0.70 = 0.496 of 0.10
+        assert sub.usable and [f.code for f in sub.validity] == ["contract.over_mass"]
+        expected = (sub.mass - MAX_MASS_KG) / (HARD_MASS_KG - MAX_MASS_KG) * 0.10
+        assert RUBRIC.deduction(deductions(sub)) == pytest.approx(expected) == pytest.approx(0.0496, abs=1e-3)
+    else:
+        assert [f.code for f in sub.structure] == [code] and not sub.usable
 
 
 def test_hidden_copy_scales_link_masses_and_adds_the_payload():
