@@ -71,10 +71,10 @@ def layout(scene: Scene) -> dict:
 def trial_terms(scene: Scene, target: np.ndarray) -> tuple[SupportLoad, list]:
     """Terms of one trial, in the order they are checked at each control boundary.
 
-    Wheel loads are sampled every ``SAMPLE_EVERY`` physics steps; at each control period the trial
-    fails at a shelf contact by a robot geom, a chassis tilt above ``TILT_MAX_DEG`` or a sustained
-    loss of wheel support, and succeeds once the tool has stayed within the tolerance of the target
-    for the hold time.
+    Wheel loads are sampled every ``SAMPLE_EVERY`` physics steps; a shelf contact by a robot geom
+    fails the trial at any physics step; at each control period the trial fails at a chassis tilt
+    above ``TILT_MAX_DEG`` or a sustained loss of wheel support, and succeeds once the tool has stayed
+    within the tolerance of the target for the hold time.
     """
     shelf = load_catalog("shelf").extra
     m = scene.model
@@ -82,7 +82,8 @@ def trial_terms(scene: Scene, target: np.ndarray) -> tuple[SupportLoad, list]:
     load = SupportLoad(scene.probe.supports, scene.mass * 9.81, LOSS_FRACTION, LOSS_DURATION_S, SAMPLE_EVERY)
     return load, [
         load,
-        ContactBetween(m.ngeom, scene.robot_geoms, scene.shelf_geoms, every=n_sub, what="shelf collision"),
+        # every physics step: a touch shorter than a control period still counts
+        ContactBetween(m.ngeom, scene.robot_geoms, scene.shelf_geoms, every=1, what="shelf collision"),
         TiltLimit(scene.chassis, TILT_MAX_DEG, every=n_sub, what="chassis tilt"),
         SupportLost(load, every=n_sub, what="wheel support"),
         HoldAtTarget(

@@ -26,12 +26,13 @@ COM_TOL = 0.001  # centre of mass from the geoms [m]: a profile's placement is g
 INERTIA_RTOL = 0.01  # principal moments from the geoms, relative to the largest [1]
 
 
-def _fragment(part_id: str) -> tuple[float, np.ndarray, list[tuple[int, np.ndarray]]]:
+def _fragment(part_id: str) -> tuple[float, np.ndarray, np.ndarray, list[tuple[int, np.ndarray]]]:
     part = load_catalog("parts").get(part_id)
     m = mujoco.MjModel.from_xml_path(str(part_fragment_path(part)))
     return (
         float(m.body_mass[1]),
         m.body_inertia[1].copy(),
+        m.body_ipos[1].copy(),
         [(int(m.geom_type[g]), m.geom_size[g].copy()) for g in range(m.ngeom)],
     )
 
@@ -49,6 +50,8 @@ def _inertial_findings(design: Design, model: mujoco.MjModel) -> list[tuple[str,
     out = []
     for b in range(1, model.nbody):
         name = model.body(b).name or f"body{b}"
+        if name in PART_OF:
+            continue  # catalog parts carry their fragment's explicit inertial, compared to the fragment
         m0, m1 = float(model.body_mass[b]), float(geo.body_mass[b])
         c0, c1 = model.body_ipos[b], geo.body_ipos[b]
         i0, i1 = np.sort(model.body_inertia[b]), np.sort(geo.body_inertia[b])
@@ -95,14 +98,18 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
         out.append((p.code, p.message))
     for body, pid in PART_OF.items():
         b = element_id(model, "body", body)
-        mass, inertia, geoms = _fragment(pid)
-        if abs(model.body_mass[b] - mass) > MASS_RTOL * mass or np.any(
-            np.abs(np.sort(model.body_inertia[b]) - np.sort(inertia)) > 0.01 * inertia.max()
+        mass, inertia, com, geoms = _fragment(pid)
+        if (
+            abs(model.body_mass[b] - mass) > MASS_RTOL * mass
+            or np.any(np.abs(np.sort(model.body_inertia[b]) - np.sort(inertia)) > 0.01 * inertia.max())
+            or np.linalg.norm(model.body_ipos[b] - com) > COM_TOL
         ):
             out.append(
                 (
                     "f08.part_modified",
-                    f"body '{body}' must carry the catalog part '{pid}' unchanged: mass {model.body_mass[b]:.4f} kg vs {mass:.4f} kg",
+                    f"body '{body}' must carry the catalog part '{pid}' unchanged: mass {model.body_mass[b]:.4f} kg "
+                    f"vs {mass:.4f} kg, centre of mass {np.round(model.body_ipos[b], 4).tolist()} vs "
+                    f"{np.round(com, 4).tolist()} m",
                 )
             )
         mine = sorted(

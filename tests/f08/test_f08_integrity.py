@@ -37,3 +37,14 @@ def test_the_profiles_mass_with_a_centre_of_mass_below_the_floor_is_invalid(tmp_
 def test_a_declared_mass_other_than_the_geometry_is_invalid(tmp_path, mass):
     findings = check_validity(_with_chassis_inertial(tmp_path, "0 0 0", mass))
     assert "f08.inertial_mismatch" in {c for c, _ in findings}
+
+
+def test_a_catalog_part_with_its_centre_of_mass_moved_is_modified(tmp_path):
+    d = shutil.copytree(materialise("08-mobile-base", "reference"), tmp_path / "sub")
+    path = d / "robot.xml"
+    tree = etree.parse(str(path))
+    battery = next(b for b in tree.getroot().iter("body") if b.get("name") == "battery")
+    battery.find("inertial").set("pos", "0 0 -0.2")  # the battery's 3.5 kg hung 0.2 m lower
+    tree.write(str(path))
+    findings = check_validity(load_design(d))
+    assert any(c == "f08.part_modified" and "'battery'" in msg and "-0.2" in msg for c, msg in findings)
