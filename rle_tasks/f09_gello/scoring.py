@@ -36,14 +36,14 @@ RUBRIC = Rubric(
         _cp(
             "motion_clearance",
             "motion clearance (10 %)",
-            "fraction of workspace-grid poses where added parts collide with the arm, base or table",
+            "fraction of hidden-grid poses where added parts collide with the arm, base or table",
             0.0,
             0.05,
         ),
         _cp(
             "passive_residual",
             "passive (30 %)",
-            "95th percentile over the grid of the worst-joint residual abs(g - tau_spring) [N m]",
+            "95th percentile over the hidden grid of the worst-joint residual abs(g - tau_spring) [N m]",
             0.02,
             SERVO_LIMIT,
         ),
@@ -86,7 +86,7 @@ RUBRIC = Rubric(
         _cp(
             "servo_headroom",
             "combined (40 %)",
-            "servo utilisation: grid max of the hidden copy's worst-joint residual / 0.35 N m",
+            "servo utilisation: hidden-grid max of the hidden copy's worst-joint residual / 0.35 N m",
             0.5,
             1.5,
         ),

@@ -194,7 +194,9 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: Findings)
     ranges = stock.jnt_range.copy()
     dof = stock.nv
     home = np.array(helpers.HOME[robot])
-    grid = helpers.workspace_grid(ranges, size.grid)
+    # unseen poses: the same distribution as the public workspace grid, drawn from the secret
+    grid_seed = int(derive_rng(ctx.secret, TASK_ID, f"{robot}/grid").integers(2**63))
+    grid = helpers.workspace_grid(ranges, size.grid, seed=grid_seed)
     poses = _test_poses(ranges, size.test_poses, derive_rng(ctx.secret, TASK_ID, f"{robot}/poses"))
     push_rng = derive_rng(ctx.secret, TASK_ID, f"{robot}/push")
     ang = push_rng.uniform(0, 2 * np.pi, size.test_poses)
