@@ -55,6 +55,10 @@ def test_the_shipped_xml_is_found():
     names = {p.relative_to(p.parents[1]).as_posix() for p in PACKAGE_XML}
     assert {"parts/battery.xml", "panda/lead.xml", "demo_assets/test_base.xml"} <= names
     assert len(SOLUTIONS) >= 10
+    # the shipped designs of 08 and 09 hold MJCF: the step check below is not vacuous for them
+    assert all(
+        any(materialise(t, n).rglob("*.xml")) for t, n in SOLUTIONS if t in ("08-mobile-base", "09-gello")
+    )
 
 
 @pytest.mark.parametrize("path", PACKAGE_XML, ids=lambda p: p.relative_to(p.parents[2]).as_posix())
@@ -69,7 +73,8 @@ def test_package_xml_steps_one_second_without_warnings(path: Path):
 @pytest.mark.parametrize(("task_id", "name"), SOLUTIONS, ids=[f"{t}:{n}" for t, n in SOLUTIONS])
 def test_materialised_solution_xml_steps_one_second_without_warnings(task_id: str, name: str):
     files = sorted(materialise(task_id, name).rglob("*.xml"))
-    assert files
+    if not files:
+        pytest.skip(f"{task_id}:{name} ships no MJCF (code or model files only)")
     for path in files:
         assert _warnings_after_one_second(mujoco.MjModel.from_xml_path(str(path))) == {}, path
 
