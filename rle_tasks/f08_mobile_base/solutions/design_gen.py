@@ -122,7 +122,7 @@ def frame_tree(d: FrameDesign, name: str = "reference_base") -> etree._Element:
             f"{sx * d.half_wheelbase:.4f} {sy * d.half_track:.4f} 0",
             {"pos": "0 0 0", "mass": "1.0", "diaginertia": "0.001660 0.002903 0.001660"},
             {
-                "name": f"wheel_{n}_geom", "type": "cylinder", "size": "0.0762 0.025", "euler": "1.5708 0 0",
+                "name": f"wheel_{n}_geom", "type": "cylinder", "size": "0.0762 0.025", "euler": "90 0 0",
                 "rgba": "0.25 0.25 0.28 1", "mass": "0",
             },
         )  # fmt: skip
