@@ -489,6 +489,13 @@ def physics_cases() -> list[Case]:
         ("gravity_changed", "contract.option_changed", _inject_root('<option gravity="0 0 -5"/>')),
         ("weld_to_world", "contract.world_weld", _weld("weld")),
         (
+            "battery_in_mid_air",
+            "f08.floating_part",
+            lambda xml: re.sub(
+                r'(<body name="battery" pos="[^ ]+ [^ ]+ )([^"]+)"', r'\g<1>0.2"', xml, count=1
+            ),
+        ),
+        (
             "inertial_below_floor",
             "f08.inertial_mismatch",
             # the reference chassis' own mass, declared 0.5 m below its frame (under the floor)

@@ -7,6 +7,7 @@ import numpy as np
 
 from rle_design.catalog import load_catalog, part_fragment_path
 from rle_design.mjcf import Design, ModelContract, check_contract, match_profiles
+from rle_design.mjcf.buildability import audit_buildability
 from rle_design.scene import element_id
 from rle_tasks.f08_mobile_base.public.scene import ADAPTER, BATTERY, CHASSIS, MOUNT_SITE
 from rle_tasks.f08_mobile_base.public.wheels import WHEELS
@@ -24,6 +25,8 @@ MASS_RTOL = 1e-3
 MOUNT_TOL = 0.002  # [m]
 COM_TOL = 0.001  # centre of mass from the geoms [m]: a profile's placement is given to 0.1 mm
 INERTIA_RTOL = 0.01  # principal moments from the geoms, relative to the largest [1]
+JOIN_TOL = 0.001  # surfaces within 1 mm are joined (bolted, welded, resting) [m]
+WHEEL_HUB_GAP = 0.006  # a wheel's hub motor spans up to 6 mm between its inner face and the frame [m]
 
 
 def _fragment(part_id: str) -> tuple[float, np.ndarray, np.ndarray, list[tuple[int, np.ndarray]]]:
@@ -126,6 +129,10 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
                 )
             )
     out += _inertial_findings(design, model)
+    hubs = {w: WHEEL_HUB_GAP for w in WHEELS}
+    out += [
+        ("f08.floating_part", d.message) for d in audit_buildability(model, tol=JOIN_TOL, parent_tol=hubs)
+    ]
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
     rc = data.xmat[chassis].reshape(3, 3)

@@ -48,3 +48,44 @@ def test_a_catalog_part_with_its_centre_of_mass_moved_is_modified(tmp_path):
     tree.write(str(path))
     findings = check_validity(load_design(d))
     assert any(c == "f08.part_modified" and "'battery'" in msg and "-0.2" in msg for c, msg in findings)
+
+
+def _edited(tmp_path, edit):
+    d = shutil.copytree(materialise("08-mobile-base", "reference"), tmp_path / "sub")
+    path = d / "robot.xml"
+    tree = etree.parse(str(path))
+    edit(tree.getroot())
+    tree.write(str(path))
+    return load_design(d)
+
+
+def _battery_in_mid_air(root):
+    battery = next(b for b in root.iter("body") if b.get("name") == "battery")
+    x, y, z = (float(v) for v in battery.get("pos").split())
+    battery.set("pos", f"{x} {y} {z + 0.10}")  # 10 cm up: nothing holds it
+
+
+def _floating_profile(root):
+    chassis = next(b for b in root.iter("body") if b.get("name") == "chassis")
+    etree.SubElement(
+        chassis, "geom", name="profile_4040_float", type="box", size="0.1 0.02 0.02", pos="0 0 0.6",
+        mass="0.348",
+    )  # fmt: skip
+
+
+def test_the_reference_frame_is_fastened_together():
+    assert not [
+        f
+        for f in check_validity(load_design(materialise("08-mobile-base", "reference")))
+        if f[0] == "f08.floating_part"
+    ]
+
+
+@pytest.mark.parametrize(
+    ("edit", "part"), [(_battery_in_mid_air, "battery_geom"), (_floating_profile, "profile_4040_float")]
+)
+def test_a_part_in_mid_air_is_refused_with_its_gap(tmp_path, edit, part):
+    findings = [msg for code, msg in check_validity(_edited(tmp_path, edit)) if code == "f08.floating_part"]
+    assert (
+        len(findings) == 1 and f"'{part}'" in findings[0] and " mm from the nearest structure" in findings[0]
+    )

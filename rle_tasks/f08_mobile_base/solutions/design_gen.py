@@ -34,7 +34,10 @@ class FrameDesign:
         post_height: Height of the posts above the rails (0: adapter on the cross member).
         battery_x: Battery centre x.
         profile: Catalog profile id used for every member.
-        top_half: Half side of the square top frame around the adapter.
+        top_half: Half side of the square top frame around the adapter (the posts stand on cross
+            members at mount_x +- top_half).
+        battery_on_crosses: The battery rests on top of the cross members (else it is bolted to a
+            cross member's face, its bottom level with the rails' bottom).
     """
 
     half_wheelbase: float = 0.28
@@ -44,6 +47,7 @@ class FrameDesign:
     battery_x: float = -0.14
     profile: str = "4040"
     top_half: float = 0.12
+    battery_on_crosses: bool = False
 
 
 def _f4(*values: float) -> str:
@@ -89,7 +93,9 @@ def frame_tree(d: FrameDesign, name: str = "reference_base") -> etree._Element:
     etree.SubElement(chassis, "freejoint", name="chassis_free")
     _box(chassis, "rail_left", d.profile, rail_len, "x", (0, rail_y, z_rail))
     _box(chassis, "rail_right", d.profile, rail_len, "x", (0, -rail_y, z_rail))
-    for i, x in enumerate((-rail_len / 2 + prof.width / 2, d.mount_x, rail_len / 2 - prof.width / 2)):
+    # cross members: both rail ends, and under the tower's posts (or under the adapter without a tower)
+    inner = (d.mount_x - d.top_half, d.mount_x + d.top_half) if d.post_height > 0 else (d.mount_x,)
+    for i, x in enumerate((-rail_len / 2 + prof.width / 2, *inner, rail_len / 2 - prof.width / 2)):
         _box(chassis, f"cross_{i}", d.profile, cross_len, "y", (x, 0, z_rail))
     top_z = z_rail + t / 2 + d.post_height + t / 2
     if d.post_height > 0:
@@ -126,7 +132,9 @@ def frame_tree(d: FrameDesign, name: str = "reference_base") -> etree._Element:
                 "rgba": "0.25 0.25 0.28 1", "mass": "0",
             },
         )  # fmt: skip
-    battery_z = z_rail - t / 2 + 0.045 + 0.0
+    # the battery is bolted to a cross member's face (its bottom level with the rails' bottom), or rests
+    # on the cross members
+    battery_z = z_rail + t / 2 + 0.045 if d.battery_on_crosses else z_rail - t / 2 + 0.045
     _part(
         chassis,
         "battery",
@@ -164,9 +172,15 @@ def frame_xml(d: FrameDesign, name: str = "reference_base") -> str:
 
 
 REFERENCE = FrameDesign(mount_x=0.10, post_height=0.25)
-BAD_MOUNT = FrameDesign(half_wheelbase=0.40, mount_x=-0.30, post_height=0.0, battery_x=0.15)
+BAD_MOUNT = FrameDesign(half_wheelbase=0.40, mount_x=-0.30, post_height=0.0, battery_x=0.31)
 TALL_NARROW = FrameDesign(
-    half_wheelbase=0.16, half_track=0.12, mount_x=0.0, post_height=0.75, battery_x=0.0, top_half=0.05
+    half_wheelbase=0.16,
+    half_track=0.12,
+    mount_x=0.0,
+    post_height=0.75,
+    battery_x=0.0,
+    top_half=0.05,
+    battery_on_crosses=True,
 )
 
 
