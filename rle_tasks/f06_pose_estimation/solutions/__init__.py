@@ -1,0 +1,59 @@
+"""Shipped solutions of the ``06-pose-*`` tasks (one ``SolutionSet`` per variant, ``variant_<x>.py``).
+
+- ``reference`` (A, B, D): the classical estimator ``reference/estimator.py`` with ``templates.npz``
+  built by ``build_templates.py`` from labelled development renders.
+- ``baseline/wrong_shape``: the reference with every shape id shifted by one (each group scores 0).
+- ``baseline/nan_output``: returns NaN (interface gate: non-finite output, score 0).
+- ``baseline/hang``: ``update`` never returns (interface gate: timeout, score 0).
+- ``baseline/slow``: the reference sleeping 0.25 s per frame (about 3.5 frames/s: speed deduction).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rle_tasks.core.solutions import Solution
+
+PACKAGE = "rle_tasks.f06_pose_estimation"
+REFERENCE_FILES = (
+    ("estimator.py", "solutions/reference/estimator.py"),
+    ("templates.npz", "solutions/reference/templates.npz"),
+)
+BASELINES = ("baseline/wrong_shape", "baseline/nan_output", "baseline/hang", "baseline/slow")
+
+
+def solution_names(letter: str) -> tuple[str, ...]:
+    """Names of the shipped solutions of variant ``letter``."""
+    from importlib import import_module
+
+    sset = import_module(f"{__name__}.variant_{letter}").SOLUTIONS
+    return sset.names
+
+
+def _edit(directory: Path, old: str, new: str) -> None:
+    path = directory / "estimator.py"
+    text = path.read_text()
+    if old not in text:
+        raise ValueError(f"{path}: '{old}' not found")
+    path.write_text(text.replace(old, new))
+
+
+def shift_shape(directory: Path) -> None:
+    """Return shape id ``(s + 1) % 3`` instead of ``s``."""
+    _edit(directory, "return (float(pose[0]), float(pose[1]), float(t), int(s))",
+          "return (float(pose[0]), float(pose[1]), float(t), int((s + 1) % 3))")
+
+
+def slow_down(directory: Path) -> None:
+    """Sleep 0.25 s at the start of every ``update``."""
+    _edit(directory, "def update(obs):\n", "def update(obs):\n    import time\n\n    time.sleep(0.25)\n")
+
+
+def estimator_solutions(pins: dict[str, tuple[str, float]]) -> tuple[Solution, ...]:
+    """Reference and baselines of an estimator variant with their pinned (sha256, quick score)."""
+    out = [Solution("reference", *pins["reference"], files=REFERENCE_FILES)]
+    out.append(Solution("baseline/wrong_shape", *pins["baseline/wrong_shape"], base="reference", transforms=(shift_shape,)))
+    out.append(Solution("baseline/nan_output", *pins["baseline/nan_output"], files=(("estimator.py", "solutions/baseline/nan_output/estimator.py"),)))
+    out.append(Solution("baseline/hang", *pins["baseline/hang"], files=(("estimator.py", "solutions/baseline/hang/estimator.py"),)))
+    out.append(Solution("baseline/slow", *pins["baseline/slow"], base="reference", transforms=(slow_down,)))
+    return tuple(out)
