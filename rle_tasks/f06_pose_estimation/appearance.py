@@ -119,7 +119,9 @@ class SensorNoise:
     @classmethod
     def sample(cls, rng: np.random.Generator) -> SensorNoise:
         """Draw from the published ranges: sigma 1-4, k 1e-3-2.5e-3 1/m, dropout 0-2 %."""
-        return cls(float(rng.uniform(1.0, 4.0)), float(rng.uniform(1e-3, 2.5e-3)), float(rng.uniform(0, 0.02)))
+        return cls(
+            float(rng.uniform(1.0, 4.0)), float(rng.uniform(1e-3, 2.5e-3)), float(rng.uniform(0, 0.02))
+        )
 
     @property
     def rgb(self) -> RgbNoise:

@@ -32,7 +32,9 @@ def _render(frames: list[FrameSpec], rng: np.random.Generator, depth: bool):
     return [(o, _noisy(lab.pose, rng)) for o, lab in zip(obs, labels)]
 
 
-def labelled_frames(seed: int, n: int, *, raised: bool = False, depth: bool = True) -> list[tuple[dict, np.ndarray]]:
+def labelled_frames(
+    seed: int, n: int, *, raised: bool = False, depth: bool = True
+) -> list[tuple[dict, np.ndarray]]:
     """``n`` independent frames of public seed ``seed``: (observation, noisy (x, y, theta)) pairs.
 
     Args:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .scene import TIP_HEIGHT, STICK_RADIUS, BlockPose
+from .scene import STICK_RADIUS, TIP_HEIGHT, BlockPose
 from .shapes import BLOCKS
 
 FRAME_DT = 0.1
@@ -78,7 +78,9 @@ def frame_group(rng: np.random.Generator, n: int = 10) -> list[FrameSpec]:
         phi = rng.uniform(-math.pi, math.pi)
         near = rng.random() < NEAR_FRACTION
         if near:
-            tip = contact_tip(pose, np.array([math.cos(phi), math.sin(phi)]), gap=float(rng.uniform(0.002, 0.03)))
+            tip = contact_tip(
+                pose, np.array([math.cos(phi), math.sin(phi)]), gap=float(rng.uniform(0.002, 0.03))
+            )
         else:
             tip = RAISED_TIP
         out.append(FrameSpec(pose, tip, 0.0))

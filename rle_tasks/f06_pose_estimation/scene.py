@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from rle_design.scene import CameraConfig, PANDA, element_id, load_robot
+from rle_design.scene import PANDA, CameraConfig, element_id, load_robot
 from rle_design.scene.attach import attach
 from rle_design.scene.site import SiteConfig
 from rle_design.sensors import CameraSpec, camera_spec

@@ -113,8 +113,10 @@ def make_rubric(task_id: str) -> Rubric:
                 "frames",
                 W_FRAMES,
                 "mean g over the ten groups of ten independent frames",
-                Fraction("g = 1/2 exp(-(e_xy/0.01 m)^2) + 1/2 exp(-(e_theta/0.1 rad)^2) over the worst 5 "
-                         "errors of a group; 0 if a shape id is wrong"),
+                Fraction(
+                    "g = 1/2 exp(-(e_xy/0.01 m)^2) + 1/2 exp(-(e_theta/0.1 rad)^2) over the worst 5 "
+                    "errors of a group; 0 if a shape id is wrong"
+                ),
                 pass_rule=PASS,
             ),
             CheckpointSpec(

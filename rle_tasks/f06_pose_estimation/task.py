@@ -64,7 +64,9 @@ def task_specs() -> list[TaskSpec]:
                     gpus=1 if v.letter in "cd" else 0,
                     verifier_timeout_s=1800.0,
                 ),
-                contract=ArtifactContract(required=(v.artifact,), optional=("*",), description=CONTRACTS[v.learned]),
+                contract=ArtifactContract(
+                    required=(v.artifact,), optional=("*",), description=CONTRACTS[v.learned]
+                ),
                 make_dev_env=functools.partial(_dev_env, v.task_id),
                 verify=functools.partial(_verify, v.task_id),
                 solutions=solution_names(v.letter),

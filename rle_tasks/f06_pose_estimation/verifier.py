@@ -121,7 +121,11 @@ def open_runner(v: Variant, root: Path, hang_cap_s: float) -> PolicyRunner:
             workdir_files={"model.pt": root / "model.pt"},
         )
     return PolicyRunner(
-        root / "estimator.py", ESTIMATOR, hang_cap_s=hang_cap_s, budget=ESTIMATOR_BUDGET, limits=ESTIMATOR_LIMITS
+        root / "estimator.py",
+        ESTIMATOR,
+        hang_cap_s=hang_cap_s,
+        budget=ESTIMATOR_BUDGET,
+        limits=ESTIMATOR_LIMITS,
     )
 
 

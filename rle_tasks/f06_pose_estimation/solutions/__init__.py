@@ -40,8 +40,11 @@ def _edit(directory: Path, old: str, new: str) -> None:
 
 def shift_shape(directory: Path) -> None:
     """Return shape id ``(s + 1) % 3`` instead of ``s``."""
-    _edit(directory, "return (float(pose[0]), float(pose[1]), float(t), int(s))",
-          "return (float(pose[0]), float(pose[1]), float(t), int((s + 1) % 3))")
+    _edit(
+        directory,
+        "return (float(pose[0]), float(pose[1]), float(t), int(s))",
+        "return (float(pose[0]), float(pose[1]), float(t), int((s + 1) % 3))",
+    )
 
 
 def slow_down(directory: Path) -> None:
@@ -52,8 +55,24 @@ def slow_down(directory: Path) -> None:
 def estimator_solutions(pins: dict[str, tuple[str, float]]) -> tuple[Solution, ...]:
     """Reference and baselines of an estimator variant with their pinned (sha256, quick score)."""
     out = [Solution("reference", *pins["reference"], files=REFERENCE_FILES)]
-    out.append(Solution("baseline/wrong_shape", *pins["baseline/wrong_shape"], base="reference", transforms=(shift_shape,)))
-    out.append(Solution("baseline/nan_output", *pins["baseline/nan_output"], files=(("estimator.py", "solutions/baseline/nan_output/estimator.py"),)))
-    out.append(Solution("baseline/hang", *pins["baseline/hang"], files=(("estimator.py", "solutions/baseline/hang/estimator.py"),)))
+    out.append(
+        Solution(
+            "baseline/wrong_shape", *pins["baseline/wrong_shape"], base="reference", transforms=(shift_shape,)
+        )
+    )
+    out.append(
+        Solution(
+            "baseline/nan_output",
+            *pins["baseline/nan_output"],
+            files=(("estimator.py", "solutions/baseline/nan_output/estimator.py"),),
+        )
+    )
+    out.append(
+        Solution(
+            "baseline/hang",
+            *pins["baseline/hang"],
+            files=(("estimator.py", "solutions/baseline/hang/estimator.py"),),
+        )
+    )
     out.append(Solution("baseline/slow", *pins["baseline/slow"], base="reference", transforms=(slow_down,)))
     return tuple(out)

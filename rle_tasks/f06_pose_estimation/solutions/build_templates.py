@@ -117,4 +117,7 @@ def build() -> dict[str, np.ndarray]:
 
 if __name__ == "__main__":
     arrays = build()
-    print(f"top_z {float(arrays['top_z']):.4f} m; template cells:", {k: len(v) for k, v in arrays.items() if v.ndim == 2})
+    print(
+        f"top_z {float(arrays['top_z']):.4f} m; template cells:",
+        {k: len(v) for k, v in arrays.items() if v.ndim == 2},
+    )

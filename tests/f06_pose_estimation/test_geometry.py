@@ -1,0 +1,77 @@
+"""Closed forms of the scene: the published calibration projects table points to the rendered pixels,
+rendered depth of the table plane matches the plane's analytic depth, the blocks' footprints."""
+
+import numpy as np
+import pytest
+
+from rle_tasks.f06_pose_estimation.scene import CAMERA, HEIGHT_PX, WIDTH, BlockPose, PoseScene, compile_scene
+from rle_tasks.f06_pose_estimation.shapes import BLOCKS, HEIGHT
+
+
+def test_block_areas_and_centroids():
+    # T: 120 x 30 + 30 x 90 mm^2; C and F: 30 x 120 + 2 x 60 x 30 and 30 x 120 + 75 x 30 + 45 x 30 mm^2
+    assert [b.area for b in BLOCKS] == pytest.approx([0.0063, 0.0072, 0.0072])
+    for b in BLOCKS:
+        boxes = np.array(b.boxes_in_frame())
+        w = 4 * boxes[:, 2] * boxes[:, 3]
+        assert (w[:, None] * boxes[:, :2]).sum(0) == pytest.approx([0.0, 0.0], abs=1e-12)
+
+
+@pytest.fixture(scope="module")
+def rendered():
+    from rle_design.sensors import RgbdSensor
+
+    model = compile_scene()
+    scene = PoseScene(model)
+    scene.set_block(BlockPose(0.0, 0.0, 0.3, 0))
+    scene.reach(np.array([-0.2, 0.0, 0.25]))
+    scene.forward()
+    with RgbdSensor(model, CAMERA, WIDTH, HEIGHT_PX, segmentation=True) as sensor:
+        frame = sensor.render(scene.data)
+    return scene, frame
+
+
+@pytest.mark.render
+def test_table_point_projects_where_calibration_says(rendered):
+    scene, frame = rendered
+    cam = scene.camera()
+    # a table point far from the block: its pixel's ray, cut with z = 0, gives the point back, and the
+    # point projects with u = fx X/Z + cx, v = fy Y/Z + cy (pinhole) to within 0.5 px of that pixel
+    k = cam.intrinsics
+    for u, v in ((40, 200), (280, 210), (300, 60)):
+        p_world = cam.backproject(frame.depth[v, u : u + 1].astype(float), pixels=np.array([[u, v]]))[0]
+        assert abs(p_world[2]) < 1e-3
+        xc = cam.to_camera(p_world)[0]
+        uv = np.array([k.fx * xc[0] / xc[2] + k.cx, k.fy * xc[1] / xc[2] + k.cy])
+        assert np.abs(uv - (u, v)).max() < 0.5
+
+
+@pytest.mark.render
+def test_table_depth_is_plane_depth(rendered):
+    scene, frame = rendered
+    cam = scene.camera()
+    k = cam.intrinsics
+    r = cam.world_from_camera[:3, :3]
+    c = cam.world_from_camera[:3, 3]
+    ids = frame.geom_ids()
+    table = scene.model.geom("table").id
+    v, u = np.nonzero(ids == table)
+    sel = slice(None, None, 97)
+    v, u = v[sel], u[sel]
+    # ray d = R [(u - cx)/fx, (v - cy)/fy, 1]; plane z = 0: planar depth Z = -c_z / d_z
+    d = np.stack([(u - k.cx) / k.fx, (v - k.cy) / k.fy, np.ones_like(u, float)], 1) @ r.T
+    z_expected = -c[2] / d[:, 2]
+    assert np.abs(frame.depth[v, u] - z_expected).max() < 1e-3
+
+
+@pytest.mark.render
+def test_block_top_face_depth(rendered):
+    scene, frame = rendered
+    cam = scene.camera()
+    ids = frame.geom_ids()
+    block = [scene.model.geom(f"block_T_{j}").id for j in range(2)]
+    v, u = np.nonzero(np.isin(ids, block))
+    pts = cam.backproject(frame.depth[v, u].astype(float), pixels=np.stack([u, v], 1))
+    # the most frequent height of the block's visible points is its top face at HEIGHT
+    hist, edges = np.histogram(pts[:, 2], bins=60, range=(0.0, 0.06))
+    assert edges[np.argmax(hist)] == pytest.approx(HEIGHT, abs=1e-3)

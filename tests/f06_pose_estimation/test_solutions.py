@@ -1,0 +1,47 @@
+"""Shipped solutions: the reference passes, baselines fail for their named reason (quick mode)."""
+
+from pathlib import Path
+
+import pytest
+
+from rle_tasks.core.registry import get_task
+from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.solutions import materialise
+from rle_tasks.core.task import VerifyContext
+from rle_tasks.f06_pose_estimation.scoring import RUBRICS
+
+README = Path(__file__).resolve().parents[2] / "rle_tasks" / "f06_pose_estimation" / "README.md"
+
+
+def _verify(task_id, name):
+    task = get_task(task_id)
+    return task.verify(materialise(task, name), VerifyContext(secret=load_secret(None), quick=True))
+
+
+def test_readme_holds_the_generated_table():
+    assert RUBRICS["06-pose-a-rgb"].markdown_table() in README.read_text()
+
+
+@pytest.mark.render
+@pytest.mark.physics
+def test_reference_b_scores_at_least_0_6():
+    rep = _verify("06-pose-b-rgbd", "reference")
+    assert rep.valid
+    assert rep.score >= 0.6, rep.native_metrics
+    assert rep.native_metrics["partial"] is True
+    assert rep.native_metrics["shape_accuracy"] > 0.9
+
+
+@pytest.mark.render
+def test_nan_output_fails_the_gate():
+    rep = _verify("06-pose-b-rgbd", "baseline/nan_output")
+    assert rep.score == 0.0 and rep.cap == 0.0
+    assert rep.errors[0].code == "sandbox.non_finite"
+
+
+@pytest.mark.render
+def test_oversized_model_is_refused_before_inference():
+    rep = _verify("06-pose-c-learned", "baseline/big_model")
+    assert rep.score == 0.0
+    assert rep.errors[0].code == "sandbox.import_error"
+    assert "25000000 tensor elements" in rep.errors[0].message
