@@ -5,7 +5,8 @@ trajectories of 20 frames; the report marks it ``partial``). Each unit, in a wor
 ``run_parallel``: draws its appearance, noise and frames from the secret, renders them, and runs the
 submission in its own sandboxed child: ``reset()`` before every independent frame and once before a
 trajectory, then ``update(obs)`` per frame. A fault leaves that frame without a prediction (wrong
-shape, infinite error); the wall time of every ``update`` call gives the frame rate nu. Before the
+shape, infinite error). The frame rate nu is frames with a prediction divided by the child's CPU time
+during their ``update`` calls (one thread: the rate on one CPU, whatever else loads the machine). Before the
 units, a gate loads the submission and runs it on one public frame: a failed load, a missing
 function or a bad reply there scores zero (cap ``gate``).
 """
@@ -13,7 +14,6 @@ function or a bad reply there scores zero (cap ``gate``).
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -138,7 +138,7 @@ def check_prediction(value: np.ndarray) -> str | None:
 
 
 def run_frames(runner: PolicyRunner, obs: list[dict], independent: bool) -> tuple[np.ndarray, float, list]:
-    """Predictions ``(N, 4)`` (NaN rows where a call faulted), total update time [s], findings."""
+    """Predictions ``(N, 4)`` (NaN rows where a call faulted), CPU time of the child's updates [s], findings."""
     pred = np.full((len(obs), 4), np.nan)
     spent, findings = 0.0, []
     for i, o in enumerate(obs):
@@ -147,9 +147,9 @@ def run_frames(runner: PolicyRunner, obs: list[dict], independent: bool) -> tupl
         try:
             if independent or i == 0:
                 runner.call("reset")
-            t0 = time.perf_counter()
+            c0 = runner.cpu_used_s
             out = runner.call("update", o)
-            spent += time.perf_counter() - t0
+            spent += runner.cpu_used_s - c0
         except ParticipantFault:
             continue  # recorded by the runner
         why = check_prediction(out)

@@ -5,7 +5,7 @@
 - ``baseline/wrong_shape``: the reference with every shape id shifted by one (each group scores 0).
 - ``baseline/nan_output``: returns NaN (interface gate: non-finite output, score 0).
 - ``baseline/hang``: ``update`` never returns (interface gate: timeout, score 0).
-- ``baseline/slow``: the reference sleeping 0.25 s per frame (about 3.5 frames/s: speed deduction).
+- ``baseline/slow``: the reference burning about 0.2 s of CPU per frame (a few frames/s: speed deduction).
 """
 
 from __future__ import annotations
@@ -48,8 +48,9 @@ def shift_shape(directory: Path) -> None:
 
 
 def slow_down(directory: Path) -> None:
-    """Sleep 0.25 s at the start of every ``update``."""
-    _edit(directory, "def update(obs):\n", "def update(obs):\n    import time\n\n    time.sleep(0.25)\n")
+    """Burn about 0.2 s of CPU (200 products of 200 x 200 matrices) at the start of every ``update``."""
+    burn = "    a = np.full((200, 200), 1e-3)\n    for _ in range(200):\n        a = np.tanh(a @ a)\n"
+    _edit(directory, "def update(obs):\n", "def update(obs):\n" + burn)
 
 
 def estimator_solutions(pins: dict[str, tuple[str, float]]) -> tuple[Solution, ...]:

@@ -6,8 +6,9 @@
    plane, rasterised on a 2 mm grid and intersected (a prism's silhouette smeared towards and away
    from the camera; their intersection is the footprint for convex parts).
 3. Shape and pose: point-to-point ICP against the three templates in ``templates.npz`` (built
-   by ``build_templates.py`` from labelled renders), from eight starting angles per shape; the shape
-   with the smallest symmetric chamfer cost wins.
+   by ``build_templates.py`` from labelled renders), from eight starting angles per shape on a
+   thinned point set; the four best candidates are refined on all points and the smallest symmetric
+   chamfer cost picks the shape.
 4. Tracking: within a trajectory, ICP warm-started from the previous pose; the shape is the running
    vote of the per-frame decisions; a poor fit falls back to the global search.
 """
@@ -128,15 +129,22 @@ def _cost(pts, tmpl, tree, obs_tree, pose):
 
 def _global(pts, mode):
     tmpls, trees = _templates(mode)
-    obs_tree = cKDTree(pts)
+    coarse = pts[:: int(np.ceil(len(pts) / 150))]
+    coarse_tree = cKDTree(coarse)
     c = pts.mean(0)
-    best = (np.inf, None, None)
+    cands = []
     for s in range(3):
         for k in range(8):
-            pose = _icp(pts, trees[s], np.array([c[0], c[1], k * np.pi / 4]), iters=15)
-            cost = _cost(pts, tmpls[s], trees[s], obs_tree, pose)
-            if cost < best[0]:
-                best = (cost, s, pose)
+            pose = _icp(coarse, trees[s], np.array([c[0], c[1], k * np.pi / 4]), iters=10)
+            cands.append((_cost(coarse, tmpls[s], trees[s], coarse_tree, pose), s, pose))
+    cands.sort(key=lambda e: e[0])
+    obs_tree = cKDTree(pts)
+    best = (np.inf, None, None)
+    for _, s, pose in cands[:4]:
+        pose = _icp(pts, trees[s], pose, iters=40)
+        cost = _cost(pts, tmpls[s], trees[s], obs_tree, pose)
+        if cost < best[0]:
+            best = (cost, s, pose)
     cost, s, pose = best
     return s, _icp(pts, trees[s], pose, iters=150), cost
 
