@@ -8,6 +8,7 @@ RGB-D variants (B, C, D). Labels carry the pose, the shape and the block's visib
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,7 +50,7 @@ class Renderer:
     """
 
     def __init__(self, model, depth: bool = True) -> None:
-        self.base = model
+        self.base = copy.deepcopy(model)  # pristine: appearance terms apply to the nominal model
         self.scene = PoseScene(model)
         self.depth = depth
         self.sensor = RgbdSensor(model, CAMERA, WIDTH, HEIGHT_PX, segmentation=True)
