@@ -169,6 +169,10 @@ def train(steps: int, seed: int, out: Path, threads: int = 2, cache: Path | None
     out.parent.mkdir(parents=True, exist_ok=True)
     scripted = torch.jit.script(model)
     torch.jit.save(scripted, str(out))
+    loaded = torch.jit.load(str(out))
+    probe = loaded(torch.zeros(1, 3, 240, 320), torch.ones(1, 1, 240, 320), torch.ones(1, 1, 240, 320))
+    if tuple(probe.shape) != (1, 6):
+        raise RuntimeError(f"saved model returns shape {tuple(probe.shape)}, expected (1, 6)")
     n = sum(p.numel() for p in scripted.parameters()) + sum(b.numel() for b in scripted.buffers())
     info = {
         "frames": len(points),

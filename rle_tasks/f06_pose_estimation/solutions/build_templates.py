@@ -74,7 +74,7 @@ def _templates(frames, est, depth: bool) -> dict[str, np.ndarray]:
     for obs, label in frames:
         if not depth:
             obs = {k: v for k, v in obs.items() if k not in ("depth", "valid")}
-        pts, _ = est.plane_points(obs)
+        pts, _ = est.plane_points(obs, thin=False)
         x, y, t = label
         c, s = np.cos(t), np.sin(t)
         local = (pts - (x, y)) @ np.array([[c, -s], [s, c]])

@@ -1,6 +1,6 @@
 """Classical planar pose estimator (reference of 06-pose-a/b/d): segmentation, plane points, 2-D ICP.
 
-1. Red segmentation of the RGB image.
+1. Red segmentation of the RGB image (specks of a reddish table removed).
 2. Plane points [m] (on a 2 mm grid, thinned to at most 450): with depth, the red pixels lifted to 3-D whose height is within 6 mm of the top
    face (the top face alone); RGB only, the red pixels' rays cut with the top plane and with the table
    plane, rasterised on a 2 mm grid and intersected (a prism's silhouette smeared towards and away
@@ -8,7 +8,8 @@
 3. Shape and pose: point-to-point ICP against the three templates in ``templates.npz`` (built
    by ``build_templates.py`` from labelled renders), from eight starting angles per shape on a
    thinned point set; the four best candidates are refined on all points and the smallest symmetric
-   chamfer cost picks the shape.
+   chamfer cost picks the shape (RGB only: per shape its best start is refined, and the shape whose
+   projected prism best overlaps the red mask, by IoU, wins).
 4. Tracking: within a trajectory, ICP warm-started from the previous pose; the shape is the running
    vote of the per-frame decisions; a poor fit falls back to the global search.
 """
@@ -41,9 +42,15 @@ def reset():
 
 
 def _red(rgb):
+    """Red pixels, without specks (opening, then components of at least 30 pixels)."""
     c = rgb.astype(np.int16)
     r, g, b = c[..., 0], c[..., 1], c[..., 2]
-    return (r > 60) & (r - np.maximum(g, b) > 45)
+    mask = ndimage.binary_opening((r > 60) & (r - np.maximum(g, b) > 45))
+    labels, n = ndimage.label(mask)
+    if n > 1:
+        sizes = np.bincount(labels.ravel())
+        mask = (sizes >= 30)[labels] & (labels > 0)
+    return mask
 
 
 def _rays(obs, v, u):
@@ -58,7 +65,7 @@ def _cut(origin, dirs, z):
     return origin[:2] + dirs[:, :2] * s[:, None]
 
 
-def plane_points(obs):
+def plane_points(obs, thin=True):
     mask = _red(obs["rgb"])
     v, u = np.nonzero(mask)
     if len(u) < 20:
@@ -89,7 +96,8 @@ def plane_points(obs):
     if len(pts) < 20:
         return None, None
     cell = np.unique(np.floor(pts / GRID).astype(np.int64), axis=0)
-    cell = cell[:: int(np.ceil(len(cell) / MAX_POINTS))]
+    if thin:
+        cell = cell[:: int(np.ceil(len(cell) / MAX_POINTS))]
     return (cell + 0.5) * GRID, mode
 
 
@@ -127,7 +135,25 @@ def _cost(pts, tmpl, tree, obs_tree, pose):
     return float(np.mean(np.minimum(d1, 0.02)) + 0.5 * np.mean(d2))
 
 
-def _global(pts, mode):
+def _silhouette(obs, tmpl, pose):
+    """IoU of the red mask with the projected prism of ``tmpl`` at ``pose`` (RGB shape decision)."""
+    r = _rot(pose[2])
+    xy = tmpl @ r.T + pose[:2]
+    pts = np.concatenate([np.column_stack([xy, np.full(len(xy), z)]) for z in np.linspace(0, TOP_Z, 4)])
+    k, cam_pose = obs["K"], obs["T_world_cam"]
+    cam = (pts - cam_pose[:3, 3]) @ cam_pose[:3, :3]
+    u = np.rint(k[0, 0] * cam[:, 0] / cam[:, 2] + k[0, 2]).astype(int)
+    v = np.rint(k[1, 1] * cam[:, 1] / cam[:, 2] + k[1, 2]).astype(int)
+    red = _red(obs["rgb"])
+    ok = (u >= 0) & (u < red.shape[1]) & (v >= 0) & (v < red.shape[0])
+    pred = np.zeros_like(red)
+    pred[v[ok], u[ok]] = True
+    pred = ndimage.binary_closing(pred, iterations=1)
+    union = (pred | red).sum()
+    return float((pred & red).sum() / union) if union else 0.0
+
+
+def _global(pts, mode, obs=None):
     tmpls, trees = _templates(mode)
     coarse = pts[:: int(np.ceil(len(pts) / 150))]
     coarse_tree = cKDTree(coarse)
@@ -139,6 +165,18 @@ def _global(pts, mode):
             cands.append((_cost(coarse, tmpls[s], trees[s], coarse_tree, pose), s, pose))
     cands.sort(key=lambda e: e[0])
     obs_tree = cKDTree(pts)
+    if mode == "rgb" and obs is not None:
+        # per shape, its best start refined; the shape whose projected prism matches the mask wins
+        best_iou = (-1.0, None, None)
+        for s in range(3):
+            _, _, pose = next(e for e in cands if e[1] == s)
+            pose = _icp(pts, trees[s], pose, iters=40)
+            iou = _silhouette(obs, tmpls[s], pose)
+            if iou > best_iou[0]:
+                best_iou = (iou, s, pose)
+        _, s, pose = best_iou
+        pose = _icp(pts, trees[s], pose, iters=150)
+        return s, pose, _cost(pts, tmpls[s], trees[s], obs_tree, pose)
     best = (np.inf, None, None)
     for _, s, pose in cands[:4]:
         pose = _icp(pts, trees[s], pose, iters=40)
@@ -163,7 +201,7 @@ def update(obs):
         pose = _icp(pts, trees[s], prev, iters=60)
         cost = _cost(pts, tmpls[s], trees[s], cKDTree(pts), pose)
         if cost > 2.5 * _state["cost"] + 0.001:
-            s_new, pose_g, cost_g = _global(pts, mode)
+            s_new, pose_g, cost_g = _global(pts, mode, obs)
             if cost_g < cost:
                 votes = _state["votes"]
                 votes[s_new] += 1
@@ -172,7 +210,7 @@ def update(obs):
                 if s != s_new:
                     pose = _icp(pts, trees[s], pose, iters=20)
     else:
-        s, pose, cost = _global(pts, mode)
+        s, pose, cost = _global(pts, mode, obs)
         _state["votes"] = np.zeros(3)
         _state["votes"][s] += 1
     _state.update(pose=pose, shape=s, cost=cost)
