@@ -33,6 +33,15 @@ def test_reference_b_scores_at_least_0_6():
 
 
 @pytest.mark.render
+@pytest.mark.physics
+def test_learned_reference_scores_at_least_0_6():
+    rep = _verify("06-pose-c-learned", "reference")
+    assert rep.valid
+    assert rep.score >= 0.6, rep.native_metrics
+    assert rep.native_metrics["speed_deduction"] == 0.0
+
+
+@pytest.mark.render
 def test_nan_output_fails_the_gate():
     rep = _verify("06-pose-b-rgbd", "baseline/nan_output")
     assert rep.score == 0.0 and rep.cap == 0.0

@@ -1,10 +1,16 @@
 """Shipped solutions of the ``06-pose-*`` tasks (one ``SolutionSet`` per variant, ``variant_<x>.py``).
 
+B carries every estimator baseline; A and D the reference and one baseline each (the full demo
+verifies each shipped solution in full, so the slow ones are not repeated).
+
 - ``reference`` (A, B, D): the classical estimator ``reference/estimator.py`` with ``templates.npz``
   built by ``build_templates.py`` from labelled development renders.
 - ``baseline/wrong_shape``: the reference with every shape id shifted by one (each group scores 0).
 - ``baseline/nan_output``: returns NaN (interface gate: non-finite output, score 0).
 - ``baseline/hang``: ``update`` never returns (interface gate: timeout, score 0).
+- ``reference`` (C): ``reference_c/model.pt`` trained by ``python -m rle_tasks.f06_pose_estimation.train``.
+- ``baseline/nan_output`` (C): a TorchScript model returning NaN; ``baseline/big_model`` (C): 25 M
+  tensor elements, refused before inference (both built by ``make_models.py``).
 - ``baseline/slow``: the reference burning about 0.2 s of CPU per frame (a few frames/s: speed deduction).
 """
 
@@ -19,7 +25,6 @@ REFERENCE_FILES = (
     ("estimator.py", "solutions/reference/estimator.py"),
     ("templates.npz", "solutions/reference/templates.npz"),
 )
-BASELINES = ("baseline/wrong_shape", "baseline/nan_output", "baseline/hang", "baseline/slow")
 
 
 def solution_names(letter: str) -> tuple[str, ...]:
@@ -54,26 +59,35 @@ def slow_down(directory: Path) -> None:
 
 
 def estimator_solutions(pins: dict[str, tuple[str, float]]) -> tuple[Solution, ...]:
-    """Reference and baselines of an estimator variant with their pinned (sha256, quick score)."""
-    out = [Solution("reference", *pins["reference"], files=REFERENCE_FILES)]
-    out.append(
-        Solution(
-            "baseline/wrong_shape", *pins["baseline/wrong_shape"], base="reference", transforms=(shift_shape,)
-        )
-    )
-    out.append(
+    """Reference and the baselines named in ``pins`` of an estimator variant, with their pins."""
+    make = {
+        "reference": lambda p: Solution("reference", *p, files=REFERENCE_FILES),
+        "baseline/wrong_shape": lambda p: Solution(
+            "baseline/wrong_shape", *p, base="reference", transforms=(shift_shape,)
+        ),
+        "baseline/nan_output": lambda p: Solution(
+            "baseline/nan_output", *p, files=(("estimator.py", "solutions/baseline/nan_output/estimator.py"),)
+        ),
+        "baseline/hang": lambda p: Solution(
+            "baseline/hang", *p, files=(("estimator.py", "solutions/baseline/hang/estimator.py"),)
+        ),
+        "baseline/slow": lambda p: Solution("baseline/slow", *p, base="reference", transforms=(slow_down,)),
+    }
+    return tuple(make[name](pin) for name, pin in pins.items())
+
+
+def model_solutions(pins: dict[str, tuple[str, float]]) -> tuple[Solution, ...]:
+    """Reference and baselines of the learned variant with their pinned (sha256, quick score)."""
+    return (
+        Solution("reference", *pins["reference"], files=(("model.pt", "solutions/reference_c/model.pt"),)),
         Solution(
             "baseline/nan_output",
             *pins["baseline/nan_output"],
-            files=(("estimator.py", "solutions/baseline/nan_output/estimator.py"),),
-        )
-    )
-    out.append(
+            files=(("model.pt", "solutions/baseline/nan_model/model.pt"),),
+        ),
         Solution(
-            "baseline/hang",
-            *pins["baseline/hang"],
-            files=(("estimator.py", "solutions/baseline/hang/estimator.py"),),
-        )
+            "baseline/big_model",
+            *pins["baseline/big_model"],
+            files=(("model.pt", "solutions/baseline/big_model/model.pt"),),
+        ),
     )
-    out.append(Solution("baseline/slow", *pins["baseline/slow"], base="reference", transforms=(slow_down,)))
-    return tuple(out)
