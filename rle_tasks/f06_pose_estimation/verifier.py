@@ -223,6 +223,21 @@ def _occlusion_metrics(results: list[UnitResult]) -> dict:
     return out
 
 
+def _outcome(g: list[float], metrics: list[dict], what: str) -> Outcome:
+    """Checkpoint outcome with a message naming why groups scored what they did."""
+    frames = sum(m["frames"] for m in metrics)
+    acc = sum(m["shape_accuracy"] * m["frames"] for m in metrics) / frames if frames else 0.0
+    wrong = sum(m["shape_accuracy"] < 1.0 for m in metrics)
+    xy = [m["worst5_xy_m"] for m in metrics if m["worst5_xy_m"] is not None]
+    th = [m["worst5_theta_rad"] for m in metrics if m["worst5_theta_rad"] is not None]
+    msg = f"mean g {np.mean(g):.3f} over {len(g)} {what}; shape accuracy {acc:.2f}"
+    if wrong:
+        msg += f" ({wrong} of {len(g)} with a wrong or missing shape id score 0)"
+    if xy and th:
+        msg += f"; mean worst-5 errors {1000 * np.mean(xy):.1f} mm, {np.mean(th):.3f} rad"
+    return Outcome({VARIANT: float(np.mean(g))}, msg, {"g": g, "shape_accuracy": acc})
+
+
 def verify(root: Path, ctx: VerifyContext, task_id: str) -> VerifierReport:
     """Verify a submission directory for one of the four tasks."""
     v = variant(task_id)
@@ -263,8 +278,8 @@ def verify(root: Path, ctx: VerifyContext, task_id: str) -> VerifierReport:
     frames_total = sum(len(r.truth) for r in results)
     shape_ok = sum(m["shape_accuracy"] * m["frames"] for ms in per_unit.values() for m in ms)
     outcomes = {
-        "frames": Outcome({VARIANT: float(np.mean(g["frames"]))}, measured={"g": g["frames"]}),
-        "trajectories": Outcome({VARIANT: float(np.mean(g["trajectory"]))}, measured={"g": g["trajectory"]}),
+        "frames": _outcome(g["frames"], per_unit["frames"], "frame groups"),
+        "trajectories": _outcome(g["trajectory"], per_unit["trajectory"], "trajectories"),
     }
     native = {
         "partial": ctx.quick,

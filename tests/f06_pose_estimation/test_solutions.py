@@ -42,6 +42,19 @@ def test_learned_reference_scores_at_least_0_6():
 
 
 @pytest.mark.render
+@pytest.mark.physics
+def test_wrong_shape_ids_score_zero_for_that_reason(full_battery):
+    if not full_battery:
+        pytest.skip("a second quick verification (about 25 s) runs with RLE_FULL_BATTERY=1")
+    rep = _verify("06-pose-b-rgbd", "baseline/wrong_shape")
+    assert rep.score == 0.0 and rep.valid
+    assert rep.native_metrics["shape_accuracy"] == 0.0
+    assert "shape accuracy 0.00 (3 of 3 with a wrong or missing shape id score 0)" in (
+        rep.checkpoints[0].message
+    )
+
+
+@pytest.mark.render
 def test_nan_output_fails_the_gate():
     rep = _verify("06-pose-b-rgbd", "baseline/nan_output")
     assert rep.score == 0.0 and rep.cap == 0.0

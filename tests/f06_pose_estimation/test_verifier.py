@@ -33,7 +33,7 @@ def test_units_are_deterministic_whatever_ran_before():
 def test_golden_scores(full_battery):
     """Every shipped solution scores its golden quick score (full battery only: about 5 min)."""
     if not full_battery:
-        pytest.skip("golden scores of all 17 solutions run with RLE_FULL_BATTERY=1")
+        pytest.skip("golden scores of all 12 solutions run with RLE_FULL_BATTERY=1")
     for tid in ("06-pose-a-rgb", "06-pose-b-rgbd", "06-pose-c-learned", "06-pose-d-agnostic"):
         task = get_task(tid)
         for sol in declaration(task).solutions:
