@@ -9,8 +9,11 @@ meshes, block dimensions or shape labels.
 from __future__ import annotations
 
 import hashlib
+import shutil
 import tempfile
 from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
 
 _CLIENT = '''"""Development client of {task_id} (written by `rle dev`).
 
@@ -129,14 +132,16 @@ def socket_path_of(workspace: Path) -> Path:
 
 
 def make_dev_env(task_id: str, workspace: Path) -> PoseDevServer:
-    """Write ``pose_client.py`` into ``workspace``; return the (not yet started) server."""
+    """Write ``pose_client.py`` and ``calibration.json`` into ``workspace``; return the (not yet started) server."""
     from .contract import variant
+    from .scene import CALIBRATION_FILE
     from .service import EVALUATIONS
 
     v = variant(task_id)
     ws = Path(workspace)
     ws.mkdir(parents=True, exist_ok=True)
     depth = ", depth (240, 320) float32 [m], valid (240, 320) bool" if v.depth else ""
+    shutil.copyfile(HERE / "assets" / CALIBRATION_FILE, ws / CALIBRATION_FILE)
     (ws / "pose_client.py").write_text(
         _CLIENT.format(task_id=task_id, artifact=v.artifact, depth=depth, evaluations=EVALUATIONS)
     )

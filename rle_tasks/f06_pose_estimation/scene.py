@@ -227,3 +227,19 @@ class PoseScene:
 def compile_scene() -> mujoco.MjModel:
     """The nominal compiled scene."""
     return build_spec().compile()
+
+
+CALIBRATION_FILE = "calibration.json"
+"""The published calibration in ``assets/`` (laid into every workspace)."""
+
+
+def published_calibration() -> dict:
+    """Image size, ``K`` [px] and ``T_world_cam`` (OpenCV camera to world) [m] of the sensor camera."""
+    cam = PoseScene(compile_scene()).camera()
+    return {
+        "width": WIDTH,
+        "height": HEIGHT_PX,
+        "K": np.round(cam.intrinsics.matrix, 9).tolist(),
+        "T_world_cam": np.round(cam.world_from_camera, 9).tolist(),
+        "units": "K in pixels (OpenCV: pixel centres at integers); T_world_cam in metres",
+    }

@@ -24,7 +24,7 @@ def _client(ws):
 def test_no_serve_writes_client_only(tmp_path):
     ws = layout_workspace(get_task("06-pose-a-rgb"), tmp_path / "ws", serve=False)
     assert ws.server is None
-    assert set(ws.files) == {"instruction.md", "pose_client.py"}
+    assert set(ws.files) == {"instruction.md", "pose_client.py", "calibration.json"}
     text = (tmp_path / "ws" / "pose_client.py").read_text()
     assert "depth" not in text.split("obs:")[1].split("\n")[0]  # variant A: RGB only
 

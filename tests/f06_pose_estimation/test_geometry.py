@@ -1,11 +1,25 @@
 """Closed forms of the scene: the published calibration projects table points to the rendered pixels,
 rendered depth of the table plane matches the plane's analytic depth, the blocks' footprints."""
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from rle_tasks.f06_pose_estimation.scene import CAMERA, HEIGHT_PX, WIDTH, BlockPose, PoseScene, compile_scene
+from rle_tasks.f06_pose_estimation.scene import (
+    CALIBRATION_FILE,
+    CAMERA,
+    HEIGHT_PX,
+    WIDTH,
+    BlockPose,
+    PoseScene,
+    compile_scene,
+    published_calibration,
+)
 from rle_tasks.f06_pose_estimation.shapes import BLOCKS, HEIGHT
+
+ASSETS = Path(__file__).resolve().parents[2] / "rle_tasks" / "f06_pose_estimation" / "assets"
 
 
 def test_block_areas_and_centroids():
@@ -31,19 +45,30 @@ def rendered():
     return scene, frame
 
 
+def test_published_calibration_file_is_the_scene_camera():
+    published = json.loads((ASSETS / CALIBRATION_FILE).read_text())
+    now = published_calibration()
+    assert np.allclose(published["K"], now["K"]) and np.allclose(published["T_world_cam"], now["T_world_cam"])
+
+
 @pytest.mark.render
-def test_table_point_projects_where_calibration_says(rendered):
+def test_table_point_projects_where_the_published_calibration_says(rendered):
     scene, frame = rendered
-    cam = scene.camera()
-    # a table point far from the block: its pixel's ray, cut with z = 0, gives the point back, and the
-    # point projects with u = fx X/Z + cx, v = fy Y/Z + cy (pinhole) to within 0.5 px of that pixel
-    k = cam.intrinsics
-    for u, v in ((40, 200), (280, 210), (300, 60)):
-        p_world = cam.backproject(frame.depth[v, u : u + 1].astype(float), pixels=np.array([[u, v]]))[0]
-        assert abs(p_world[2]) < 1e-3
-        xc = cam.to_camera(p_world)[0]
-        uv = np.array([k.fx * xc[0] / xc[2] + k.cx, k.fy * xc[1] / xc[2] + k.cy])
+    cal = json.loads((ASSETS / CALIBRATION_FILE).read_text())
+    k, pose = np.array(cal["K"]), np.array(cal["T_world_cam"])
+    table = scene.model.geom("table").id
+    ids = frame.geom_ids()
+    # table points X (z = 0) at the centres of chosen pixels, from the published ray cut with the
+    # plane; each projects back as u = fx Xc/Zc + cx, v = fy Yc/Zc + cy and the rendered image shows
+    # the table there, at the depth Zc
+    for u, v in ((40, 200), (280, 210), (300, 60), (160, 230)):
+        ray = pose[:3, :3] @ np.array([(u - k[0, 2]) / k[0, 0], (v - k[1, 2]) / k[1, 1], 1.0])
+        x = pose[:3, 3] - pose[:3, 3][2] / ray[2] * ray
+        xc = pose[:3, :3].T @ (x - pose[:3, 3])
+        uv = np.array([k[0, 0] * xc[0] / xc[2] + k[0, 2], k[1, 1] * xc[1] / xc[2] + k[1, 2]])
         assert np.abs(uv - (u, v)).max() < 0.5
+        assert ids[v, u] == table
+        assert abs(frame.depth[v, u] - xc[2]) < 1e-3
 
 
 @pytest.mark.render
