@@ -49,6 +49,8 @@ BLOCK_RGBA = (0.8, 0.08, 0.06, 1.0)
 """Nominal block colour."""
 TABLE_RGBA = (0.85, 0.82, 0.76, 1.0)
 """Nominal table tint (multiplies the checker texture)."""
+PANDA_TOOL_BODY = "right_hand"
+"""Flange body of the robosuite Panda (its z axis points out of the flange)."""
 
 
 def build_spec() -> mujoco.MjSpec:
@@ -120,10 +122,6 @@ def _stick_panda() -> mujoco.MjSpec:
     )
     hand.add_site(name="stick_tip", pos=[0.0, 0.0, STICK_LENGTH + STICK_RADIUS])
     return robot
-
-
-PANDA_TOOL_BODY = "right_hand"
-"""Flange body of the robosuite Panda (its z axis points out of the flange)."""
 
 
 @dataclass(frozen=True)

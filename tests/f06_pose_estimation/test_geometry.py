@@ -100,3 +100,26 @@ def test_block_top_face_depth(rendered):
     # the most frequent height of the block's visible points is its top face at HEIGHT
     hist, edges = np.histogram(pts[:, 2], bins=60, range=(0.0, 0.06))
     assert edges[np.argmax(hist)] == pytest.approx(HEIGHT, abs=1e-3)
+
+
+def test_contact_tip_closed_form():
+    from rle_tasks.f06_pose_estimation.episodes import contact_tip
+    from rle_tasks.f06_pose_estimation.scene import STICK_RADIUS, TIP_HEIGHT
+
+    # T at theta = 0: its bar spans x in [-0.06, 0.06] in the block frame (the centroid shift is along y
+    # only); pushing along +x puts the stick at x - (0.06 + r + gap)
+    tip = contact_tip(BlockPose(0.01, 0.02, 0.0, 0), np.array([1.0, 0.0]), gap=0.002)
+    assert tip == pytest.approx((0.01 - (0.06 + STICK_RADIUS + 0.002), 0.02, TIP_HEIGHT))
+    # rotated by pi/2, the bar lies along y: pushing along +y meets the bar's end at 0.06
+    tip = contact_tip(BlockPose(0.0, 0.0, np.pi / 2, 0), np.array([0.0, 1.0]), gap=0.0)
+    assert tip[1] == pytest.approx(-(0.06 + STICK_RADIUS))
+
+
+def test_stick_reaches_every_contact_point_of_a_push():
+    from rle_tasks.f06_pose_estimation.episodes import push_episode
+
+    scene = PoseScene(compile_scene())
+    for seed in range(3):
+        scene.set_arm(scene.home)
+        for f in push_episode(np.random.default_rng(seed), 60):
+            assert scene.reach(np.array(f.tip)) < 1e-3
