@@ -73,7 +73,7 @@ def design_evaluation(task_id: str, root: Path) -> dict:
     """
     from .contract import variant
     from .scoring import group_score, reward, speed_deduction
-    from .verifier import gate, open_runner, render_unit, run_frames
+    from .verifier import gate, open_runner, render_unit, reported_fps, run_frames
 
     v = variant(task_id)
     failed = gate(v, Path(root), 30.0)
@@ -94,9 +94,9 @@ def design_evaluation(task_id: str, root: Path) -> dict:
             predictions += int(np.isfinite(pred).all(1).sum())
     fps = predictions / spent if spent > 0 else 0.0
     return {
-        "score": reward(g["frames"], g["trajectory"], fps),
+        "score": reward(g["frames"], g["trajectory"], reported_fps(fps)),
         "fps": fps,
-        "speed_deduction": speed_deduction(fps),
+        "speed_deduction": speed_deduction(reported_fps(fps)),
         "groups": metrics,
         "faults": faults[:20],
     }
