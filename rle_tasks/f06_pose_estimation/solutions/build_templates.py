@@ -1,13 +1,14 @@
 """Build the reference estimator's ``templates.npz`` from labelled development renders only.
 
-Renders public frames (seeds from ``SEED``) with the stick raised, as the development server does,
+Renders public frames (``N_SEEDS`` seeds from ``SEED``, 90 frames each) with the stick raised, as the development server does,
 with its label noise (1 mm, 0.01 rad) and without shape labels. Per frame, the estimator's own plane
 points are moved into the labelled block frame and rasterised on a 2 mm grid; the frames are
 clustered into three shapes (k-means on the occupancy grids) and each cluster's template is the set
 of cells occupied in at least half of its frames. Clusters are named by the letters' symmetries:
 F has no mirror axis; of the two with one, T leaves two large empty regions in its bounding
 box, C one.
-The top-face height is the most frequent height of the red depth points (renders of the RGB-D variants).
+For the RGB plane points, whose side smear depends on the view, templates are also kept per
+orientation bin (eight bins of the labelled theta). The top-face height is the most frequent height of the red depth points (renders of the RGB-D variants).
 
     python -m rle_tasks.f06_pose_estimation.solutions.build_templates
 """
@@ -26,6 +27,8 @@ HERE = Path(__file__).resolve().parent
 OUT = HERE / "reference" / "templates.npz"
 SEED = 7
 N_FRAMES = 90
+N_SEEDS = 4
+N_BINS = 8
 GRID = 0.002
 HALF = 0.1
 
@@ -69,7 +72,8 @@ def _name(template: np.ndarray) -> str:
     return "T" if big >= 2 else "C"
 
 
-def _templates(frames, est, depth: bool) -> dict[str, np.ndarray]:
+def _templates(frames, est, depth: bool) -> tuple[dict[str, np.ndarray], np.ndarray, list[str]]:
+    """Templates by letter, the frames' label-aligned grids and each frame's letter."""
     grids = []
     for obs, label in frames:
         if not depth:
@@ -81,18 +85,31 @@ def _templates(frames, est, depth: bool) -> dict[str, np.ndarray]:
         grids.append(_grid(local))
     grids = np.array(grids)
     lab = _kmeans(grids.reshape(len(grids), -1).astype(float))
-    out = {}
+    out, names = {}, {}
     for j in range(3):
         occ = grids[lab == j].mean(0) >= 0.5
-        cells = np.argwhere(occ)
-        out[_name(occ)] = (cells + 0.5) * GRID - HALF
+        names[j] = _name(occ)
+        out[names[j]] = (np.argwhere(occ) + 0.5) * GRID - HALF
     if sorted(out) != ["C", "F", "T"]:
         raise RuntimeError(f"clusters named {sorted(out)}, expected C, F, T")
+    return out, grids, [names[j] for j in lab]
+
+
+def _binned(frames, grids: np.ndarray, letters: list[str]) -> dict[str, np.ndarray]:
+    """RGB templates per letter and orientation bin (the smear of the sides depends on the view)."""
+    bins = np.array([int((lab[2] + np.pi) // (2 * np.pi / N_BINS)) % N_BINS for _, lab in frames])
+    out = {}
+    for i, name in enumerate(("T", "C", "F")):
+        for b in range(N_BINS):
+            sel = (np.array(letters) == name) & (bins == b)
+            if sel.sum() >= 3:
+                occ = grids[sel].mean(0) >= 0.5
+                out[f"rgb_{i}_b{b}"] = (np.argwhere(occ) + 0.5) * GRID - HALF
     return out
 
 
 def build() -> dict[str, np.ndarray]:
-    frames = labelled_frames(SEED, N_FRAMES, raised=True)
+    frames = [f for k in range(N_SEEDS) for f in labelled_frames(SEED + k, N_FRAMES, raised=True)]
     zs = []
     for obs, _ in frames[:20]:
         red = (obs["rgb"][..., 0].astype(int) - obs["rgb"][..., 1:].max(-1) > 45) & obs["valid"]
@@ -108,9 +125,11 @@ def build() -> dict[str, np.ndarray]:
     est = _estimator()
     arrays: dict[str, np.ndarray] = {"top_z": np.array(top_z), "label_noise": np.array(LABEL_NOISE)}
     for mode, depth in (("depth", True), ("rgb", False)):
-        t = _templates(frames, est, depth)
+        t, grids, letters = _templates(frames, est, depth)
         for i, name in enumerate(("T", "C", "F")):
             arrays[f"{mode}_{i}"] = t[name]
+        if not depth:
+            arrays.update(_binned(frames, grids, letters))
     np.savez(OUT, **arrays)
     return arrays
 

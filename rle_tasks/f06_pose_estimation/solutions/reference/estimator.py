@@ -10,6 +10,8 @@
    thinned point set; the four best candidates are refined on all points and the smallest symmetric
    chamfer cost picks the shape (RGB only: per shape its best start is refined, and the shape whose
    projected prism best overlaps the red mask, by IoU, wins).
+   RGB only: a last ICP against the template of the estimated orientation's bin (the sides' smear
+   depends on the view).
 4. Tracking: within a trajectory, ICP warm-started from the previous pose; the shape is the running
    vote of the per-frame decisions; a poor fit falls back to the global search.
 """
@@ -24,9 +26,19 @@ _T = np.load(Path(__file__).with_name("templates.npz"))
 TOP_Z = float(_T["top_z"])
 GRID = 0.002
 MAX_POINTS = 450
+N_BINS = 8
 _TEMPLATES = {}
 _TREES = {}
 _state = {}
+
+
+def _binned(s, theta):
+    """Tree of the orientation-binned RGB template of shape ``s`` at ``theta`` (None if not built)."""
+    b = int((theta + np.pi) % (2 * np.pi) // (2 * np.pi / N_BINS)) % N_BINS
+    key = f"rgb_{s}_b{b}"
+    if key not in _TREES:
+        _TREES[key] = cKDTree(_T[key]) if key in _T.files else None
+    return _TREES[key]
 
 
 def _templates(mode):
@@ -213,6 +225,10 @@ def update(obs):
         s, pose, cost = _global(pts, mode, obs)
         _state["votes"] = np.zeros(3)
         _state["votes"][s] += 1
+    if mode == "rgb":
+        tree = _binned(s, pose[2])
+        if tree is not None:
+            pose = _icp(pts, tree, pose, iters=30)
     _state.update(pose=pose, shape=s, cost=cost)
     t = (pose[2] + np.pi) % (2 * np.pi) - np.pi
     return (float(pose[0]), float(pose[1]), float(t), int(s))
