@@ -233,7 +233,7 @@ def reported_fps(measured: float) -> float:
     ``FPS_FULL`` (above it there is no deduction), so that timing jitter does not change a report."""
     if not math.isfinite(measured) or measured <= 0:
         return 0.0
-    return min(FPS_FULL, round(measured / FPS_STEP) * FPS_STEP)
+    return min(FPS_FULL, round(round(measured / FPS_STEP) * FPS_STEP, 6))
 
 
 def _write_timing(out_dir: Path, fps: float, cpu_s: float, updates: int, results: list[UnitResult]) -> None:

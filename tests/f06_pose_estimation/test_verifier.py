@@ -42,3 +42,26 @@ def test_golden_scores(full_battery):
             )
             # the speed deduction depends on the machine's CPU: 0.02 of slack
             assert rep.score == pytest.approx(sol.quick_score, abs=0.02), (tid, sol.name)
+
+
+@pytest.mark.render
+def test_templates_rebuild_from_public_renders(full_battery, tmp_path, monkeypatch):
+    """The reference's templates come from labelled public renders only (full battery: about 20 s)."""
+    if not full_battery:
+        pytest.skip("rebuilding the templates runs with RLE_FULL_BATTERY=1")
+    import shutil
+
+    from rle_tasks.f06_pose_estimation.solutions import build_templates
+
+    committed = np.load(build_templates.OUT)
+    ref = tmp_path / "reference"
+    shutil.copytree(build_templates.HERE / "reference", ref)
+    monkeypatch.setattr(build_templates, "OUT", ref / "templates.npz")
+    monkeypatch.setattr(build_templates, "HERE", tmp_path)
+    fresh = build_templates.build()
+    assert float(fresh["top_z"]) == pytest.approx(float(committed["top_z"]), abs=5e-4)
+    for key in committed.files:
+        if committed[key].ndim == 2:
+            a = {tuple(c) for c in np.round(committed[key] / 0.002).astype(int)}
+            b = {tuple(c) for c in np.round(fresh[key] / 0.002).astype(int)}
+            assert len(a & b) / len(a | b) > 0.95, key
