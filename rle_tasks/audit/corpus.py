@@ -664,4 +664,7 @@ def cases() -> list[Case]:
     out += code_cases(F09, "feedforward", "a[0]", F09_CODE_CAP)
     out += code_cases(F08, "control", "a[3]", F08_CODE_CAP)
     out += ledger_cases()
+    from rle_tasks.audit.f06_cases import f06_cases
+
+    out += f06_cases()
     return out

@@ -3,7 +3,8 @@
 The workspace receives ``instruction.md`` (the task's instruction I), whatever the family's
 ``make_dev_env(workspace)`` writes, and, for tasks with a metered environment, ``client.py``. A
 family declares a metered environment by returning a ``rle_design.ledger.MeteredEnv`` from
-``make_dev_env``; the ledger server is then started with the key derived from the verifier secret
+``make_dev_env`` (or a served environment of its own: an object with ``start(key=, ledger_path=,
+socket_path=)``, ``stop()``, ``wait()`` and ``socket_path``, started with the same key and paths); the ledger server is then started with the key derived from the verifier secret
 (``ledger_key``), listening on ``<workspace>/.rle/ledger.sock``. The agent connects with::
 
     from client import connect
@@ -158,6 +159,13 @@ def layout_workspace(
             )
             del key
             ws.server.start()
+    elif serve and env is not None and callable(getattr(env, "start", None)):
+        # a served environment of the family's own (renders, evaluations): same key, ledger and socket
+        ws.ledger_path = _next_ledger(ledger_dir or workspace.with_name(workspace.name + ".ledger"))
+        key = ledger_key(secret if secret is not None else load_secret(), spec.id)
+        env.start(key=key, ledger_path=ws.ledger_path, socket_path=_socket_path(workspace))
+        del key
+        ws.server = env
     ws.files = tuple(sorted(str(p.relative_to(workspace)) for p in workspace.rglob("*") if p.is_file()))
     return ws
 

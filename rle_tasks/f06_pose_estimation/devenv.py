@@ -1,0 +1,148 @@
+"""Development workspace of the ``06-pose-*`` tasks: the instruction, ``pose_client.py`` and the served renderer.
+
+``make_dev_env`` writes the client and returns a ``PoseDevServer``; ``rle dev`` starts it (core
+``layout_workspace``) with the ledger key and a ledger file outside the workspace, unless it runs with
+``--no-serve``. The server process (``service.py``) holds the scene; the workspace never receives
+meshes, block dimensions or shape labels.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+_CLIENT = '''"""Development client of {task_id} (written by `rle dev`).
+
+    from pose_client import connect
+    with connect() as dev:
+        pairs = dev.frames(seed=0, n=10)          # free: [(obs, label), ...] independent frames
+        pairs = dev.frames(seed=1, n=10, raised=True)  # stick out of the way
+        pairs = dev.episode(seed=2, n=60)         # free: a push episode, 10 Hz
+        report = dev.evaluate()                   # charged: your current {artifact} on the design set
+        dev.info()                                # evaluations used and left
+
+obs: rgb (240, 320, 3) uint8, t [s], K (3, 3), T_world_cam (4, 4){depth}.
+label: (x [m], y [m], theta [rad]) with Gaussian noise (1 mm, 0.01 rad); shapes are withheld
+(ids 0, 1, 2 = T, C, F). Budget: {evaluations} design-set evaluations, recorded in a sealed ledger
+kept outside this workspace; development time 2 h.
+"""
+
+import hashlib
+import tempfile
+from multiprocessing.connection import Client
+from pathlib import Path
+
+from rle_design.ledger.server import decode, encode
+
+
+def _address():
+    ws = Path(__file__).resolve().parent
+    path = ws / ".rle" / "ledger.sock"
+    if len(str(path)) <= 100:
+        return str(path)
+    digest = hashlib.sha256(str(ws).encode()).hexdigest()[:16]
+    return str(Path(tempfile.gettempdir()) / f"rle-ledger-{{digest}}.sock")
+
+
+class DevClient:
+    def __init__(self):
+        self._conn = Client(_address(), family="AF_UNIX")
+
+    def _request(self, op, value=None):
+        self._conn.send_bytes(encode({{"op": op}}, value))
+        meta, out = decode(self._conn.recv_bytes())
+        if not meta.get("ok"):
+            raise RuntimeError(f"{{meta.get('code')}}: {{meta.get('message')}}")
+        return out
+
+    def frames(self, seed, n=10, raised=False):
+        return [(p["obs"], p["label"]) for p in self._request("frames", {{"seed": seed, "n": n, "raised": raised}})]
+
+    def episode(self, seed, n=60):
+        return [(p["obs"], p["label"]) for p in self._request("episode", {{"seed": seed, "n": n}})]
+
+    def evaluate(self):
+        return self._request("evaluate")
+
+    def info(self):
+        return self._request("info")
+
+    def seal(self):
+        return self._request("seal")
+
+    def close(self):
+        self._conn.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def connect():
+    return DevClient()
+'''
+
+
+class PoseDevServer:
+    """The served development environment of one task (started by ``rle dev``).
+
+    Args:
+        task_id: The task.
+        workspace: The agent's workspace (its current submission is what ``evaluate`` runs).
+    """
+
+    def __init__(self, task_id: str, workspace: Path) -> None:
+        self.task_id = task_id
+        self.workspace = Path(workspace)
+        self.socket_path: Path | None = None
+        self._proc = None
+
+    def start(self, *, key: bytes, ledger_path: Path, socket_path: Path) -> None:
+        from .service import start
+
+        self.socket_path = Path(socket_path)
+        if self.socket_path.exists():
+            self.socket_path.unlink()
+        self._proc = start(self.task_id, self.workspace, self.socket_path, key, ledger_path)
+
+    def stop(self, timeout: float = 30.0) -> None:
+        """Seal the ledger (SIGTERM) and wait for the server to end."""
+        if self._proc is not None and self._proc.is_alive():
+            self._proc.terminate()
+            self._proc.join(timeout)
+
+    def wait(self, timeout: float | None = None) -> None:
+        if self._proc is not None:
+            self._proc.join(timeout)
+
+
+def socket_path_of(workspace: Path) -> Path:
+    """The socket the client connects to (core ``devenv`` puts it there)."""
+    path = Path(workspace).resolve() / ".rle" / "ledger.sock"
+    if len(str(path)) <= 100:
+        return path
+    digest = hashlib.sha256(str(Path(workspace).resolve()).encode()).hexdigest()[:16]
+    return Path(tempfile.gettempdir()) / f"rle-ledger-{digest}.sock"
+
+
+def make_dev_env(task_id: str, workspace: Path) -> PoseDevServer:
+    """Write ``pose_client.py`` and ``calibration.json`` into ``workspace``; return the (not yet started) server."""
+    from .contract import variant
+    from .scene import CALIBRATION_FILE
+    from .service import EVALUATIONS
+
+    v = variant(task_id)
+    ws = Path(workspace)
+    ws.mkdir(parents=True, exist_ok=True)
+    depth = ", depth (240, 320) float32 [m], valid (240, 320) bool" if v.depth else ""
+    shutil.copyfile(HERE / "assets" / CALIBRATION_FILE, ws / CALIBRATION_FILE)
+    (ws / "pose_client.py").write_text(
+        _CLIENT.format(task_id=task_id, artifact=v.artifact, depth=depth, evaluations=EVALUATIONS)
+    )
+    return PoseDevServer(task_id, ws)
