@@ -21,6 +21,10 @@ FULL = os.environ.get("RLE_FULL_BATTERY") == "1"
 # Family-08 submitted-code cases each run the whole static and dynamic battery (~10-30 s); the reduced
 # form keeps one per fault class that the sandbox maps differently.
 REDUCED_F08_CODE = {"code/08_raise_midway", "code/08_hang", "code/08_return_nan", "code/08_import_crash"}
+# Family-08 design cases each run the quick verification (~20-30 s) to reach the same validity cap; the
+# reduced form keeps the contract case and one build-ability case (each finding has a fast unit test
+# in tests/f08/test_f08_integrity.py).
+REDUCED_F08_PHYSICS = {"physics/f08_gravcomp", "physics/f08_battery_in_mid_air"}
 
 
 def _slow(case) -> bool:
@@ -28,9 +32,12 @@ def _slow(case) -> bool:
 
 
 def _params():
-    """All cases with RLE_FULL_BATTERY=1; otherwise family-08 code cases only from the reduced sample."""
+    """All cases with RLE_FULL_BATTERY=1; otherwise family-08 code and design cases only from the reduced
+    samples."""
     for c in CASES:
         if c.name.startswith("code/08_") and not FULL and c.name not in REDUCED_F08_CODE:
+            continue
+        if c.name.startswith("physics/f08_") and not FULL and c.name not in REDUCED_F08_PHYSICS:
             continue
         yield pytest.param(c, id=c.name, marks=[pytest.mark.physics] if _slow(c) else [])
 

@@ -1,5 +1,6 @@
 """Same artifact + same seed + same secret gives the same report: each implemented task's reference
-solution is verified three times and the reports must be byte-identical apart from ``elapsed_s``."""
+solution is verified twice (three times with ``RLE_FULL_BATTERY=1``) and the reports must be
+byte-identical apart from ``elapsed_s``."""
 
 from __future__ import annotations
 
@@ -24,15 +25,15 @@ def test_every_implemented_task_ships_a_reference():
 
 @pytest.mark.physics
 @pytest.mark.parametrize("task", IMPLEMENTED, ids=[t.id for t in IMPLEMENTED])
-def test_reference_reports_identical_over_three_runs(task, tmp_path):
+def test_reference_reports_identical_over_repeated_runs(task, tmp_path, full_battery):
     reference = materialise(task, "reference")
     texts = []
-    for i in range(3):
+    for i in range(3 if full_battery else 2):
         ctx = VerifyContext(secret=AUDIT_SECRET, out_dir=tmp_path / f"fig{i}", quick=True, jobs=2)
         report, internal = run_verify(task, reference, ctx)
         assert not internal
         d = report.to_dict()
         d.pop("elapsed_s")
         texts.append(json.dumps(d, sort_keys=False))
-    assert texts[0] == texts[1] == texts[2]
+    assert len(set(texts)) == 1
     assert json.loads(texts[0])["secret"] == "private"
