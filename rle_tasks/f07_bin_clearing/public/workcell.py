@@ -11,14 +11,13 @@ Geometry (SI units throughout):
   the web's ends; true volume 6000 mm^3, mass 47.1 g. Collision plates are 3 mm thick proxies (2 mm
   plates tunnel in dropped piles); each plate carries the mass of its true 2 mm plate.
 * Bin (VDA KLT 4147-like): outer 396 x 297 x 147.5 mm, inner 346 x 265 mm, 10 mm floor.
-* Electromagnet: a 40 mm pad at the flange that touches only brackets; adhesion gain
+* Electromagnet: a 40 mm square pad on a 140 mm stem at the flange; the pad touches only brackets; adhesion gain
   ``MAGNET_GAIN_WEIGHTS`` bracket weights.
 * Conveyor: belt top at ``BELT_TOP``, surface velocity ``BELT_SPEED`` along +x.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import mujoco
@@ -31,7 +30,6 @@ from rle_design.scene import (
     FloorConfig,
     PhysicsOptions,
     PositionActuators,
-    SiteConfig,
     attach_arm,
     robot_constants,
 )
@@ -56,7 +54,11 @@ MAGNET_GAIN_WEIGHTS = 10.0
 MAGNET_GAIN = MAGNET_GAIN_WEIGHTS * BRACKET_MASS * G
 """Adhesion force at command 1 [N] (4.62 N)."""
 MAGNET_PAD = (0.020, 0.005)
-"""Pad radius and half height [m]."""
+"""Pad half width (square pad) and half height [m]; a flat box keeps a four-point contact."""
+STEM_LENGTH = 0.14
+"""Length of the magnet's stem from the flange to the pad [m]: keeps the wrist above the bin walls."""
+TOOL_LENGTH = STEM_LENGTH + 2 * MAGNET_PAD[1]
+"""Flange to pad face along the flange's z axis [m]."""
 
 ROBOT_BASE = (0.0, 0.0, 0.40)
 """Position of the Panda's base on its pedestal [m]."""
@@ -228,9 +230,6 @@ def _robot(spec: mujoco.MjSpec) -> None:
         if b.name.startswith(ARM_PREFIX):
             b.gravcomp = 1.0
     for g in spec.geoms:  # cameras show the collision hulls (14k faces) instead of 140k-face visuals
-        if g.name == "" and spec.body(g.parent.name if hasattr(g, "parent") else "") is not None:
-            pass
-    for g in spec.geoms:
         if not g.name and g.contype == 0 and g.conaffinity == 0 and g.type == mujoco.mjtGeom.mjGEOM_MESH:
             g.group = 3
     for g in spec.geoms:
@@ -244,10 +243,16 @@ def _robot(spec: mujoco.MjSpec) -> None:
         ).edit_spec(spec)  # fmt: skip
     hand = spec.body(ARM_PREFIX + const.tool_body)
     magnet = hand.add_body(name=NAMES.magnet_body, pos=[0, 0, 0])
-    pad = magnet.add_geom(name=NAMES.magnet_pad, type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-                          size=[MAGNET_PAD[0], MAGNET_PAD[1], 0], pos=[0, 0, MAGNET_PAD[1]])  # fmt: skip
+    stem = magnet.add_geom(name="magnet_stem", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+                           size=[0.012, STEM_LENGTH / 2, 0], pos=[0, 0, STEM_LENGTH / 2])  # fmt: skip
+    stem.contype = stem.conaffinity = GROUP_SCENE
+    stem.mass = 0.2
+    stem.rgba = [0.3, 0.3, 0.3, 1]
+    pad = magnet.add_geom(name=NAMES.magnet_pad, type=mujoco.mjtGeom.mjGEOM_BOX,
+                          size=[MAGNET_PAD[0], MAGNET_PAD[0], MAGNET_PAD[1]],
+                          pos=[0, 0, STEM_LENGTH + MAGNET_PAD[1]])  # fmt: skip
     pad.contype = pad.conaffinity = GROUP_PART
-    pad.mass = 0.3
+    pad.mass = 0.1
     pad.rgba = [0.7, 0.1, 0.1, 1]
     pad.solref = [0.005, 1.0]
     hand.add_site(name=NAMES.ft_site, pos=[0, 0, 0])
@@ -294,7 +299,6 @@ def build_workcell(n_parts: int, friction_scale: float = 1.0) -> mujoco.MjSpec:
     for g in spec.geoms:
         if g.name == NAMES.floor:
             g.contype = g.conaffinity = GROUP_SCENE
-    SiteConfig  # noqa: B018 - re-exported helper kept for public users
     return spec
 
 
@@ -318,5 +322,4 @@ __all__ = [
     "build_workcell",
     "home_qpos",
     "joint_names",
-    "math",
 ]
