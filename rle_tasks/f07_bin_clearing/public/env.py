@@ -50,9 +50,7 @@ from .workcell import (
 )
 
 NEST_DWELL_S = 0.5
-"""Time a single part must rest in the nest before the gate opens [s]."""
-NEST_REST_SPEED = 0.05
-"""Speed below which a part in the nest counts as resting [m/s]."""
+"""Time the nest must hold exactly one part before the gate opens [s]."""
 NEST_HEIGHT = 0.08
 """Height above the belt within which a part counts as in the nest [m]."""
 EPISODE_S = 120.0
@@ -98,9 +96,9 @@ def cleared_parts(model: mujoco.MjModel, data: mujoco.MjData, n_parts: int) -> n
 class NestLogic:
     """The nest's controller, run after every control period; its state lives in ``data.userdata``.
 
-    ``userdata[0]``: time the nest has held exactly one resting part [s]; ``userdata[1]``: gate open
+    ``userdata[0]``: time the nest has held exactly one part [s]; ``userdata[1]``: gate open
     (1) or closed (0); ``userdata[2]``: parts counted at the belt's end. The gate opens after
-    ``NEST_DWELL_S`` with one resting part and closes once the nest is empty, or at once when a second
+    ``NEST_DWELL_S`` with exactly one part and closes once the nest is empty, or at once when a second
     part arrives while it is open: several parts together block the nest until the extras are removed.
     """
 
@@ -109,7 +107,6 @@ class NestLogic:
         self.gate = model.body(NAMES.gate).mocapid[0]
         self.closed_z = BELT_TOP + GATE_HEIGHT / 2
         self.period = N_SUBSTEPS * model.opt.timestep
-        self.speed_adr = [model.jnt_dofadr[model.body(NAMES.part(i)).jntadr[0]] for i in range(n_parts)]
 
     def update(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         members = nest_members(model, data, self.n_parts)
@@ -118,9 +115,7 @@ class NestLogic:
             if len(members) != 1:
                 u[1], u[0] = 0.0, 0.0
         elif len(members) == 1:
-            a = self.speed_adr[members[0]]
-            resting = float(np.linalg.norm(data.qvel[a : a + 3])) < NEST_REST_SPEED
-            u[0] = u[0] + self.period if resting else 0.0
+            u[0] += self.period
             if u[0] >= NEST_DWELL_S - 1e-9:
                 u[1] = 1.0
         else:

@@ -22,7 +22,7 @@ MARGIN = 0.03
 PAD = 0.150
 NEST = np.array([0.27, -0.42, 0.45 + 0.05 + 0.150])
 LIFT_Z = 0.80
-MAX_QD = 2.0
+MAX_QD = 1.5
 DT = 0.05
 
 _state: dict = {}
