@@ -53,6 +53,9 @@ NEST_DWELL_S = 0.5
 """Time the nest must hold exactly one part before the gate opens [s]."""
 NEST_HEIGHT = 0.08
 """Height above the belt within which a part counts as in the nest [m]."""
+GATE_CLEARANCE = 0.05
+"""An open gate closes once no part's centre is within this distance past it [m] (half a bracket's
+length, 30 mm, plus 20 mm): it never closes under a part leaving the nest."""
 EPISODE_S = 120.0
 """Simulated time of one pile [s]."""
 N_SUBSTEPS = 25
@@ -87,6 +90,19 @@ def held_parts(model: mujoco.MjModel, data: mujoco.MjData, n_parts: int) -> np.n
     return out
 
 
+def gate_zone(model: mujoco.MjModel, data: mujoco.MjData, n_parts: int) -> np.ndarray:
+    """(n,) bool: part on the belt between the nest's start and ``GATE_CLEARANCE`` past the gate (not held)."""
+    pos = np.array([data.xipos[model.body(NAMES.part(i)).id] for i in range(n_parts)])
+    zone = (
+        (pos[:, 0] > NEST_X[0])
+        & (pos[:, 0] < NEST_X[1] + GATE_CLEARANCE)
+        & (np.abs(pos[:, 1] - BELT_Y) < BELT_WIDTH / 2)
+        & (pos[:, 2] > BELT_TOP - 0.01)
+        & (pos[:, 2] < BELT_TOP + NEST_HEIGHT)
+    )
+    return zone & ~held_parts(model, data, n_parts)
+
+
 def cleared_parts(model: mujoco.MjModel, data: mujoco.MjData, n_parts: int) -> np.ndarray:
     """(n,) bool: part carried past the belt's end (centre of mass beyond ``BELT_X[1]``, off the belt)."""
     pos = np.array([data.xipos[model.body(NAMES.part(i)).id] for i in range(n_parts)])
@@ -98,8 +114,8 @@ class NestLogic:
 
     ``userdata[0]``: time the nest has held exactly one part [s]; ``userdata[1]``: gate open
     (1) or closed (0); ``userdata[2]``: parts counted at the belt's end. The gate opens after
-    ``NEST_DWELL_S`` with exactly one part and closes once the nest is empty, or at once when a second
-    part arrives while it is open: several parts together block the nest until the extras are removed.
+    ``NEST_DWELL_S`` with exactly one part and closes once that part is clear of it (``GATE_CLEARANCE``),
+    or at once when a second part arrives while it is open: several parts together block the nest until the extras are removed.
     """
 
     def __init__(self, model: mujoco.MjModel, n_parts: int) -> None:
@@ -112,7 +128,7 @@ class NestLogic:
         members = nest_members(model, data, self.n_parts)
         u = data.userdata
         if u[1] > 0.5:
-            if len(members) != 1:
+            if len(members) > 1 or not gate_zone(model, data, self.n_parts).any():
                 u[1], u[0] = 0.0, 0.0
         elif len(members) == 1:
             u[0] += self.period

@@ -88,6 +88,9 @@ GATE_T = 0.006
 """Gate thickness along x [m]."""
 GATE_HEIGHT = 0.05
 """Gate height above the belt [m]."""
+COVER_HEIGHT = 0.065
+"""Clearance under the guard that covers the belt past the gate [m]: a bracket standing on a flange
+(60 mm) passes under it, nothing can be dropped onto the belt past the nest."""
 RAIL_HEIGHT = 0.04
 """Belt side rails above the belt [m]."""
 TOTE_X = (0.97, 1.30)
@@ -207,6 +210,9 @@ def _conveyor(spec: mujoco.MjSpec) -> None:
              (0, side * (BELT_WIDTH / 2 + 0.005), BELT_TOP + RAIL_HEIGHT / 2), (0.8, 0.6, 0.1, 1))  # fmt: skip
     _box(frame, "nest_back", (0.005, BELT_WIDTH / 2, RAIL_HEIGHT / 2),
          (x0 - cx - 0.005, 0, BELT_TOP + RAIL_HEIGHT / 2), (0.8, 0.6, 0.1, 1))  # fmt: skip
+    c0, c1 = NEST_X[1] + GATE_T + 0.005 - cx, x1 - 0.02 - cx
+    _box(frame, "belt_cover", ((c1 - c0) / 2, BELT_WIDTH / 2 + 0.01, 0.002),
+         ((c0 + c1) / 2, 0, BELT_TOP + COVER_HEIGHT + 0.002), (0.75, 0.75, 0.78, 1))  # fmt: skip
     gate = spec.worldbody.add_body(name=NAMES.gate, pos=[NEST_X[1] + GATE_T / 2, BELT_Y, BELT_TOP + GATE_HEIGHT / 2])
     gate.mocap = True
     _box(gate, NAMES.gate, (GATE_T / 2, BELT_WIDTH / 2, GATE_HEIGHT / 2), (0, 0, 0), (0.85, 0.15, 0.1, 1))

@@ -1,17 +1,20 @@
-"""Reference bin-clearing policy: depth-based part detection, highest part first, one part per trip.
+"""Reference bin-clearing policy: depth-based part detection, flat top surfaces first, one part per trip.
 
-Uses only its observations: at the look pose above the bin the wrist RGB-D frame is lifted to world
-points with the published calibration (``K``, ``pose``); points above the bin floor form the pile and
-the highest one (with its 20 mm neighbourhood) is the next pick. The hand descends on it with the
-magnet on until the magnet reports contact or the wrist force rises, lifts, carries the part over the
-nest, waits until the nest sensor reads empty, releases 50 mm above the belt and looks again.
+Uses only its observations. A depth frame (the overhead camera while the hand is over the nest, else
+the wrist camera at the look pose) is lifted to world points with the published calibration (``K``,
+``pose``) and binned into a 4 mm height map of the bin; cells above the bin floor are the pile. The
+next pick is the highest cell whose 20 mm neighbourhood is flat (a web or a flange face, where the
+square pad seats), else the highest cell. The hand descends on it with the magnet on until the magnet
+reports contact or the wrist force rises, lifts, carries the part to the nest on smooth joint paths,
+waits until the nest sensor reads empty, lowers the part close to the belt, releases it and plans the
+next pick from the overhead frame.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .kinematics import fk, ik_down
+from .kinematics import ik_down
 
 BASE = np.array([0.0, 0.0, 0.40])
 LOOK = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785])
@@ -19,11 +22,16 @@ BIN_C = np.array([0.50, 0.0])
 BIN_HALF = np.array([0.1325, 0.173])
 BIN_FLOOR = 0.40
 MARGIN = 0.03
-PAD = 0.150
-NEST = np.array([0.27, -0.42, 0.45 + 0.05 + 0.150])
+TOOL = 0.150
+"""Flange to pad face [m] (published geometry)."""
+NEST = np.array([0.255, -0.42, 0.45 + 0.045 + TOOL])
 LIFT_Z = 0.80
-MAX_QD = 1.5
+MAX_QD = 1.6
 DT = 0.05
+CELL = 0.004
+DESCENT = 0.006
+CONTACT_FZ = 3.0
+"""Wrist force rise that also counts as contact [N]."""
 
 _state: dict = {}
 
@@ -34,12 +42,15 @@ def make_policy() -> None:
 
 def reset() -> None:
     _state.clear()
-    _state.update(mode="look", plan=[], target=None, wait=0.0, misses=0, q_cmd=None, magnet=0.0)
+    _state.update(mode="look", plan=[], target=None, wait=0.0, misses=0, q_cmd=None, magnet=0.0, fz0=None)
 
 
-def _goto(q_from: np.ndarray, q_to: np.ndarray) -> list[np.ndarray]:
-    n = max(1, int(np.ceil(np.max(np.abs(q_to - q_from)) / (MAX_QD * DT))))
-    return [q_from + (q_to - q_from) * (k + 1) / n for k in range(n)]
+def _goto(q_from: np.ndarray, q_to: np.ndarray, qd: float = MAX_QD) -> list[np.ndarray]:
+    """Joint path with a cosine velocity profile, peak speed about ``qd`` [rad/s]."""
+    span = float(np.max(np.abs(q_to - q_from)))
+    n = max(2, int(np.ceil(span * np.pi / 2 / (qd * DT))))
+    s = 0.5 - 0.5 * np.cos(np.pi * np.arange(1, n + 1) / n)
+    return [q_from + (q_to - q_from) * k for k in s]
 
 
 def _ik(p_world: np.ndarray, seed: np.ndarray) -> np.ndarray:
@@ -47,24 +58,45 @@ def _ik(p_world: np.ndarray, seed: np.ndarray) -> np.ndarray:
     return q
 
 
-def _detect(cam: dict) -> np.ndarray | None:
-    depth, K, pose = cam["depth"].astype(float), cam["K"], cam["pose"]
+def _cloud(cam: dict) -> np.ndarray:
+    depth, K, pose = np.asarray(cam["depth"], dtype=float), cam["K"], cam["pose"]
     h, w = depth.shape
     v, u = np.mgrid[0:h, 0:w]
-    z = depth
-    pts = np.stack([(u - K[0, 2]) / K[0, 0] * z, (v - K[1, 2]) / K[1, 1] * z, z], -1).reshape(-1, 3)
-    world = pts @ pose[:3, :3].T + pose[:3, 3]
-    inside = np.all(np.abs(world[:, :2] - BIN_C) < BIN_HALF - 0.005, axis=1) & (world[:, 2] > BIN_FLOOR + 0.0025) & (world[:, 2] < BIN_FLOOR + 0.10)
-    world = world[inside]
-    if len(world) < 5:
+    pts = np.stack([(u - K[0, 2]) / K[0, 0] * depth, (v - K[1, 2]) / K[1, 1] * depth, depth], -1).reshape(-1, 3)
+    world = pts @ np.asarray(pose)[:3, :3].T + np.asarray(pose)[:3, 3]
+    inside = np.all(np.abs(world[:, :2] - BIN_C) < BIN_HALF - 0.004, axis=1)
+    return world[inside & (world[:, 2] > BIN_FLOOR + 0.0025) & (world[:, 2] < BIN_FLOOR + 0.10)]
+
+
+def detect(cam: dict) -> np.ndarray | None:
+    """Pick point (x, y, top z) [m] in the world, or None when the bin looks empty."""
+    pts = _cloud(cam)
+    if len(pts) < 8:
         return None
-    reach = np.all(np.abs(world[:, :2] - BIN_C) < BIN_HALF - MARGIN, axis=1)
-    cand = world[reach] if reach.sum() >= 5 else world
-    top = cand[np.argmax(cand[:, 2])]
-    near = world[(np.linalg.norm(world[:, :2] - top[:2], axis=1) < 0.02) & (world[:, 2] > top[2] - 0.006)]
-    c = near.mean(0)
-    c[:2] = np.clip(c[:2], BIN_C - BIN_HALF + MARGIN, BIN_C + BIN_HALF - MARGIN)
-    return np.array([c[0], c[1], top[2]])
+    lo = BIN_C - BIN_HALF
+    shape = tuple(np.ceil(2 * BIN_HALF / CELL).astype(int))
+    ij = np.clip(((pts[:, :2] - lo) / CELL).astype(int), 0, np.array(shape) - 1)
+    hmap = np.full(shape, -1.0)
+    np.maximum.at(hmap, (ij[:, 0], ij[:, 1]), pts[:, 2])
+    occ = hmap > 0
+    r = 2  # 5 x 5 cells = 20 mm
+    pad = np.pad(hmap, r, constant_values=-1.0)
+    flat = np.zeros(shape)
+    for di in range(-r, r + 1):
+        for dj in range(-r, r + 1):
+            nb = pad[r + di : r + di + shape[0], r + dj : r + dj + shape[1]]
+            flat += np.abs(nb - hmap) < 0.003
+    reach = np.zeros(shape, dtype=bool)
+    m = int(np.ceil(MARGIN / CELL))
+    reach[m:-m, m:-m] = True
+    for want in (occ & reach & (flat >= 15), occ & reach & (flat >= 8), occ & reach, occ):
+        if want.any():
+            score = np.where(want, hmap, -np.inf)
+            i, j = np.unravel_index(int(np.argmax(score)), shape)
+            xy = lo + (np.array([i, j]) + 0.5) * CELL
+            xy = np.clip(xy, lo + MARGIN, BIN_C + BIN_HALF - MARGIN)
+            return np.array([xy[0], xy[1], hmap[i, j]])
+    return None
 
 
 def act(obs: dict) -> np.ndarray:
@@ -82,52 +114,62 @@ def act(obs: dict) -> np.ndarray:
         if np.max(np.abs(q - LOOK)) > 0.03:
             s["plan"] = _goto(s["q_cmd"], LOOK)
         elif "wrist" in obs and np.max(np.abs(obs["dq"])) < 0.05:
-            target = _detect(obs["wrist"])
-            if target is None:
-                s["misses"] += 1
-                s["mode"] = "look" if s["misses"] < 3 else "done"
-            else:
-                s["target"] = target
-                above = _ik(target + [0, 0, 0.08 + PAD], LOOK)
-                s["plan"] = _goto(s["q_cmd"], above)
-                s["mode"] = "descend"
-                s["z"] = target[2] + 0.08
-                s["magnet"] = 1.0
+            _start_pick(s, detect(obs["wrist"]), LOOK)
     elif mode == "descend":
-        if contact:
+        fz = float(obs["ft"][2])
+        if s["fz0"] is None:
+            s["fz0"] = fz
+        if contact or abs(fz - s["fz0"]) > CONTACT_FZ:
             s["mode"], s["wait"] = "grip", 0.0
         elif s["z"] < s["target"][2] - 0.012:
-            s["mode"], s["magnet"] = "lift_empty", 0.0
+            s["mode"], s["magnet"] = "look", 0.0
         else:
-            s["z"] -= 0.004
-            s["q_cmd"] = _ik(np.array([*s["target"][:2], s["z"] + PAD]), s["q_cmd"])
+            s["z"] -= DESCENT
+            s["q_cmd"] = _ik(np.array([*s["target"][:2], s["z"] + TOOL]), s["q_cmd"])
     elif mode == "grip":
         s["wait"] += DT
         if s["wait"] >= 0.15:
             up = _ik(np.array([*s["target"][:2], LIFT_Z]), s["q_cmd"])
-            s["plan"] = _goto(s["q_cmd"], up)
+            s["plan"] = _goto(s["q_cmd"], up, 1.0)
             s["mode"] = "carry"
-    elif mode == "lift_empty":
-        s["plan"] = _goto(s["q_cmd"], LOOK)
-        s["mode"] = "look"
     elif mode == "carry":
         if not contact:
             s["magnet"], s["mode"] = 0.0, "look"
         else:
             over = _ik(np.array([NEST[0], NEST[1], LIFT_Z]), s["q_cmd"])
             low = _ik(NEST, over)
-            s["plan"] = _goto(s["q_cmd"], over) + _goto(over, low)
-            s["mode"] = "release"
-            s["wait"] = 0.0
+            s["plan"] = _goto(s["q_cmd"], over, 1.2) + _goto(over, low, 0.8)
+            s["mode"], s["wait"] = "release", 0.0
     elif mode == "release":
-        if obs["nest"][0] == 0 and obs["nest"][1] < 0.5:
+        if obs["nest"][0] == 0:
             s["magnet"] = 0.0
             s["wait"] += DT
             if s["wait"] >= 0.25:
                 up = _ik(np.array([NEST[0], NEST[1], LIFT_Z]), s["q_cmd"])
                 s["plan"] = _goto(s["q_cmd"], up)
-                s["mode"], s["misses"] = "look", 0
+                s["mode"] = "replan"
+    elif mode == "replan":
+        if "overhead" in obs:
+            target = detect(obs["overhead"])
+            if target is None:
+                s["mode"] = "look"
+            else:
+                _start_pick(s, target, s["q_cmd"])
     return np.concatenate([s["q_cmd"], [s["magnet"]]])
 
 
-__all__ = ["act", "fk", "make_policy", "reset"]
+def _start_pick(s: dict, target: np.ndarray | None, seed: np.ndarray) -> None:
+    if target is None:
+        s["misses"] += 1
+        s["mode"] = "look" if s["misses"] < 3 else "done"
+        return
+    s["misses"] = 0
+    s["target"] = target
+    s["z"] = target[2] + 0.04
+    above = _ik(np.array([target[0], target[1], LIFT_Z]), seed)
+    start = _ik(np.array([target[0], target[1], s["z"] + TOOL]), above)
+    s["plan"] = _goto(s["q_cmd"], above) + _goto(above, start, 1.0)
+    s["mode"], s["magnet"], s["fz0"] = "descend", 1.0, None
+
+
+__all__ = ["act", "detect", "make_policy", "reset"]
