@@ -22,6 +22,8 @@ TASK_ID = "07-bin-clearing"
 N_PILES = 8
 QUICK_PILES = 1
 EPISODE_S = 120.0
+QUICK_EPISODE_S = 30.0
+"""Simulated time of the quick (partial) verification's one pile [s]."""
 FLOOR_PENALTY, DAMAGE_PENALTY, BIN_PENALTY = 0.03, 0.05, 0.05
 
 
@@ -31,21 +33,22 @@ def h(f: float) -> float:
     return f / 6.0 if f <= 0.6 else 0.1 + 0.9 * ((f - 0.6) / 0.4) ** 3
 
 
-def throughput(cleared: int, n_parts: int, makespan_s: float) -> float:
-    """Parts per minute from the clear makespan (``EPISODE_S`` when not every part is cleared)."""
-    t = makespan_s if cleared == n_parts and makespan_s > 0 else EPISODE_S
-    return 60.0 * cleared / t
+def throughput(cleared: int, makespan_s: float) -> float:
+    """Parts per minute from the clear makespan [s] (the episode's length when the pile is not cleared)."""
+    return 60.0 * cleared / makespan_s if makespan_s > 0 else 0.0
 
 
 def pile_terms(summary: dict) -> dict[str, float]:
     """Checkpoint factors and deduction of one pile from its event summary."""
     n, cleared = int(summary["n_parts"]), int(summary["cleared"])
     f = cleared / n
-    p = throughput(cleared, n, float(summary["makespan_s"]))
+    p = throughput(cleared, float(summary["makespan_s"]))
     clean = summary["N_floor"] == 0 and summary["N_damage"] == 0 and summary["N_bin"] == 0
     indicator = float(cleared == n and clean)
     deduction = (
-        FLOOR_PENALTY * summary["N_floor"] + DAMAGE_PENALTY * summary["N_damage"] + BIN_PENALTY * summary["N_bin"]
+        FLOOR_PENALTY * summary["N_floor"]
+        + DAMAGE_PENALTY * summary["N_damage"]
+        + BIN_PENALTY * summary["N_bin"]
     )
     return {
         "complete": indicator,
@@ -72,14 +75,34 @@ RUBRIC = Rubric(
     variants=tuple(f"pile{i + 1}" for i in range(N_PILES)),
     aggregate="variant_mean",
     checkpoints=(
-        CheckpointSpec("complete", 0.30, "clean complete clear I (every part cleared, no event)",
-                       Fraction("I per pile, 1 or 0"), combine="mean"),  # fmt: skip
-        CheckpointSpec("clearance", 0.35, "cleared fraction f",
-                       Fraction("h(f) = f/6 for f <= 0.6, else 0.1 + 0.9((f - 0.6)/0.4)^3"), combine="mean"),  # fmt: skip
-        CheckpointSpec("throughput", 0.20, "throughput p [parts/min] from the clear makespan (120 s if incomplete)",
-                       Fraction("min(p/10, 1)"), combine="mean"),  # fmt: skip
-        CheckpointSpec("clean_throughput", 0.15, "throughput of a clean complete clear",
-                       Fraction("I min(p/15, 1)"), combine="mean"),  # fmt: skip
+        CheckpointSpec(
+            "complete",
+            0.30,
+            "clean complete clear I (every part cleared, no event)",
+            Fraction("I per pile, 1 or 0"),
+            combine="mean",
+        ),  # fmt: skip
+        CheckpointSpec(
+            "clearance",
+            0.35,
+            "cleared fraction f",
+            Fraction("h(f) = f/6 for f <= 0.6, else 0.1 + 0.9((f - 0.6)/0.4)^3"),
+            combine="mean",
+        ),  # fmt: skip
+        CheckpointSpec(
+            "throughput",
+            0.20,
+            "throughput p [parts/min] from the clear makespan (120 s if incomplete)",
+            Fraction("min(p/10, 1)"),
+            combine="mean",
+        ),  # fmt: skip
+        CheckpointSpec(
+            "clean_throughput",
+            0.15,
+            "throughput of a clean complete clear",
+            Fraction("I min(p/15, 1)"),
+            combine="mean",
+        ),  # fmt: skip
     ),
     caps=(
         Cap("unloadable", 0.0, "the policy/ package is missing or cannot be loaded (import, make_policy)"),
@@ -100,4 +123,15 @@ def rubric(n_piles: int) -> Rubric:
     return replace(RUBRIC, variants=RUBRIC.variants[:n_piles])
 
 
-__all__ = ["EPISODE_S", "N_PILES", "QUICK_PILES", "RUBRIC", "TASK_ID", "h", "pile_score", "pile_terms", "rubric"]
+__all__ = [
+    "EPISODE_S",
+    "N_PILES",
+    "QUICK_EPISODE_S",
+    "QUICK_PILES",
+    "RUBRIC",
+    "TASK_ID",
+    "h",
+    "pile_score",
+    "pile_terms",
+    "rubric",
+]

@@ -10,7 +10,14 @@ from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 HERE = Path(__file__).resolve().parent
 PUBLIC_PACKAGE = "bin_clearing"
 """Name of the public modules' package in the workspace."""
-SOLUTION_NAMES = ("reference", "baseline/idle", "baseline/raising", "baseline/hanging")
+SOLUTION_NAMES = (
+    "reference",
+    "baseline/idle",
+    "baseline/floor_dropper",
+    "baseline/short_tool",
+    "baseline/raising",
+    "baseline/hanging",
+)
 """Shipped solutions, declared in ``solutions/__init__.py``."""
 
 

@@ -6,7 +6,14 @@ from rle_tasks.f07_bin_clearing.scoring import RUBRIC, h, pile_score, pile_terms
 
 
 def _summary(cleared, n=12, makespan=120.0, floor=0, damage=0, bins=0):
-    return {"n_parts": n, "cleared": cleared, "makespan_s": makespan, "N_floor": floor, "N_damage": damage, "N_bin": bins}
+    return {
+        "n_parts": n,
+        "cleared": cleared,
+        "makespan_s": makespan,
+        "N_floor": floor,
+        "N_damage": damage,
+        "N_bin": bins,
+    }
 
 
 def test_h_curve_hand_values():
@@ -17,9 +24,9 @@ def test_h_curve_hand_values():
     assert h(1.0) == pytest.approx(1.0)
 
 
-def test_throughput_uses_makespan_only_when_complete():
-    assert throughput(12, 12, 60.0) == pytest.approx(12.0)  # 12 parts in one minute
-    assert throughput(6, 12, 30.0) == pytest.approx(3.0)  # incomplete: 6 parts / 2 min
+def test_throughput_uses_the_episode_length_when_incomplete():
+    assert throughput(12, 60.0) == pytest.approx(12.0)  # 12 parts cleared in one minute
+    assert pile_terms(_summary(6))["p"] == pytest.approx(3.0)  # incomplete: 6 parts / 2 min
 
 
 def test_clean_complete_clear_in_72_s():
@@ -53,6 +60,8 @@ def test_rubric_report_equals_mean_of_pile_scores():
         k: Outcome({v: t[k] for v, t in zip(rub.variants, terms)})
         for k in ("complete", "clearance", "throughput", "clean_throughput")
     }
-    rep = rub.report(outcomes, valid=True, deductions={v: t["deduction"] for v, t in zip(rub.variants, terms)})
+    rep = rub.report(
+        outcomes, valid=True, deductions={v: t["deduction"] for v, t in zip(rub.variants, terms)}
+    )
     assert rep.score == pytest.approx(sum(pile_score(p) for p in piles) / 3)
     assert len(RUBRIC.variants) == 8

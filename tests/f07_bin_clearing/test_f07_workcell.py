@@ -1,7 +1,6 @@
 """Closed forms of the workcell: bracket mass, the magnet's holding threshold, the belt's speed, the nest."""
 
 import mujoco
-import numpy as np
 import pytest
 
 from rle_design.scene import AdhesionActuator
@@ -30,7 +29,7 @@ def test_bracket_mass_is_density_times_volume():
     # web 60 x 25 x 2 mm + two flanges 30 x 25 x 2 mm = 6000 mm^3; m = 7850 kg/m^3 x 6e-6 m^3 = 47.1 g
     m = build_workcell(1).compile()
     assert m.body_mass[m.body(NAMES.part(0)).id] == pytest.approx(STEEL_DENSITY * 6000e-9, rel=1e-9)
-    assert BRACKET_MASS == pytest.approx(0.0471, rel=1e-9)
+    assert pytest.approx(0.0471, rel=1e-9) == BRACKET_MASS
 
 
 def _hang(gain_n: float, touching: bool = True) -> float:
@@ -39,7 +38,9 @@ def _hang(gain_n: float, touching: bool = True) -> float:
     s.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
     s.option.o_solref = [0.005, 1.0]
     mag = s.worldbody.add_body(name="magnet", pos=[0, 0, 0.5])
-    pad = mag.add_geom(name="pad", type=mujoco.mjtGeom.mjGEOM_BOX, size=[MAGNET_PAD[0], MAGNET_PAD[0], MAGNET_PAD[1]])
+    pad = mag.add_geom(
+        name="pad", type=mujoco.mjtGeom.mjGEOM_BOX, size=[MAGNET_PAD[0], MAGNET_PAD[0], MAGNET_PAD[1]]
+    )
     pad.contype = pad.conaffinity = GROUP_PART
     gap = -0.0002 if touching else 0.002
     add_bracket(s, 0, (0, 0, 0.5 - MAGNET_PAD[1] - PROXY_T - gap))
@@ -54,7 +55,7 @@ def _hang(gain_n: float, touching: bool = True) -> float:
 @pytest.mark.physics
 def test_magnet_holds_exactly_above_the_part_weight():
     w = BRACKET_MASS * G
-    assert MAGNET_GAIN == pytest.approx(MAGNET_GAIN_WEIGHTS * w)
+    assert pytest.approx(MAGNET_GAIN_WEIGHTS * w) == MAGNET_GAIN
     start = 0.5 - MAGNET_PAD[1] - PROXY_T + 0.0002
     assert _hang(MAGNET_GAIN) == pytest.approx(start, abs=0.002)  # documented gain: 10 m g holds
     assert _hang(1.05 * w) == pytest.approx(start, abs=0.002)  # just above m g holds
@@ -67,7 +68,7 @@ def _cell_with_part_at(x: float, n: int = 1) -> tuple[mujoco.MjModel, mujoco.MjD
     d = mujoco.MjData(m)
     for i in range(n):
         adr = m.jnt_qposadr[m.body(NAMES.part(i)).jntadr[0]]
-        d.qpos[adr : adr + 3] = (x + 0.07 * i, BELT_Y + (0.03 if i else 0.0) * 0, BELT_TOP + 0.001 + 0.035 * i)
+        d.qpos[adr : adr + 3] = (x + 0.07 * i, BELT_Y, BELT_TOP + 0.001 + 0.035 * i)
         d.qpos[adr + 3 : adr + 7] = (1, 0, 0, 0)
     mujoco.mj_forward(m, d)
     return m, d

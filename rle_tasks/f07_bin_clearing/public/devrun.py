@@ -17,7 +17,7 @@ from pathlib import Path
 
 import mujoco
 
-from .env import EPISODE_S, make_env
+from .env import EPISODE_S, close_cameras, make_env
 from .events import EventCounter
 from .pile import PileSpec
 
@@ -51,6 +51,7 @@ def play(package: Path, seed: int, seconds: float = EPISODE_S, frames: Path | No
         return policy.act(obs)
 
     env.episode(model, data, act, int(round(seconds * 20)), terms=[counter])
+    close_cameras(model)
     if frames is not None:
         from PIL import Image
 

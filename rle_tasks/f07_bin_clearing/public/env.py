@@ -18,6 +18,7 @@ command in [0, 1].
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -29,16 +30,16 @@ from rle_design.ledger import MeteredEnv
 from rle_design.rollout import run_episode
 from rle_design.rollout.env import ActionError, advance
 from rle_design.rollout.episode import Episode
-from rle_design.sensors import RgbdSensor, ft_reading
 from rle_design.scene.robots import robot_constants
+from rle_design.sensors import RgbdSensor, ft_reading
 
 from .pile import PileSpec, build_pile, part_qpos_adr
 from .workcell import (
     ARM,
+    BELT_TOP,
     BELT_WIDTH,
     BELT_X,
     BELT_Y,
-    BELT_TOP,
     CAMERA_HZ,
     CONTROL_HZ,
     GATE_HEIGHT,
@@ -153,6 +154,14 @@ def _sensors(model: mujoco.MjModel) -> dict[str, RgbdSensor]:
     return entry[1]
 
 
+def close_cameras(model: mujoco.MjModel) -> None:
+    """Free the cameras rendered for ``model`` (their GL contexts); the next render opens new ones."""
+    entry = _SENSORS.pop(id(model), None)
+    if entry is not None:
+        for sensor in entry[1].values():
+            sensor.close()
+
+
 def render_cameras(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, dict[str, np.ndarray]]:
     """Both cameras' RGB-D frames with calibration (see the module docstring)."""
     out = {}
@@ -187,7 +196,9 @@ class BinClearingEnv(MeteredEnv):
             "tau": data.actuator_force[:7].copy(),
             "ft": ft_reading(model, data, NAMES.force, NAMES.torque),
             "magnet": np.array([float(data.ctrl[7]), float(contact)]),
-            "nest": np.array([len(nest_members(model, data, self.n_parts)), data.userdata[1], data.userdata[2]]),
+            "nest": np.array(
+                [len(nest_members(model, data, self.n_parts)), data.userdata[1], data.userdata[2]]
+            ),
         }
         tick = int(round(float(data.time) * CONTROL_HZ))
         if tick % (CONTROL_HZ // CAMERA_HZ) == 0:
@@ -253,8 +264,12 @@ def _absolute_meshes(spec: mujoco.MjSpec) -> None:
             mesh.file = str((base / meshdir / mesh.file).resolve())
 
 
+@functools.lru_cache(maxsize=16)
 def make_env(pile: PileSpec) -> BinClearingEnv:
-    """The environment of ``pile``: workcell, settled pile as keyframe ``"pile"``, 20 Hz control."""
+    """The environment of ``pile``: workcell, settled pile as keyframe ``"pile"``, 20 Hz control.
+
+    Deterministic in ``pile``; the last 16 are kept (settling a pile costs about a second).
+    """
     spec, _, _ = build_pile(pile)
     _absolute_meshes(spec)
     spec.meshdir = ""
@@ -267,6 +282,7 @@ __all__ = [
     "BinClearingEnv",
     "NestLogic",
     "cleared_parts",
+    "close_cameras",
     "held_parts",
     "make_env",
     "nest_members",

@@ -127,4 +127,12 @@ def build_pile(pile: PileSpec) -> tuple[mujoco.MjSpec, mujoco.MjModel, mujoco.Mj
     return spec, model, data
 
 
-__all__ = ["PUBLIC_SEEDS", "PileSpec", "arm_qpos_adr", "build_pile", "dump_poses", "part_qpos_adr", "settle_pile"]
+__all__ = [
+    "PUBLIC_SEEDS",
+    "PileSpec",
+    "arm_qpos_adr",
+    "build_pile",
+    "dump_poses",
+    "part_qpos_adr",
+    "settle_pile",
+]

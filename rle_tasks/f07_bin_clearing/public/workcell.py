@@ -213,7 +213,9 @@ def _conveyor(spec: mujoco.MjSpec) -> None:
     c0, c1 = NEST_X[1] + GATE_T + 0.005 - cx, x1 - 0.02 - cx
     _box(frame, "belt_cover", ((c1 - c0) / 2, BELT_WIDTH / 2 + 0.01, 0.002),
          ((c0 + c1) / 2, 0, BELT_TOP + COVER_HEIGHT + 0.002), (0.75, 0.75, 0.78, 1))  # fmt: skip
-    gate = spec.worldbody.add_body(name=NAMES.gate, pos=[NEST_X[1] + GATE_T / 2, BELT_Y, BELT_TOP + GATE_HEIGHT / 2])
+    gate = spec.worldbody.add_body(
+        name=NAMES.gate, pos=[NEST_X[1] + GATE_T / 2, BELT_Y, BELT_TOP + GATE_HEIGHT / 2]
+    )
     gate.mocap = True
     _box(gate, NAMES.gate, (GATE_T / 2, BELT_WIDTH / 2, GATE_HEIGHT / 2), (0, 0, 0), (0.85, 0.15, 0.1, 1))
     tote = spec.worldbody.add_body(name=NAMES.tote, pos=[(TOTE_X[0] + TOTE_X[1]) / 2, BELT_Y, 0])
@@ -316,7 +318,9 @@ def home_qpos() -> np.ndarray:
 def bracket_corners() -> np.ndarray:
     """The eight corners of a bracket's bounding box in its body frame [m], (8, 3)."""
     L, W, _ = WEB
-    return np.array([[sx * L / 2, sy * W / 2, z] for sx in (-1, 1) for sy in (-1, 1) for z in (0.0, FLANGE_HEIGHT)])
+    return np.array(
+        [[sx * L / 2, sy * W / 2, z] for sx in (-1, 1) for sy in (-1, 1) for z in (0.0, FLANGE_HEIGHT)]
+    )
 
 
 __all__ = [
