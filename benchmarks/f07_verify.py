@@ -25,7 +25,7 @@ from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f07_bin_clearing.public.env import make_env, render_cameras
 from rle_tasks.f07_bin_clearing.public.workcell import CAMERA_HZ
-from rle_tasks.f07_bin_clearing.scoring import EPISODE_S, QUICK_EPISODE_S
+from rle_tasks.f07_bin_clearing.scoring import EPISODE_S, QUICK_EPISODE_S, pile_score
 from rle_tasks.f07_bin_clearing.verifier import POLICY_FILE, _load_and_smoke, hidden_piles, run_pile
 
 
@@ -82,6 +82,12 @@ def main() -> int:
         "quick": a.quick,
         "smoke_ok": cap is None,
         "cleared": [r["events"]["cleared"] for r in results],
+        "pile_scores": [round(pile_score(r["events"]), 4) for r in results],
+        "score": round(sum(pile_score(r["events"]) for r in results) / len(results), 4),
+        "events": [
+            {k: r["events"][k] for k in ("makespan_s", "N_floor", "N_damage", "N_bin", "blocked_nest")}
+            for r in results
+        ],  # fmt: skip
         "n_parts": [r["events"]["n_parts"] for r in results],
         "verify_wall_s": round(wall, 2),
         "smoke_s": round(t_smoke, 2),

@@ -14,7 +14,7 @@ SOLUTION_NAMES = (
     "reference",
     "baseline/idle",
     "baseline/floor_dropper",
-    "baseline/short_tool",
+    "baseline/bin_slammer",
     "baseline/raising",
     "baseline/hanging",
 )

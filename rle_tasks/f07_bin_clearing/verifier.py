@@ -158,19 +158,20 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     rub = rubric(n)
     root = Path(root).resolve()
     path = root / POLICY_FILE
+    base = {"quick": ctx.quick, "partial": ctx.quick, "secret": ctx.secret.label}
     if not path.is_file() or not path.resolve().is_relative_to(root):
         findings.add_error(
             "f07.no_policy", f"{POLICY_FILE} is missing (a policy/ package is required)", "policy"
         )
-        return rub.report({}, valid=False, errors=findings.errors, caps=["unloadable"])
+        return rub.report({}, valid=False, errors=findings.errors, caps=["unloadable"], native_metrics=base)
     cap = _load_and_smoke(path, ctx.hang_cap_s, findings)
     if cap == "unloadable":
-        return rub.report({}, valid=False, errors=findings.errors, caps=[cap])
+        return rub.report({}, valid=False, errors=findings.errors, caps=[cap], native_metrics=base)
     if cap == "smoke_hang":  # a policy that hangs on its first observation is not played on the piles
         findings.add_error(
             "f07.not_played", "the hidden piles were not played after a hang in the smoke test"
         )
-        return rub.report({}, valid=True, errors=findings.errors, caps=["smoke"])
+        return rub.report({}, valid=True, errors=findings.errors, caps=["smoke"], native_metrics=base)
     piles = hidden_piles(ctx)
     episode_s = QUICK_EPISODE_S if ctx.quick else EPISODE_S
     items = [(str(path), p, ctx.hang_cap_s, episode_s) for p in piles]
@@ -192,14 +193,11 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     fractions = [r["events"]["cleared_fraction"] for r in results]
     ppm = [native_piles[v]["parts_per_min"] for v in rub.variants]
     outcomes = {k: Outcome(v, measured={"per_pile": v}) for k, v in per.items()}
-    native = {
+    native = base | {
         "clearance_pct": round(100.0 * float(np.mean(fractions)), 2),
         "parts_per_min": round(float(np.mean(ppm)), 3),
         "piles": native_piles,
-        "quick": ctx.quick,
-        "partial": ctx.quick,
         "episode_s": episode_s,
-        "secret": ctx.secret.label,
         "seed_digest": seed_digest(ctx.secret, TASK_ID),
     }
     return rub.report(

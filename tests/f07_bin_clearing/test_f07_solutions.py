@@ -29,11 +29,13 @@ def test_golden_quick_scores(reports):
         assert rep.native_metrics["partial"] is True
 
 
-def test_reference_clears_parts_cleanly_in_the_quick_pile(reports):
+def test_reference_clears_without_events_in_the_quick_pile(reports):
+    # 30 s of hidden pile 1: its first pick lifts two hooked brackets, which block the nest; the
+    # reference lifts one out and delivers it later (the full evaluation is in the benchmark)
     pile = reports["reference"].native_metrics["piles"]["pile1"]
     ev = pile["events"]
-    assert ev["cleared"] >= 3 and pile["fault"] is None  # 30 s: a part about every 7 s
-    assert ev["N_floor"] == ev["N_damage"] == 0 and ev["blocked_nest"] == 0
+    assert ev["cleared"] >= 1 and pile["fault"] is None
+    assert ev["N_floor"] == ev["N_damage"] == ev["N_bin"] == 0
 
 
 def test_baselines_fail_for_their_named_reason(reports):
@@ -41,11 +43,10 @@ def test_baselines_fail_for_their_named_reason(reports):
     assert piles["baseline/idle"]["events"]["cleared"] == 0 and piles["baseline/idle"]["fault"] is None
     assert piles["baseline/floor_dropper"]["events"]["N_floor"] >= 1
     assert piles["baseline/floor_dropper"]["events"]["cleared"] == 0
-    short = piles["baseline/short_tool"]["events"]
-    assert short["N_bin"] + short["N_damage"] >= 1
+    assert piles["baseline/bin_slammer"]["events"]["N_bin"] >= 3
     for name, code in (("baseline/raising", "sandbox.exception"), ("baseline/hanging", "sandbox.timeout")):
         rep = reports[name]
         assert rep.cap == 0.1 and rep.score == 0.0
         assert any(e.code == code and "smoke test failed" in e.message for e in rep.errors), name
-    for name in ("baseline/idle", "baseline/floor_dropper", "baseline/short_tool", "baseline/raising"):
+    for name in ("baseline/idle", "baseline/floor_dropper", "baseline/bin_slammer", "baseline/raising"):
         assert reports[name].score < 0.05, name

@@ -2,13 +2,13 @@
 
 Each solution directory holds ``policy/`` (``__init__.py`` and helpers):
 
-- ``reference``: depth-based detection from the wrist camera, highest part first, one part per trip,
-  release only when the nest sensor reads empty (``reference/policy``).
+- ``reference``: depth-based detection (wrist camera at the look pose, overhead camera from the nest),
+  flat tops first, Cartesian paths at a safe height, one part per trip, release only when the nest
+  sensor reads empty, a blocked nest unblocked (``reference/policy``).
 - ``baseline/idle``: holds its start posture, magnet off: clears nothing.
 - ``baseline/floor_dropper``: the reference with its drop point over the floor: every picked part
   lands on the floor (``N_floor``), nothing is cleared.
-- ``baseline/short_tool``: the reference believing the stem 100 mm shorter: it slams the stem into
-  the pile and the bin (``N_bin``, ``N_damage``).
+- ``baseline/bin_slammer``: swings the magnet into the bin's far wall every 2 s (``N_bin``).
 - ``baseline/raising``: every ``act`` raises: smoke failure, reward capped at 0.1 (and 0 cleared).
 - ``baseline/hanging``: ``act`` never returns: the hang cap ends it; smoke failure, cap 0.1.
 
@@ -26,8 +26,8 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="c03d4a756866058dbe7eb312d276bbc6a9be24dde69a08d412292d2035f952e7",
-            quick_score=0.0,
+            sha256="58033ca964c0baf9a4a69b1763933281b1ce0318ff851e7990890f0aa98fa973",
+            quick_score=0.043888888888888894,
             files=(
                 ("policy/__init__.py", f"{_REF}/__init__.py"),
                 ("policy/kinematics.py", f"{_REF}/kinematics.py"),
@@ -41,7 +41,7 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/floor_dropper",
-            sha256="963019b2e8441a345786f4ec04aa149c5afbf598cb17309120c057e7caffdfac" * 64,
+            sha256="84d4d2171621cca44439ac64ea448f7fd6c07c3ed6dc367811991f3ec906ab39",
             quick_score=0.0,
             files=(
                 ("policy/__init__.py", "solutions/baseline/floor_dropper.py"),
@@ -50,12 +50,11 @@ SOLUTIONS = SolutionSet(
             ),
         ),
         Solution(
-            "baseline/short_tool",
-            sha256="e8d0a1ec7849c19ba035ef8a460eae7d4475a5bf4a09fa26c0b3114dc527c469" * 64,
+            "baseline/bin_slammer",
+            sha256="e4da07c7588338073d327bf46a943ea38b04aa61d0d34aee3e7b3e71127bc8fc",
             quick_score=0.0,
             files=(
-                ("policy/__init__.py", "solutions/baseline/short_tool.py"),
-                ("policy/ref.py", f"{_REF}/__init__.py"),
+                ("policy/__init__.py", "solutions/baseline/bin_slammer.py"),
                 ("policy/kinematics.py", f"{_REF}/kinematics.py"),
             ),
         ),

@@ -4,10 +4,11 @@ Uses only its observations. A depth frame (the overhead camera while the hand is
 the wrist camera at the look pose) is lifted to world points with the published calibration (``K``,
 ``pose``) and binned into a 4 mm height map of the bin; cells above the bin floor are the pile. The
 next pick is the highest cell whose 20 mm neighbourhood is flat (a web or a flange face, where the
-square pad seats), else the highest cell. The hand descends on it with the magnet on until the magnet
-reports contact or the wrist force rises, lifts, carries the part to the nest on smooth joint paths,
-waits until the nest sensor reads empty, lowers the part close to the belt, releases it and plans the
-next pick from the overhead frame.
+square pad seats), else the highest cell. The hand moves on straight Cartesian paths at a safe
+height, approaches with the magnet on until the magnet reports contact (a wrist force without contact
+slows it down), lifts, carries the part to the nest, waits above it while the nest sensor reads a
+part, lowers it close to the belt and releases it. A nest blocked by several parts (two brackets
+hooked together) is cleared by lifting one out and delivering it once the nest is free.
 """
 
 import numpy as np
@@ -29,7 +30,7 @@ DT = 0.05
 CELL = 0.004
 DESCENT = 0.006
 PUTBACK = np.array([0.50, 0.0, BIN_FLOOR + 0.12 + TOOL])
-"""Where a part taken out of a blocked nest is dropped back onto the pile (flange) [m]."""
+"""Where the part we carry is dropped back onto the pile when others block the nest (flange) [m]."""
 NEST_BOX = (np.array([0.225, -0.465]), np.array([0.315, -0.375]))
 """Pick area inside the nest (x, y) [m]: the pad stays clear of the gate and the rails."""
 CONTACT_FZ = 3.0
@@ -162,10 +163,13 @@ def act(obs: dict) -> np.ndarray:
         s["q_cmd"] = q.copy()
     contact = obs["magnet"][1] > 0.5
     mode = s["mode"]
-    touched = contact or (s["fz0"] is not None and abs(float(obs["ft"][2]) - s["fz0"]) > CONTACT_FZ)
+    pushed = s["fz0"] is not None and abs(float(obs["ft"][2]) - s["fz0"]) > CONTACT_FZ
     if mode == "approach":
-        if touched:
+        if contact:
             s["plan"], s["mode"], s["wait"] = [], "grip", 0.0
+        elif pushed:  # a force without magnet contact: go on slowly from here
+            s["plan"], s["mode"] = [], "descend"
+            s["z"] = float(_flange(s["q_cmd"])[2]) - TOOL
         elif s["plan"]:
             s["q_cmd"] = s["plan"].pop(0)
         else:
@@ -185,10 +189,10 @@ def act(obs: dict) -> np.ndarray:
         elif "wrist" in obs and np.max(np.abs(obs["dq"])) < 0.05:
             _start_pick(s, detect(obs["wrist"]))
     elif mode == "descend":
-        if touched:
+        if contact:
             s["mode"], s["wait"] = "grip", 0.0
-        elif s["z"] < s["target"][2] - 0.012:
-            s["mode"], s["magnet"] = "look", 0.0
+        elif (pushed and s["z"] < s["target"][2] + 0.01) or s["z"] < s["target"][2] - 0.012:
+            s["mode"], s["magnet"] = "look", 0.0  # blocked or nothing there: look again
         else:
             s["z"] -= DESCENT
             s["q_cmd"] = _ik(np.array([*s["target"][:2], s["z"] + TOOL]), s["q_cmd"])
@@ -202,9 +206,6 @@ def act(obs: dict) -> np.ndarray:
     elif mode == "carry":
         if not contact:
             s["magnet"], s["mode"] = 0.0, "look"
-        elif s["dest"] == "bin":  # a part taken out of a blocked nest goes back onto the pile
-            s["plan"] = _transfer(s["q_cmd"], PUTBACK, 0.7, 0.4)
-            s["mode"] = "putback"
         else:
             s["plan"] = _transfer(s["q_cmd"], NEST, 0.7, 0.3)
             s["mode"], s["wait"] = "release", 0.0
@@ -233,8 +234,8 @@ def act(obs: dict) -> np.ndarray:
             s["mode"] = "replan"
             s["plan"] = _transfer(s["q_cmd"], np.array([NEST[0], NEST[1], LIFT_Z]))
     elif mode == "replan" and "overhead" in obs:
-        if obs["nest"][0] >= 2 and obs["nest"][1] < 0.5:
-            _start_pick(s, detect_nest(obs["overhead"]), dest="bin")
+        if obs["nest"][0] >= 2 and obs["nest"][1] < 0.5:  # blocked: lift one out, deliver it after
+            _start_pick(s, detect_nest(obs["overhead"]))
         else:
             target = detect(obs["overhead"])
             if target is None:
@@ -244,8 +245,7 @@ def act(obs: dict) -> np.ndarray:
     return np.concatenate([s["q_cmd"], [s["magnet"]]])
 
 
-def _start_pick(s: dict, target: np.ndarray | None, dest: str = "nest") -> None:
-    s["dest"] = dest
+def _start_pick(s: dict, target: np.ndarray | None) -> None:
     if target is None:
         s["misses"] += 1
         s["mode"] = "look" if s["misses"] < 3 else "done"
