@@ -633,8 +633,13 @@ F07_HOSTILE = {
 hidden piles) or act out of contract."""
 
 
+F07_GENERIC = ("import_crash", "hang", "memory_bomb", "read_verifier_files", "return_nan", "raise_midway")
+"""Sandbox faults also covered by families 08 and 09: family 07 keeps one per class its protocol maps."""
+
+
 def f07_cases() -> list[Case]:
-    out = code_cases(F07, "act", "list(a[0]['q']) + [0.0]", F07_CODE_CAP)
+    generic = code_cases(F07, "act", "list(a[0]['q']) + [0.0]", F07_CODE_CAP)
+    out = [c for c in generic if c.name.split("_", 1)[1] in F07_GENERIC]
     out += [
         Case(f"code/07_{name}", F07, code, _code(F07, src), max_score=F07_CODE_CAP, wall_cap_s=120)
         for name, (src, code) in F07_HOSTILE.items()

@@ -18,9 +18,13 @@ def _verify(name):
     return verify(materialise(TASK, name), ctx)
 
 
+REDUCED = ("reference", "baseline/bin_slammer", "baseline/raising", "baseline/hanging")
+"""Solutions verified in the default (reduced) run; all of them with RLE_FULL_BATTERY=1."""
+
+
 @pytest.fixture(scope="module")
-def reports():
-    return {name: _verify(name) for name in TASK.solutions}
+def reports(full_battery):
+    return {name: _verify(name) for name in (TASK.solutions if full_battery else REDUCED)}
 
 
 def test_golden_quick_scores(reports):
@@ -40,13 +44,16 @@ def test_reference_clears_without_events_in_the_quick_pile(reports):
 
 def test_baselines_fail_for_their_named_reason(reports):
     piles = {n: r.native_metrics.get("piles", {}).get("pile1") for n, r in reports.items()}
-    assert piles["baseline/idle"]["events"]["cleared"] == 0 and piles["baseline/idle"]["fault"] is None
-    assert piles["baseline/floor_dropper"]["events"]["N_floor"] >= 1
-    assert piles["baseline/floor_dropper"]["events"]["cleared"] == 0
+    if "baseline/idle" in reports:
+        assert piles["baseline/idle"]["events"]["cleared"] == 0 and piles["baseline/idle"]["fault"] is None
+    if "baseline/floor_dropper" in reports:
+        assert piles["baseline/floor_dropper"]["events"]["N_floor"] >= 1
+        assert piles["baseline/floor_dropper"]["events"]["cleared"] == 0
     assert piles["baseline/bin_slammer"]["events"]["N_bin"] >= 3
     for name, code in (("baseline/raising", "sandbox.exception"), ("baseline/hanging", "sandbox.timeout")):
         rep = reports[name]
         assert rep.cap == 0.1 and rep.score == 0.0
         assert any(e.code == code and "smoke test failed" in e.message for e in rep.errors), name
-    for name in ("baseline/idle", "baseline/floor_dropper", "baseline/bin_slammer", "baseline/raising"):
-        assert reports[name].score < 0.05, name
+    for name, rep in reports.items():
+        if name != "reference":
+            assert rep.score < 0.05, name
