@@ -8,6 +8,8 @@ from pathlib import Path
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 HERE = Path(__file__).resolve().parent
+CALIBRATION = HERE / "assets" / "calibration.json"
+"""Published geometry and camera calibration (``public.workcell.calibration()``, committed)."""
 PUBLIC_PACKAGE = "bin_clearing"
 """Name of the public modules' package in the workspace."""
 SOLUTION_NAMES = (
@@ -29,7 +31,7 @@ def instruction() -> str:
 
 
 def make_dev_env(workspace: Path):
-    """Lay out the public modules and return the metered environment of public pile 101."""
+    """Lay out the public modules and the calibration; return the metered environment of public pile 101."""
     from rle_tasks.f07_bin_clearing.public.env import make_env
     from rle_tasks.f07_bin_clearing.public.pile import PUBLIC_SEEDS, PileSpec
 
@@ -37,6 +39,7 @@ def make_dev_env(workspace: Path):
     if dest.exists():
         shutil.rmtree(dest)
     shutil.copytree(HERE / "public", dest, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    shutil.copyfile(CALIBRATION, Path(workspace) / "calibration.json")
     return make_env(PileSpec.public(PUBLIC_SEEDS[0]))
 
 

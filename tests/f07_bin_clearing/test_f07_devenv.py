@@ -1,5 +1,7 @@
 """Development workspace: public modules laid out, the metered session plays the same environment."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -12,10 +14,18 @@ from rle_tasks.f07_bin_clearing.public.pile import PUBLIC_SEEDS, PileSpec
 
 def test_workspace_has_the_public_package_and_a_client(tmp_path):
     ws = layout_workspace(get_task("07-bin-clearing"), tmp_path / "ws", serve=False)
-    for f in ("bin_clearing/workcell.py", "bin_clearing/env.py", "bin_clearing/devrun.py", "client.py"):
+    for f in ("bin_clearing/workcell.py", "bin_clearing/env.py", "bin_clearing/devrun.py", "client.py",
+              "calibration.json"):  # fmt: skip
         assert f in ws.files, f
     for module in (tmp_path / "ws" / "bin_clearing").glob("*.py"):  # they import only rle_design
         assert "rle_tasks" not in module.read_text(), module.name
+
+
+def test_committed_calibration_is_the_workcell_s():
+    from rle_tasks.f07_bin_clearing.public.workcell import calibration
+    from rle_tasks.f07_bin_clearing.task import CALIBRATION
+
+    assert json.loads(CALIBRATION.read_text()) == json.loads(json.dumps(calibration()))
 
 
 @pytest.mark.physics

@@ -329,7 +329,41 @@ __all__ = [
     "MAGNET_GAIN",
     "NAMES",
     "add_bracket",
+    "calibration",
     "build_workcell",
     "home_qpos",
     "joint_names",
 ]
+
+
+def calibration() -> dict:
+    """Published geometry and camera calibration (``assets/calibration.json``), SI units.
+
+    Intrinsics are pinhole ``K`` [px]; ``overhead.pose`` is world-from-camera (OpenCV axes: x right,
+    y down, z forward); the wrist camera's ``mount`` is its pose in the flange frame (the observation
+    carries its world pose at every frame).
+    """
+    import mujoco as mj
+
+    from rle_design.sensors import camera_spec
+
+    model = build_workcell(1).compile()
+    data = mj.MjData(model)
+    mj.mj_forward(model, data)
+    out: dict = {"units": "SI (m, rad, kg, N)"}
+    for name, _, _, (h, w) in (OVERHEAD, WRIST):
+        spec = camera_spec(model, data, name, w, h)
+        out[name] = {"width": w, "height": h, "K": np.round(spec.intrinsics.matrix, 9).tolist()}
+    out["overhead"]["pose"] = np.round(camera_spec(model, data, OVERHEAD[0]).world_from_camera, 9).tolist()
+    out["wrist"]["mount_pos"] = list(WRIST[1])
+    out["robot_base"] = list(ROBOT_BASE)
+    out["tool_length"] = TOOL_LENGTH
+    out["magnet"] = {"pad_half_width": MAGNET_PAD[0], "gain_N": round(MAGNET_GAIN, 9)}
+    out["bin"] = {"center": list(BIN_CENTER), "inner": list(BIN_INNER), "floor_top": BIN_FLOOR_TOP,
+                  "outer": list(BIN_OUTER)}  # fmt: skip
+    out["conveyor"] = {"y": BELT_Y, "x": list(BELT_X), "width": BELT_WIDTH, "top": BELT_TOP,
+                       "speed": BELT_SPEED, "nest_x": list(NEST_X)}  # fmt: skip
+    out["bracket"] = {"web": list(WEB), "flange_height": FLANGE_HEIGHT, "mass": round(BRACKET_MASS, 9)}
+    out["home"] = list(HOME)
+    out["rates_hz"] = {"control": CONTROL_HZ, "camera": CAMERA_HZ}
+    return out
