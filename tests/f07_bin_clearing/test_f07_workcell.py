@@ -99,3 +99,17 @@ def test_nest_releases_one_part_and_blocks_on_two():
         assert (min(members) < n) is released, f"{n} part(s) in the nest"
         if not released:
             assert d.userdata[1] == 0.0  # gate stayed closed
+
+
+def test_adhesion_actuator_config_checks_gain_and_body():
+    from rle_design.errors import ConfigError, MissingElement
+
+    with pytest.raises(ConfigError):
+        AdhesionActuator("magnet", "magnet", 0.0).validate()
+    with pytest.raises(MissingElement):
+        AdhesionActuator("magnet", "no_such_body", 1.0).edit_spec(mujoco.MjSpec())
+    s = mujoco.MjSpec()
+    s.worldbody.add_body(name="pad").add_geom(size=[0.01, 0, 0])
+    AdhesionActuator("magnet", "pad", 2.5).edit_spec(s)
+    m = s.compile()
+    assert m.actuator_gainprm[0, 0] == pytest.approx(2.5) and tuple(m.actuator_ctrlrange[0]) == (0.0, 1.0)
