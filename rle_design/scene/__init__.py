@@ -1,7 +1,7 @@
 """The scene layer: arenas, attachment at sites with name prefixes, spec-edit configs, seeded
 variations, named-element lookup and catalog robots with their constants."""
 
-from rle_design.scene.actuators import MotorActuators, PositionActuators
+from rle_design.scene.actuators import AdhesionActuator, MotorActuators, PositionActuators
 from rle_design.scene.arena import Arena
 from rle_design.scene.attach import attach, root_body
 from rle_design.scene.camera import CameraConfig, look_at_quat
@@ -47,6 +47,7 @@ __all__ = [
     "TOOL_SITE",
     "UR5E",
     "XARM7",
+    "AdhesionActuator",
     "Arena",
     "CameraConfig",
     "ComOffset",

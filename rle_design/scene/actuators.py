@@ -13,7 +13,7 @@ import mujoco
 from rle_design.errors import ConfigError, MissingElement
 from rle_design.scene.config import SpecEdit, check_positive, check_range
 
-__all__ = ["MotorActuators", "PositionActuators"]
+__all__ = ["AdhesionActuator", "MotorActuators", "PositionActuators"]
 
 
 def _check_joints(owner: object, joints: tuple[str, ...]) -> None:
@@ -118,3 +118,35 @@ class MotorActuators(SpecEdit):
         for joint in self.joints:
             act = _add(spec, joint, self.prefix + joint, self.ctrlrange, self.forcerange, self.gear)
             act.set_to_motor()
+
+
+@dataclass(frozen=True)
+class AdhesionActuator(SpecEdit):
+    """A body adhesion actuator (MuJoCo ``<adhesion>``): an electromagnet or suction cup.
+
+    With command ``c`` in [0, 1] the actuator pulls the geoms touching ``body`` towards it with a total
+    normal force ``gain x c`` [N], split among its active contacts; nothing is attracted without
+    contact. Contacts of the body's geoms must be enabled (``contype``/``conaffinity``).
+    """
+
+    name: str
+    """Actuator name (must not exist yet)."""
+    body: str
+    """Body whose contacts adhere."""
+    gain: float
+    """Total adhesion force at command 1 [N]."""
+
+    def validate(self) -> None:
+        if not self.name:
+            raise ConfigError("AdhesionActuator.name must not be empty")
+        check_positive(self, "gain", self.gain)
+
+    def _edit(self, spec: mujoco.MjSpec) -> None:
+        if spec.body(self.body) is None:
+            raise MissingElement("body", self.body, available=[b.name for b in spec.bodies if b.name])
+        if spec.actuator(self.name) is not None:
+            raise ConfigError(f"actuator '{self.name}' already exists", code="scene.duplicate_actuator")
+        act = spec.add_actuator(name=self.name, target=self.body, trntype=mujoco.mjtTrn.mjTRN_BODY)
+        act.set_to_adhesion(gain=self.gain)
+        act.ctrlrange = [0.0, 1.0]
+        act.ctrllimited = 1

@@ -27,11 +27,14 @@ from rle_tasks.core.report import ErrorEntry, VerifierReport
 from rle_tasks.core.secrets import Secret
 from rle_tasks.core.solutions import materialise
 
-F08, F09 = "08-mobile-base", "09-gello"
+F08, F09, F07 = "08-mobile-base", "09-gello", "07-bin-clearing"
 F09_ARMS = ("panda", "ur5e", "xarm7")  # family 09 cases alter all three leaders alike
 F09_CODE_CAP = 0.50
 F09_DESIGN_CAP = 0.20
 F08_CODE_CAP = 0.85
+F07_CODE_CAP = 0.1  # a policy that faults in the smoke test is capped at 0.1; later faults end its piles
+CODE_FILE = {F08: "controller.py", F09: "trim.py", F07: "policy/__init__.py"}
+"""The file of the reference each task's code cases patch."""
 
 
 # ---------------------------------------------------------------- builders
@@ -45,7 +48,7 @@ def _reference(task: str, dst: Path) -> Path:
 
 def _bases(task: str, root: Path) -> list[Path]:
     """Directories holding the MJCF and code that a case alters."""
-    return [root] if task == F08 else [root / arm for arm in F09_ARMS]
+    return [root] if task in (F08, F07) else [root / arm for arm in F09_ARMS]
 
 
 def _xml_name(task: str) -> str:
@@ -149,7 +152,7 @@ def _code(task: str, patch: str, prepend: bool = False) -> Callable[[Path], Path
     def build(d: Path) -> Path:
         _reference(task, d)
         for base in _bases(task, d):
-            p = base / ("controller.py" if task == F08 else "trim.py")
+            p = base / CODE_FILE[task]
             src = p.read_text()
             p.write_text(patch + "\n" + src if prepend else src + "\n\n" + patch + "\n")
         return d
@@ -659,10 +662,48 @@ def code_cases(task: str, fn: str, like: str, cap: float) -> list[Case]:
     return cases
 
 
+F07_HOSTILE = {
+    "read_parent_environ": (
+        "def act(*a, **k):\n    import os\n    return open(f'/proc/{os.getppid()}/environ', 'rb').read()",
+        "sandbox.forbidden",
+    ),
+    "read_parent_memory": (
+        "def act(*a, **k):\n    import os\n    return open(f'/proc/{os.getppid()}/mem', 'rb').read(64)",
+        "sandbox.forbidden",
+    ),
+    "import_verifier": (
+        "def act(*a, **k):\n    from rle_tasks.f07_bin_clearing.verifier import hidden_piles\n    return hidden_piles",
+        "sandbox.exception",
+    ),
+    "wrong_action_length": (
+        "def act(*a, **k):\n    import numpy as np\n    return np.zeros(7)",
+        "sandbox.bad_shape",
+    ),
+}
+"""Family 07 policies that look for ground truth (the parent's environment or memory, the verifier's
+hidden piles) or act out of contract."""
+
+
+F07_GENERIC = ("import_crash", "hang", "memory_bomb", "read_verifier_files", "return_nan", "raise_midway")
+"""Sandbox faults also covered by families 08 and 09: family 07 keeps one per class its protocol maps."""
+
+
+def f07_cases() -> list[Case]:
+    generic = code_cases(F07, "act", "list(a[0]['q']) + [0.0]", F07_CODE_CAP)
+    out = [c for c in generic if c.name.split("_", 1)[1] in F07_GENERIC]
+    out += [
+        Case(f"code/07_{name}", F07, code, _code(F07, src), max_score=F07_CODE_CAP, wall_cap_s=120)
+        for name, (src, code) in F07_HOSTILE.items()
+    ]
+    out.append(Case("artifact/f07_empty_dir", F07, "f07.no_policy", lambda d: d))
+    return out
+
+
 def cases() -> list[Case]:
     out = xml_cases(F08) + xml_cases(F09) + misc_cases() + physics_cases()
     out += code_cases(F09, "feedforward", "a[0]", F09_CODE_CAP)
     out += code_cases(F08, "control", "a[3]", F08_CODE_CAP)
+    out += f07_cases()
     out += ledger_cases()
     from rle_tasks.audit.f06_cases import f06_cases
 
