@@ -25,19 +25,29 @@ REDUCED_F08_CODE = {"code/08_raise_midway", "code/08_hang", "code/08_return_nan"
 # reduced form keeps the contract case and one build-ability case (each finding has a fast unit test
 # in tests/f08/test_f08_integrity.py).
 REDUCED_F08_PHYSICS = {"physics/f08_gravcomp", "physics/f08_battery_in_mid_air"}
+# Family-07 code cases each play a pile (the smoke test); the reduced form keeps a hang, a bad action, a
+# leak attempt through /proc and an attempt to import the verifier.
+REDUCED_F07_CODE = {
+    "code/07_hang",
+    "code/07_return_nan",
+    "code/07_read_parent_environ",
+    "code/07_import_verifier",
+}
 
 
 def _slow(case) -> bool:
-    return case.name.startswith("code/08_") or case.name.startswith("physics/f08_")
+    return case.name.startswith(("code/08_", "physics/f08_", "code/07_"))
 
 
 def _params():
-    """All cases with RLE_FULL_BATTERY=1; otherwise family-08 code and design cases only from the reduced
-    samples."""
+    """All cases with RLE_FULL_BATTERY=1; otherwise family-08 code and design cases and family-07 code
+    cases only from the reduced samples."""
     for c in CASES:
         if c.name.startswith("code/08_") and not FULL and c.name not in REDUCED_F08_CODE:
             continue
         if c.name.startswith("physics/f08_") and not FULL and c.name not in REDUCED_F08_PHYSICS:
+            continue
+        if c.name.startswith("code/07_") and not FULL and c.name not in REDUCED_F07_CODE:
             continue
         yield pytest.param(c, id=c.name, marks=[pytest.mark.physics] if _slow(c) else [])
 
