@@ -26,7 +26,7 @@ import numpy as np
 
 from rle_design.errors import RleError
 from rle_design.kinematics import GravityMap, KinematicModel, spring_torque
-from rle_design.rollout import Event, Term, run_episode
+from rle_design.rollout import Event, SimulationWarnings, Term, run_episode
 from rle_design.scene import element_id
 from rle_tasks.f09_gello.assembly import HANDLE_SITE
 
@@ -48,7 +48,7 @@ def _checked(d: mujoco.MjData) -> None:
     """Raise ``SimulationFailed`` if any warning counter is non-zero. ``_reset`` zeroes the counters
     (``mj_resetData``) and they only grow, so one read after a scenario sees every warning in it, also
     when a term ended the episode early (a diverged state reset reads as motion)."""
-    grown = np.flatnonzero(np.asarray(d.warning.number))
+    grown = np.flatnonzero(SimulationWarnings.counts(d))
     if grown.size:
         names = ", ".join(mujoco.mjtWarning(int(i)).name for i in grown)
         raise SimulationFailed(f"simulation warning {names} by t = {d.time:.3f} s")
