@@ -43,7 +43,7 @@ $(TOOLS)/.installed:
 
 # Refresh both lock files (needs the package index); commit the result.
 lock: $(TOOLS)/.installed
-	$(UV_COMPILE) pyproject.toml --extra dev --extra viz --extra learn --python-version 3.11 \
+	$(UV_COMPILE) pyproject.toml --extra dev --extra viz --extra learn --extra opt --python-version 3.11 \
 	    $(LOCK_SOURCES) -o $(LOCK)
 	@# harbor 0.25.0 pins certifi>=2026.10.19, newer than some registries serve; any recent certifi works.
 	printf 'harbor==0.25.0\n' > $(TOOLS)/harbor.in

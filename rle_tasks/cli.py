@@ -116,7 +116,7 @@ def _cmd_index(args: argparse.Namespace) -> int:
 def _cmd_demo(args: argparse.Namespace) -> int:
     from rle_tasks.demo import run_demo
 
-    return run_demo(Path(args.out), quick=args.quick, jobs=args.jobs)
+    return run_demo(Path(args.out), quick=args.quick, jobs=args.jobs, full_baselines=args.full_baselines)
 
 
 def _cmd_audit(args: argparse.Namespace) -> int:
@@ -186,7 +186,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("demo", help="verify every shipped solution and write out/demo/")
     s.add_argument("--out", default="out/demo")
-    s.add_argument("--quick", action="store_true")
+    s.add_argument("--quick", action="store_true", help="reduced batteries for every solution")
+    s.add_argument(
+        "--full-baselines", action="store_true", help="full batteries for baselines too (default: quick)"
+    )
     s.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 2)))
     s.set_defaults(fn=_cmd_demo)
 

@@ -1,5 +1,10 @@
 """``rle demo``: the main job. Verifies every shipped solution of every implemented task, computes the
-RLE Index of the reference solutions, renders the canonical arms, and writes ``out/demo/index.html``."""
+RLE Index of the reference solutions, renders the canonical arms, and writes ``out/demo/index.html``.
+
+Reference solutions are verified in full (their reports feed the RLE Index); baselines, which exist to
+fail for a named reason, are verified with the reduced (quick) batteries unless ``full_baselines`` is
+set, and the page marks every report's mode.
+"""
 
 from __future__ import annotations
 
@@ -31,7 +36,14 @@ def render_arms(out: Path) -> list[Path]:
     ]
 
 
-def _verify_all(out: Path, quick: bool, jobs: int) -> list[tuple[str, str, Path, VerifierReport]]:
+def _mode(name: str, quick: bool, full_baselines: bool) -> bool:
+    """True where the solution ``name`` is verified with the reduced batteries."""
+    return quick or (name != "reference" and not full_baselines)
+
+
+def _verify_all(
+    out: Path, quick: bool, jobs: int, full_baselines: bool = False
+) -> list[tuple[str, str, Path, VerifierReport]]:
     runs = [(t, name) for t in all_tasks() if t.implemented for name in t.solutions]
     secret = load_secret(None)
     results = []
@@ -42,7 +54,10 @@ def _verify_all(out: Path, quick: bool, jobs: int) -> list[tuple[str, str, Path,
         slug = name.replace("/", "_")
         report_path = out / "reports" / task.id / f"{slug}.json"
         ctx = VerifyContext(
-            secret=secret, out_dir=report_path.parent / f"{slug}_figures", jobs=jobs, quick=quick
+            secret=secret,
+            out_dir=report_path.parent / f"{slug}_figures",
+            jobs=jobs,
+            quick=_mode(name, quick, full_baselines),
         )
         report, _ = run_verify(task, directory, ctx)
         report.write(report_path)
@@ -55,13 +70,22 @@ def _figures(report_path: Path) -> list[Path]:
     return sorted(d.glob("*.png")) if d.is_dir() else []
 
 
-def write_html(out: Path, results, arm_pngs: list[Path], index_html: Path | None, elapsed: float) -> Path:
+def write_html(
+    out: Path,
+    results,
+    arm_pngs: list[Path],
+    index_html: Path | None,
+    elapsed: float,
+    modes: dict[tuple[str, str], bool] | None = None,
+) -> Path:
     rows = []
+    modes = modes or {}
     for task_id, name, path, rep in results:
+        mode = "quick" if modes.get((task_id, name)) else "full"
         reasons = "; ".join(f"{e.code}" for e in rep.errors[:4])
         failed = ", ".join(c.id for c in rep.checkpoints if not c.passed)
         rows.append(
-            f"<tr><td>{html.escape(task_id)}</td><td>{html.escape(name)}</td><td><b>{rep.score:.3f}</b></td>"
+            f"<tr><td>{html.escape(task_id)}</td><td>{html.escape(name)}</td><td>{mode}</td><td><b>{rep.score:.3f}</b></td>"
             f"<td>{'' if rep.cap is None else rep.cap}</td><td>{html.escape(failed)}</td>"
             f"<td>{html.escape(reasons)}</td><td><a href='{path.relative_to(out)}'>json</a></td></tr>"
         )
@@ -85,8 +109,9 @@ def write_html(out: Path, results, arm_pngs: list[Path], index_html: Path | None
 <style>body{{font-family:sans-serif;margin:2em;max-width:1400px}}table{{border-collapse:collapse}}
 td,th{{border:1px solid #ccc;padding:4px 8px;font-size:14px}}figure{{display:inline-block;margin:6px}}</style></head>
 <body><h1>RLE-Bench demo</h1><p>Every shipped solution of every implemented task, verified with the public
-development key ({elapsed:.0f} s).</p>{index_link}
-<h2>Verifier reports</h2><table><tr><th>task</th><th>solution</th><th>score</th><th>cap</th>
+development key ({elapsed:.0f} s). References run the full batteries; baselines run the reduced (quick)
+batteries unless <code>rle demo --full-baselines</code>.</p>{index_link}
+<h2>Verifier reports</h2><table><tr><th>task</th><th>solution</th><th>mode</th><th>score</th><th>cap</th>
 <th>failed checkpoints</th><th>errors</th><th>report</th></tr>{"".join(rows)}</table>
 <h2>Design renders</h2>{"".join(figs) or "<p>(no figures)</p>"}
 <h2>Canonical arms</h2>{arms}</body></html>"""
@@ -95,10 +120,11 @@ development key ({elapsed:.0f} s).</p>{index_link}
     return path
 
 
-def run_demo(out: Path, quick: bool = False, jobs: int = 1) -> int:
+def run_demo(out: Path, quick: bool = False, jobs: int = 1, full_baselines: bool = False) -> int:
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
-    results = _verify_all(out, quick, jobs)
+    results = _verify_all(out, quick, jobs, full_baselines)
+    modes = {(t, n): _mode(n, quick, full_baselines) for t, n, _, _ in results}
     index_html = None
     refs = [str(p) for _, name, p, _ in results if name == "reference"]
     if refs:
@@ -108,10 +134,10 @@ def run_demo(out: Path, quick: bool = False, jobs: int = 1) -> int:
         index_command(refs, html=str(index_html), name="reference solutions")
     print("rendering the canonical arms ...")
     arm_pngs = render_arms(out)
-    page = write_html(out, results, arm_pngs, index_html, time.perf_counter() - t0)
+    page = write_html(out, results, arm_pngs, index_html, time.perf_counter() - t0, modes)
     summary = {f"{t}:{n}": round(r.score, 4) for t, n, _, r in results}
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    for key, score in summary.items():
-        print(f"  {key:<50} {score:.3f}")
+    for (t, n, _, _), (key, score) in zip(results, summary.items(), strict=True):
+        print(f"  {key:<50} {score:.3f}  ({'quick' if modes[(t, n)] else 'full'})")
     print(f"open {page}")
     return 0

@@ -22,3 +22,22 @@ def test_demo_verifies_every_shipped_solution_from_its_materialised_directory(tm
     for (tid, directory), (_, name, report_path, _) in zip(seen, results):
         assert artifact_sha256(directory) == declaration(get_task(tid)).get(name).sha256
         assert report_path.is_file()
+
+
+def test_demo_verifies_references_in_full_and_baselines_quick_unless_asked(tmp_path, monkeypatch):
+    modes: dict[str, list[bool]] = {}
+
+    def fake_verify(task, directory, ctx):
+        modes.setdefault("seen", []).append(ctx.quick)
+        return VerifierReport(task.id, f"{task.family:02d}", task.workflow, score=0.5, valid=True), False
+
+    monkeypatch.setattr(demo, "run_verify", fake_verify)
+    results = demo._verify_all(tmp_path, quick=False, jobs=1)
+    expected = [name != "reference" for _, name, _, _ in results]
+    assert modes["seen"] == expected and any(expected) and not all(expected)
+    modes.clear()
+    demo._verify_all(tmp_path, quick=False, jobs=1, full_baselines=True)
+    assert modes["seen"] == [False] * len(expected)
+    modes.clear()
+    demo._verify_all(tmp_path, quick=True, jobs=1)
+    assert modes["seen"] == [True] * len(expected)

@@ -31,7 +31,7 @@ def test_lock_pins_every_declared_dependency_exactly():
     pins = _lock("requirements.lock")
     project = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text())["project"]
     declared = list(project["dependencies"])
-    for extra in ("dev", "viz", "learn"):
+    for extra in ("dev", "viz", "learn", "opt"):
         declared += project["optional-dependencies"][extra]
     for text in declared:
         req = Requirement(text)
