@@ -70,11 +70,16 @@ format: $(STAMP)
 	$(VENV)/bin/ruff format .
 	$(VENV)/bin/ruff check --fix .
 
+# Two pytest workers (the CI machine's two cores); files stay whole on one worker (--dist loadfile)
+# so module fixtures are built once. TEST_WORKERS=0 runs in one process.
+TEST_WORKERS ?= 2
+PYTEST_XDIST = $(if $(filter 0,$(TEST_WORKERS)),,-n $(TEST_WORKERS) --dist loadfile)
+
 test: $(STAMP) lint
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q $(PYTEST_XDIST)
 
 test-full: $(STAMP) lint
-	RLE_FULL_BATTERY=1 $(PY) -m pytest -q
+	RLE_FULL_BATTERY=1 $(PY) -m pytest -q $(PYTEST_XDIST)
 
 bench: $(STAMP)
 	$(PY) -m benchmarks

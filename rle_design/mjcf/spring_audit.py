@@ -6,10 +6,12 @@ A spring is a stiff spatial tendon between sites. It can be built only if
   nearest geom of that body is at most ``tol`` (a site floating beside a link has nothing to hook
   on; a printed bracket that carries it is a geom of the body and counts);
 * its straight path between consecutive sites passes through no geom at any pose of a workspace,
-  apart from the last ``end_tol`` at each end, where the spring meets its own mounting.
+  except the body each end is mounted on within ``mount_tol`` of that end (the hook at the tip of
+  its post).
 
 Distances use MuJoCo itself: a probe sphere of radius 0.1 mm at each site and ``mj_geomDistance``
-(meshes on their convex hulls), and ``mj_ray`` along each path segment from both ends.
+(meshes on their convex hulls), and ``mj_ray`` marched along each path segment (every geom made
+opaque; ``mj_ray`` reports exits as well as entries, so a ray leaving a part is seen too).
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ class SpringFault:
         kind: ``"anchor"`` (an end not on material) or ``"path"`` (the path cuts a part).
         element: The site (anchor) or the geom the path cuts.
         value: Gap from the site to its body's material [m] (anchor), or the distance along the path
-            from the end the cut was found from to where the path enters the geom [m] (path).
+            from its first site to where it enters the geom [m] (path).
         pose: Index of the first workspace pose where the path cuts (path faults), else -1.
     """
 
@@ -56,7 +58,7 @@ class SpringFault:
             )
         return (
             f"spring '{self.tendon}': its path passes through '{self.element}' at workspace pose "
-            f"{self.pose} ({self.value * 1e3:.1f} mm from an end)"
+            f"{self.pose} ({self.value * 1e3:.1f} mm from its first end)"
         )
 
 
@@ -141,16 +143,35 @@ def spring_anchor_faults(spec: mujoco.MjSpec, *, tol: float = 2e-3) -> list[Spri
     return out
 
 
-def _cut(model, data, a: np.ndarray, b: np.ndarray, exclude: int, end_tol: float) -> tuple[float, int]:
-    """First geom hit from ``a`` towards ``b`` (ignoring ``exclude``'s body) before ``end_tol`` of ``b``."""
+def _cut(
+    model, data, a: np.ndarray, b: np.ndarray, mounts: dict[int, np.ndarray], mount_tol: float
+) -> tuple[float, int]:
+    """First part the segment ``a -> b`` passes through, marching past allowed touches.
+
+    A hit is allowed where it lies within ``mount_tol`` of the end site mounted on the hit geom's
+    body (``mounts``: body id -> site position), i.e. the spring's hook at the tip of its own post.
+
+    Returns:
+        (distance from ``a`` to the entry point [m], geom id), or (-1, -1) when the path is clear.
+    """
     vec = b - a
     length = float(np.linalg.norm(vec))
-    if length <= 2 * end_tol:
+    if length <= 1e-9:
         return -1.0, -1
+    u = vec / length
     geomid = np.array([-1], dtype=np.int32)
-    dist = mujoco.mj_ray(model, data, a, vec / length, None, 1, exclude, geomid)
-    if 0.0 <= dist < length - end_tol and dist > end_tol:
-        return float(dist), int(geomid[0])
+    start = 0.0
+    for _ in range(32):
+        dist = mujoco.mj_ray(model, data, a + start * u, u, None, 1, -1, geomid)
+        if dist < 0.0 or start + dist >= length:
+            return -1.0, -1
+        at = start + dist
+        point = a + at * u
+        g = int(geomid[0])
+        site = mounts.get(int(model.geom_bodyid[g]))
+        if site is None or np.linalg.norm(point - site) > mount_tol:
+            return at, g
+        start = at + 1e-4
     return -1.0, -1
 
 
@@ -159,7 +180,8 @@ def spring_path_faults(
     poses: Iterable[np.ndarray],
     *,
     qpos_index: np.ndarray | None = None,
-    end_tol: float = 5e-3,
+    mount_tol: float = 0.015,
+    every_pose: bool = False,
 ) -> list[SpringFault]:
     """Springs whose straight path passes through a part at some pose.
 
@@ -167,7 +189,8 @@ def spring_path_faults(
         model: Compiled model (not modified; rays are cast on a copy with every geom opaque).
         poses: Workspace poses: joint positions written to ``qpos[qpos_index]`` [rad or m].
         qpos_index: Where each pose goes in ``qpos`` (default: the first ``len(pose)`` entries).
-        end_tol: Length at each end of a segment where touching a part is allowed (the mounting) [m].
+        mount_tol: Distance from an end site within which the spring may touch the body it is mounted
+            on (the hook at the tip of its post) [m].
 
     Returns:
         At most one fault per spring: the first pose and the first geom its path cuts.
@@ -191,16 +214,15 @@ def spring_path_faults(
                 continue
             for s0, s1 in zip(ss[:-1], ss[1:], strict=True):
                 a, b = d.site_xpos[s0].copy(), d.site_xpos[s1].copy()
-                hit = _cut(m, d, a, b, int(m.site_bodyid[s0]), end_tol)
-                if hit[1] < 0:
-                    dist, g = _cut(m, d, b, a, int(m.site_bodyid[s1]), end_tol)
-                    hit = (dist, g)
+                mounts = {int(m.site_bodyid[s1]): b, int(m.site_bodyid[s0]): a}
+                hit = _cut(m, d, a, b, mounts, mount_tol)
                 if hit[1] >= 0:
                     out.append(
                         SpringFault(
                             _name(m, OBJ.mjOBJ_TENDON, t), "path", _name(m, OBJ.mjOBJ_GEOM, hit[1]), hit[0], k
                         )
                     )
-                    done.add(t)
+                    if not every_pose:
+                        done.add(t)
                     break
     return out

@@ -469,6 +469,33 @@ def physics_cases() -> list[Case]:
             ),
         ),
         (
+            "floating_counterweight",
+            "contract.floating_part",
+            lambda xml: re.sub(r'<geom name="counterweight1_rod"[^>]*/>', "", xml, count=1),
+        ),
+        (
+            "spring_end_in_mid_air",
+            "contract.spring_anchor",
+            lambda xml: xml.replace(
+                '<site name="spring_anchor" pos="0 0 0"', '<site name="spring_anchor" pos="0.08 0.08 0.08"', 1
+            ),
+        ),
+        (
+            "spring_through_the_arm",
+            "contract.spring_path",
+            _inject_root(
+                '<tendon><spatial name="long_spring" stiffness="10" springlength="0">'
+                '<site site="mount_site"/><site site="handle_site"/></spatial></tendon>'
+            ),
+        ),
+        (
+            "weightless_strut",
+            "contract.underweight_part",
+            _inside_first_body(
+                '<body name="strut"><geom type="box" size="0.05 0.01 0.01" mass="0.0001"/></body>'
+            ),
+        ),
+        (
             "negative_inertia",
             "contract.invalid_inertia",
             _inside_first_body(

@@ -3,7 +3,8 @@
 The submitted leader is recompiled with every geom colliding (``contype = conaffinity = 1``, no
 margin, every ``<exclude>`` removed, so a part cannot opt out) and a table plane at z = 0 (the bottom of the base plate). A grid pose counts
 as a clearance failure when a geom of an added body penetrates any geom of another rigid group
-(MuJoCo already ignores pairs welded together and parent-child pairs). Poses where the stock arm
+(MuJoCo already ignores pairs welded together and parent-child pairs), or when a spring's straight
+path passes through a part (``buildable.spring_cut_poses``). Poses where the stock arm
 itself (beyond link 1, which sits on the base plate) comes within ``TABLE_MARGIN_M`` of the table are
 not working poses and are not counted.
 """
@@ -15,6 +16,7 @@ import numpy as np
 
 from rle_design.mjcf.loader import Design
 from rle_design.scene import element_ids
+from rle_tasks.f09_gello.buildable import spring_cut_poses
 
 PENETRATION_M = 1e-4
 TABLE_MARGIN_M = 0.03
@@ -43,7 +45,7 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
         added_bodies: Names of the bodies that are not in the stock assembly.
         poses: Grid poses [rad], shape (N, n).
     """
-    if not added_bodies or len(poses) == 0:
+    if len(poses) == 0:
         return 0.0, []
     m = clearance_model(design)
     d = mujoco.MjData(m)
@@ -51,8 +53,9 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
     geom_added = np.isin(m.geom_bodyid, list(added))
     fixed = [0, *element_ids(m, "body", ("base", "link1"))]
     stock_arm = ~geom_added & ~np.isin(m.geom_bodyid, fixed)  # stock parts that can reach the table
+    cuts = spring_cut_poses(m, poses)  # a spring's path through a part fails the pose too
     hits, counted, examples = 0, 0, []
-    for q in poses:
+    for i, q in enumerate(poses):
         d.qpos[:] = q
         mujoco.mj_kinematics(m, d)
         mujoco.mj_collision(m, d)
@@ -69,6 +72,10 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
             n1 = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, int(g1[k])) or f"geom{g1[k]}"
             n2 = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, int(g2[k])) or f"geom{g2[k]}"
             examples.append(f"{n1}/{n2}")
+        if not bad and i in cuts:
+            bad = True
+            if len(examples) < 5:
+                examples.append(cuts[i])
         hits += bad
     return (hits / counted if counted else 0.0), examples
 

@@ -15,7 +15,9 @@ failure that skips the submitted-arm battery):
   ``contract.tendon_friction``, ``contract.tendon_damping``, ``contract.tendon_armature``,
   ``contract.tendon_limit``; every spring (tendon or joint stiffness) is listed in the report;
 * ``contract.stock_geometry`` / ``contract.stock_inertia``: stock geoms (type, size, placement) and
-  stock body inertials (mass, centre of mass, inertia) unchanged: add mass as new welded bodies.
+  stock body inertials (mass, centre of mass, inertia) unchanged: add mass as new welded bodies;
+* build-ability (``buildable.py``): ``contract.floating_part``, ``contract.spring_anchor``,
+  ``contract.spring_path``, ``contract.underweight_part``.
 
 Validity rules (deductions, the battery still runs): device mass <= 2.30 kg (``contract.over_mass``,
 a deduction growing linearly to its full 0.10 at 3.00 kg; a heavier device is a structure failure,
@@ -378,6 +380,15 @@ def load_submission(robot: str, directory: Path) -> Submission:
         b for b in range(1, m.nbody) if mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) not in stock_bodies
     ]
     sub.validity, sub.mass = _validity(robot, m, sub.added_bodies, rel)
+    from rle_tasks.f09_gello.buildable import buildability_findings
+    from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workspace_grid
+
+    # spring paths are checked at hinge poses; a leader with other joints already fails its structure
+    hinges_only = m.nq == m.njnt
+    public_grid = workspace_grid(m.jnt_range, PUBLIC_GRID_SIZE) if hinges_only else np.zeros((0, m.nq))
+    sub.structure += buildability_findings(
+        sub.design.fresh_spec(), m, sub.added_bodies, public_grid, _geom_volume, rel
+    )
     if sub.mass > HARD_MASS_KG:
         sub.structure.append(
             Finding(

@@ -64,8 +64,39 @@ def test_a_path_through_a_part_names_the_part_and_the_first_pose():
     m = _spec(wall=True).compile()
     faults = spring_path_faults(m, np.linspace(0.0, 1.0, 11)[:, None])
     assert [(f.kind, f.element, f.pose) for f in faults] == [("path", "wall", 0)]
-    # The ray from the link's end (x = -R) enters the wall at its face x = -0.035: 0.035 - R.
-    assert faults[0].value == pytest.approx(0.035 - R, abs=1e-6)
+    # From the anchor (x = -0.09) the path enters the wall at its face x = -0.045: 45 mm.
+    assert faults[0].value == pytest.approx(0.045, abs=1e-6)
+
+
+def _post_spec(site_x: float) -> MjSpec:
+    """The link with a printed post from its near side (x = -R) out to x = -0.05, and the spring's
+    link end at ``site_x`` on the post's axis."""
+    spec = _spec()
+    post = spec.body("link").add_body(name="post", pos=[0, 0, 0.15])
+    post.add_geom(
+        name="post_pla",
+        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+        fromto=[-R + 0.002, 0, 0, -0.05, 0, 0],
+        size=[0.006, 0, 0],
+    )
+    post.add_site(name="hook", pos=[site_x, 0, 0])
+    tendon = spec.add_tendon(name="post_spring", stiffness=50.0, springlength=[0, 0])
+    tendon.wrap_site("anchor")
+    tendon.wrap_site("hook")
+    spec.tendon("spring").stiffness = [0.0, 0.0, 0.0]  # only the post spring is a spring here
+    return spec
+
+
+def test_a_spring_may_touch_its_own_post_only_near_its_hook():
+    # Hooked at the post's tip (x = -0.05): the path from the anchor (x = -0.09) meets the post
+    # only at the hook.
+    assert spring_path_faults(_post_spec(-0.05).compile(), [[0.0]]) == []
+    assert spring_anchor_faults(_post_spec(-0.05)) == []
+    # Hooked at the post's root (x = -0.02): the spring runs 30 mm inside its own post, entering it
+    # at the tip, 40 mm from the anchor.
+    faults = spring_path_faults(_post_spec(-0.02).compile(), [[0.0]])
+    assert [(f.tendon, f.element) for f in faults] == [("post_spring", "post_pla")]
+    assert faults[0].value == pytest.approx(0.04, abs=1e-6)
 
 
 def test_a_spring_hooked_on_the_far_side_of_its_own_link_cuts_the_link():

@@ -25,6 +25,8 @@ HOME: dict[str, tuple[float, ...]] = {robot: robot_constants(robot).home for rob
 """Home pose of each leader [rad], its follower's ``home`` keyframe (a leader mirrors its follower joint
 for joint): the first of the 16 probes is always measured here."""
 GRID_SEED = 20261122
+PUBLIC_GRID_SIZE = 256
+"""Poses of the public workspace grid on which the verifier checks spring paths (``contract.spring_path``)."""
 LIMIT_MARGIN = 0.1
 """Test and grid poses stay this far inside the joint limits [rad]."""
 PROBE_FRICTION_BAND = 0.5

@@ -10,7 +10,11 @@ Reference (``solutions/reference/<robot>/lead.xml``), derivation (``exact_design
    zero-length spring (tendon ``springlength="0"``) from ``SPRING_ARM`` above joint 2 on link 1 to
    ``SPRING_ARM`` along the centre-of-mass direction on link 2 with k a b = M g |d| balances it
    exactly at every angle (residual ~1e-8 N m from the 9-digit XML numbers).
-3. ``trim.py`` (shared by the three robots) fits the identifiable gravity parameters (QR base
+3. Fastening (``attached.py``): each counterweight on a printed PLA rod from its link's shell (or
+   servo housing) and each spring end on a printed PLA post, placements chosen greedily for clearance
+   (collisions and spring paths through parts), then masses, centres and the spring stiffness
+   re-optimised with the rods and posts counted (``rle_design.kinematics.codesign``, CasADi/IPOPT).
+4. ``trim.py`` (shared by the three robots) fits the identifiable gravity parameters (QR base
    parameters of the Pinocchio regressor) to the 16 probes with a small ridge to the nominal values,
    after a greedy D-optimal probe plan over a candidate grid; hidden link-mass and payload changes
    are then carried by the servos.
@@ -61,7 +65,7 @@ def _rot(quat: np.ndarray) -> np.ndarray:
     return r.reshape(3, 3)
 
 
-def exact_design(robot: str, placement: dict[int, tuple[float, float]] | None = None) -> Design:
+def exact_design(robot: str, placement: dict[int, tuple[float, float] | None] | None = None) -> Design:
     """Exact static balance: counterweights tip-first on joints 3..n, zero-length spring on joint 2.
 
     Working from the handle towards the base, the subtree beyond joint k (its link, everything
@@ -76,8 +80,8 @@ def exact_design(robot: str, placement: dict[int, tuple[float, float]] | None = 
 
     Args:
         robot: Follower id.
-        placement: Joint k -> (r_c [m], axial shift [m]) of its counterweight; default
-            (``EXACT_RADIUS``, ``CW_AXIAL``).
+        placement: Joint k -> (r_c [m], axial shift [m]) of its counterweight, or None for no
+            counterweight on joint k; default (``EXACT_RADIUS``, ``CW_AXIAL``).
     """
     placement = placement or {}
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
@@ -94,7 +98,7 @@ def exact_design(robot: str, placement: dict[int, tuple[float, float]] | None = 
             first = first + _rot(m.body_quat[c]) @ child_s + child_m * m.body_pos[c]
         d = first[:2] / mass
         off = float(np.linalg.norm(d))
-        if k >= 3 and off > 1e-9:
+        if k >= 3 and off > 1e-9 and placement.get(k, ()) is not None:
             u = np.array([d[0], d[1], 0.0]) / off
             radius, axial = placement.get(k, (EXACT_RADIUS, CW_AXIAL))
             mc = mass * off / radius
@@ -218,12 +222,15 @@ def clear_design(robot: str, n_poses: int = 256, passes: int = 2, verbose: bool 
 
 
 def build_all(target: Path = PKG / "solutions" / "reference") -> None:
-    """Write the reference leaders (``solutions/reference/<robot>/lead.xml``); the rest of every shipped
+    """Write the reference leaders (``solutions/reference/<robot>/lead.xml``): the exact design with
+    every part fastened and re-balanced (``attached.clear_fastened``). The rest of every shipped
     solution is declared in ``solutions/__init__.py`` and materialised by ``rle_tasks.core.solutions``."""
+    from rle_tasks.f09_gello.solutions.attached import clear_fastened, write_leader
+
     with tempfile.TemporaryDirectory() as tmp:
         for robot in ROBOTS:
-            des = clear_design(robot, verbose=True)
-            path = apply_design(robot, des, Path(tmp) / robot)
+            des = clear_fastened(robot, verbose=True)
+            path = write_leader(robot, des, Path(tmp) / robot)
             m = mujoco.MjModel.from_xml_path(str(path))
             print(f"{robot}: reference mass {m.body_mass.sum():.3f} kg, {des}")
             (target / robot).mkdir(parents=True, exist_ok=True)

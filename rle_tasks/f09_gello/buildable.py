@@ -1,0 +1,94 @@
+"""Could the submitted leader be built? Parts fastened, springs mounted and clear, no weightless parts.
+
+Structure rules (each a ``Finding``; any of them skips the submitted-arm battery):
+
+* ``contract.floating_part``: the geoms of each added body form one connected assembly, and the body's
+  geometry meets its parent link's (``rle_design.mjcf.buildability``, gap <= ``JOIN_TOL``): a
+  counterweight needs a printed arm or bracket that reaches its link;
+* ``contract.spring_anchor``: each spring end (tendon site) lies within ``ANCHOR_TOL`` of material of
+  its own body (a stock link's surface or an added printed post);
+* ``contract.spring_path``: a spring's straight path passes through a part (a link, a servo, an added
+  part) at more than ``SPRING_CUT_MAX`` of the public workspace grid; below that, each pose where it
+  does counts as a motion-clearance failure (``clearance.py``);
+* ``contract.underweight_part``: an added body lighter than solid PLA of its geometry's volume (a
+  printed strut or bracket has mass; a weightless connector cannot be built).
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from rle_design.mjcf.buildability import audit_buildability
+from rle_design.mjcf.contract import Finding
+from rle_design.mjcf.spring_audit import spring_anchor_faults, spring_path_faults
+
+JOIN_TOL = 1e-3
+"""Largest gap between parts that still counts as fastened [m]: printed parts are modelled touching
+or overlapping; 1 mm is below a screw's reach and above the 9-digit XML rounding."""
+ANCHOR_TOL = 2e-3
+"""Largest gap from a spring site to its body's material [m]: a spring hook's wire is ~1-2 mm."""
+SPRING_CUT_MAX = 0.05
+"""Fraction of workspace poses at which a spring may cut a part before the leader is refused: the
+fraction at which the motion-clearance checkpoint already scores 0 (README)."""
+PLA_DENSITY = 1240.0
+"""Solid printed PLA [kg/m^3], the lightest material an added part may be made of."""
+OBJ = mujoco.mjtObj
+
+
+def spring_cut_poses(m: mujoco.MjModel, poses: np.ndarray) -> dict[int, str]:
+    """Pose index -> message, for each pose where some spring's path passes through a part."""
+    out: dict[int, str] = {}
+    for f in spring_path_faults(m, np.asarray(poses, float), every_pose=True):
+        out.setdefault(f.pose, f.message)
+    return out
+
+
+def buildability_findings(
+    spec: mujoco.MjSpec,
+    m: mujoco.MjModel,
+    added: list[int],
+    grid: np.ndarray,
+    volume,
+    path: str,
+) -> list[Finding]:
+    """Structure findings of the build-ability rules above.
+
+    Args:
+        spec: The submission's spec (not modified).
+        m: Its compiled model.
+        added: Ids of the bodies that are not in the stock assembly.
+        grid: Public workspace grid [rad], shape (N, dof).
+        volume: ``volume(m, geom) -> m^3`` of a geom.
+        path: File the findings refer to.
+    """
+    out: list[Finding] = []
+    names = [mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) or f"body{b}" for b in added]
+    for d in audit_buildability(m, tol=JOIN_TOL, bodies=names):
+        out.append(Finding("contract.floating_part", d.message, element="body", path=path))
+    for f in spring_anchor_faults(spec, tol=ANCHOR_TOL):
+        out.append(Finding("contract.spring_anchor", f.message, element="site", path=path))
+    cuts = spring_cut_poses(m, grid)
+    if len(grid) and len(cuts) > SPRING_CUT_MAX * len(grid):
+        out.append(
+            Finding(
+                "contract.spring_path",
+                f"spring path through a part at {len(cuts)}/{len(grid)} public grid poses (more than "
+                f"{SPRING_CUT_MAX:.0%}); first: {cuts[min(cuts)]}",
+                element="tendon",
+                path=path,
+            )
+        )
+    for b, name in zip(added, names, strict=True):
+        vol = sum(volume(m, g) for g in range(m.ngeom) if m.geom_bodyid[g] == b)
+        if m.body_mass[b] < PLA_DENSITY * vol * 0.99 - 1e-9:
+            out.append(
+                Finding(
+                    "contract.underweight_part",
+                    f"added body '{name}' has {m.body_mass[b]:.4g} kg for {vol * 1e6:.3g} cm^3 of parts: "
+                    f"lighter than solid PLA ({PLA_DENSITY:.0f} kg/m^3)",
+                    element="body",
+                    path=path,
+                )
+            )
+    return out

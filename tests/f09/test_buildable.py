@@ -1,0 +1,105 @@
+"""Issue-19 regressions on 09: parts that must be fastened, springs that must be mounted and clear.
+
+The old reference hung its steel counterweights in mid-air (21-104 mm from their links) and hooked
+its shoulder spring to bare sites up to 50 mm from any material; the rebuilt reference fastens each
+counterweight on a printed PLA rod and each spring end on a printed post. Each edit below turns the
+reference back into something that could not be built, and is refused for its named reason.
+"""
+
+import shutil
+
+import mujoco
+import numpy as np
+import pytest
+from lxml import etree
+
+from rle_tasks.core.registry import get_task
+from rle_tasks.core.solutions import materialise
+from rle_tasks.f09_gello.buildable import PLA_DENSITY, SPRING_CUT_MAX, spring_cut_poses
+from rle_tasks.f09_gello.device import load_submission
+from rle_tasks.f09_gello.leaders import ROBOTS
+from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workspace_grid
+
+TASK = get_task("09-gello")
+
+
+@pytest.fixture(scope="module")
+def reference():
+    return materialise(TASK, "reference")
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_the_reference_is_buildable(reference, robot):
+    sub = load_submission(robot, reference / robot)
+    assert not sub.structure, [f.message for f in sub.structure]
+    m = sub.model
+    names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in sub.added_bodies]
+    assert any(n.startswith("counterweight") for n in names) and "spring_anchor_post" in names
+    # every added body carries at least solid PLA of its volume (steel spheres on PLA rods)
+    for b in sub.added_bodies:
+        assert m.body_mass[b] > 0.0
+    grid = workspace_grid(m.jnt_range, PUBLIC_GRID_SIZE)
+    assert len(spring_cut_poses(m, grid)) <= SPRING_CUT_MAX * len(grid)
+
+
+def _edited(reference, tmp_path, robot, edit):
+    out = tmp_path / robot
+    shutil.copytree(reference / robot, out)
+    path = out / "lead.xml"
+    tree = etree.parse(str(path))
+    edit(tree.getroot())
+    tree.write(str(path))
+    return load_submission(robot, out)
+
+
+def _by_name(root, tag, name):
+    return next(e for e in root.iter(tag) if e.get("name") == name)
+
+
+def _drop_rod(root):
+    rod = _by_name(root, "geom", "counterweight1_rod")
+    rod.getparent().remove(rod)
+
+
+def _lift_spring_end(root):
+    _by_name(root, "site", "spring_anchor").set("pos", "0.08 0.08 0.08")
+
+
+def _spring_through_arm(root):
+    tendon = etree.SubElement(root, "tendon")
+    sp = etree.SubElement(tendon, "spatial", name="long_spring", stiffness="10", springlength="0")
+    etree.SubElement(sp, "site", site="mount_site")
+    etree.SubElement(sp, "site", site="handle_site")
+
+
+def _weightless_strut(root):
+    link = _by_name(root, "body", "link3")
+    strut = etree.SubElement(link, "body", name="strut")
+    etree.SubElement(strut, "geom", type="box", size="0.03 0.01 0.01", mass="0.0001")
+
+
+@pytest.mark.parametrize(
+    "edit, code, words",
+    [
+        (_drop_rod, "contract.floating_part", "counterweight1"),
+        (_lift_spring_end, "contract.spring_anchor", "spring_anchor"),
+        (_spring_through_arm, "contract.spring_path", "long_spring"),
+        (_weightless_strut, "contract.underweight_part", "strut"),
+    ],
+)
+def test_what_could_not_be_built_is_refused_by_name(reference, tmp_path, edit, code, words):
+    sub = _edited(reference, tmp_path, "panda", edit)
+    found = [f for f in sub.structure if f.code == code]
+    assert found and words in found[0].message, [f"{f.code}: {f.message}" for f in sub.structure]
+    if code == "contract.underweight_part":
+        # 1e-4 kg for a 60 x 20 x 20 mm box: 24 cm^3 of solid PLA would weigh 0.0298 kg
+        assert pytest.approx(0.02976) == PLA_DENSITY * 0.06 * 0.02 * 0.02
+        assert "24 cm^3" in found[0].message
+
+
+def test_a_floating_counterweight_reports_its_gap_in_mm(reference, tmp_path):
+    sub = _edited(reference, tmp_path, "panda", _drop_rod)
+    msg = next(f.message for f in sub.structure if f.code == "contract.floating_part")
+    gap_mm = float(msg.split(": ")[1].split(" mm")[0])
+    steel = sub.model.geom("counterweight1_steel").id
+    assert gap_mm > 1.0 and np.isfinite(gap_mm) and steel >= 0
