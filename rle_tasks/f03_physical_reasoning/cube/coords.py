@@ -71,7 +71,10 @@ def decode(index: int) -> LatticeState:
 
 def _orientation_for(cubie: int, slot: np.ndarray, twist: int) -> int:
     for r, m in enumerate(ROTATIONS):
-        if np.array_equal(m @ SLOTS[cubie], slot) and _twist(slot, m @ np.array([0, 0, SLOTS[cubie][2]])) == twist:
+        if (
+            np.array_equal(m @ SLOTS[cubie], slot)
+            and _twist(slot, m @ np.array([0, 0, SLOTS[cubie][2]])) == twist
+        ):
             return r
     raise AssertionError("every slot and twist has exactly one orientation")
 
@@ -150,4 +153,3 @@ def move_tables() -> tuple[np.ndarray, np.ndarray]:
                 new[dest[pos]] = (t + add[pos]) % 3
             twist_move[r, g] = twist_rank(new)
     return perm_move, twist_move
-

@@ -58,7 +58,9 @@ def quarter_turn(axis: np.ndarray, sign: int) -> int:
 def _matrix_to_quat(m: np.ndarray) -> np.ndarray:
     w = np.sqrt(max(0.0, 1.0 + np.trace(m))) / 2.0
     if w > 1e-6:
-        return np.array([w, (m[2, 1] - m[1, 2]) / (4 * w), (m[0, 2] - m[2, 0]) / (4 * w), (m[1, 0] - m[0, 1]) / (4 * w)])
+        return np.array(
+            [w, (m[2, 1] - m[1, 2]) / (4 * w), (m[0, 2] - m[2, 0]) / (4 * w), (m[1, 0] - m[0, 1]) / (4 * w)]
+        )
     # 180-degree rotation: axis from the diagonal.
     axis = np.sqrt(np.maximum(0.0, (np.diag(m) + 1.0) / 2.0))
     i = int(np.argmax(axis))

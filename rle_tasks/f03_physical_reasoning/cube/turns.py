@@ -1,0 +1,86 @@
+"""Turn classification: the sequence of settled lattice states and the quarter turn between each two.
+
+The verifier samples the cube at every control step and reads its nearest lattice state relative to the
+DBL cubie (``reading.read``). A reading is *settled* when every cubie is within ``SETTLED_TOL`` of the
+lattice; only settled readings enter the sequence, so a layer wobbling around its halfway point never
+produces a turn, and a turn is counted once the layer has settled into its new quarter-turn position.
+
+Each change between consecutive settled states is classified: it is the quarter turn ``X`` when
+``after == before.apply(X)`` for one of the six generators that keep DBL in place (U, U', R, R', F, F';
+a turn of the D, L or B layer reads as the same-sense turn of the opposite face, because the cube's frame
+moves with DBL). Anything else (a half turn between two samples, two layers at once, a forced twist) is
+unclassified.
+
+``SETTLED_TOL`` = 10 deg: above the mechanism's settled misalignment (2 deg, tested) with margin for
+the grip's squeeze, and far inside the 45-degree basin of a lattice state, so a settled reading is never
+ambiguous.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from rle_tasks.f03_physical_reasoning.cube.coords import GENERATORS
+from rle_tasks.f03_physical_reasoning.cube.lattice import LatticeState
+from rle_tasks.f03_physical_reasoning.cube.reading import CubeReading
+
+SETTLED_TOL = math.radians(10.0)
+
+
+@dataclass(frozen=True)
+class Transition:
+    """A change between two consecutive settled states.
+
+    Attributes:
+        index: Sample index (e.g. control step) of the reading that settled into ``after``.
+        before: Normalised state before.
+        after: Normalised state after.
+        move: The quarter turn (one of ``coords.GENERATORS``), or None when unclassified.
+    """
+
+    index: int
+    before: LatticeState
+    after: LatticeState
+    move: str | None
+
+    @property
+    def classified(self) -> bool:
+        """True when the change is exactly one quarter turn."""
+        return self.move is not None
+
+
+def classify(before: LatticeState, after: LatticeState) -> str | None:
+    """The quarter turn that takes ``before`` to ``after`` (both up to a whole-cube rotation), or None.
+
+    Raises:
+        ValueError: The two states are the same puzzle state (no transition to classify).
+    """
+    b, a = before.normalized(), after.normalized()
+    if a == b:
+        raise ValueError("no transition: the two states are the same puzzle state")
+    for move in GENERATORS:
+        if b.apply(move).normalized() == a:
+            return move
+    return None
+
+
+def transitions(readings: Iterable[CubeReading]) -> list[Transition]:
+    """Classified transitions between the settled states of a sequence of readings.
+
+    Args:
+        readings: One reading per sample, in time order; the first settled one is the start state.
+    """
+    out: list[Transition] = []
+    current: LatticeState | None = None
+    for index, reading in enumerate(readings):
+        if not reading.misalignment <= SETTLED_TOL:  # also rejects NaN
+            continue
+        state = reading.state.normalized()
+        if current is None:
+            current = state
+        elif state != current:
+            out.append(Transition(index, current, state, classify(current, state)))
+            current = state
+    return out
