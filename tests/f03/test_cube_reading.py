@@ -29,8 +29,9 @@ def _axis_quat(axis, angle):
     return q
 
 
-def _poses(state: LatticeState, world=np.array([1.0, 0, 0, 0]), centre=(0, 0, 0.5), tweak=None, speed=0.0):
+def _poses(state: LatticeState, world=None, centre=(0, 0, 0.5), tweak=None, speed=0.0):
     """World poses of a cube in ``state``, rotated as a whole by ``world``; ``tweak`` = (cubie, quat)."""
+    world = np.array([1.0, 0, 0, 0]) if world is None else world
     quats, pos = [], []
     for i in range(8):
         q = np.empty(4)

@@ -50,7 +50,7 @@ class CubeConfig(SpecEdit):
     """Sliding [1], torsional [m], rolling [m] friction of the cubie surfaces against other bodies."""
     detent_stiffness: float = 4e-3
     """Turn detent of one straddling cubie pair [N m/rad] (a layer has four: 16 mN m/rad)."""
-    tilt_stiffness: float = 0.05
+    tilt_stiffness: float = 0.1
     """Stiffness of a cubie pair against relative tilt (any rotation but a turn) [N m/rad]."""
     tilt_damping: float = 0.0
     """Damping of a cubie pair's relative tilt [N m s/rad]."""
