@@ -1,5 +1,6 @@
 """The physical pocket cube: model facts, detent closed forms, scripted quarter turns on the lattice."""
 
+import itertools
 import math
 
 import mujoco
@@ -7,6 +8,7 @@ import numpy as np
 import pytest
 
 from rle_tasks.f03_physical_reasoning.cube.detent import SLOT_PAIRS, CubeDetent
+from rle_tasks.f03_physical_reasoning.cube.group import QUATS, ROTATIONS
 from rle_tasks.f03_physical_reasoning.cube.lattice import CUBIES, MOVES, SOLVED
 from rle_tasks.f03_physical_reasoning.cube.model import CubeConfig, cube_spec
 from rle_tasks.f03_physical_reasoning.cube.reading import check_solved, poses_from_data, read
@@ -41,25 +43,32 @@ def test_model_facts():
         CubeConfig(gap=0.02).validate()
 
 
-def test_detent_closed_form_and_zero_net_torque():
+@pytest.mark.parametrize("scramble", [(), ("R", "U", "F'", "R", "R", "U'", "F")])
+def test_detent_closed_form_and_zero_net_torque(scramble):
     model = cube_spec(CubeConfig(free=False), floor=False).compile()
     data = mujoco.MjData(model)
     det = CubeDetent(model)
     k, K = det.stiffness, det.tilt_stiffness
-    ufr = CUBIES.index("UFR")
-    adr = model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, "cube_UFR_ball")]
+    state = SOLVED.apply_all(list(scramble))  # R, U, F keep DBL home: core frame = cube frame
+    adr = [
+        model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, "cube_" + c + "_ball")]
+        for c in CUBIES
+    ]
     theta = 0.03
-    for axis in np.eye(3):
-        data.qpos[:] = model.qpos0
-        data.qpos[adr : adr + 4] = [math.cos(theta / 2), *(math.sin(theta / 2) * axis)]
-        tau = det.torques(data.qpos, data.qvel)
-        # UFR has three neighbours; rotating it about one axis strains the neighbour across that axis
-        # along its turn (soft k) and the other two as a tilt (stiff K): tau = -(k + 2K) 2 sin(theta/2).
-        np.testing.assert_allclose(tau[ufr], -(k + 2 * K) * 2 * math.sin(theta / 2) * axis, atol=1e-12)
-        # Internal couples: the torques on all cubies, in the world (= core) frame, sum to zero.
+    for c, axis in itertools.product(range(8), np.eye(3)):
+        for n in range(8):
+            data.qpos[adr[n] : adr[n] + 4] = QUATS[state.orient[n]]
+        tilt = np.array([math.cos(theta / 2), *(math.sin(theta / 2) * axis)])
+        mujoco.mju_mulQuat(data.qpos[adr[c] : adr[c] + 4], tilt, QUATS[state.orient[c]].copy())
         mujoco.mj_kinematics(model, data)
-        ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "cube_" + c) for c in CUBIES]
-        world = sum(data.xmat[b].reshape(3, 3) @ tau[i] for i, b in enumerate(ids))
+        tau = det.torques(data.xmat[det.bodies].reshape(8, 3, 3), data.qvel[det._dofs])
+        # Every cubie has three neighbours; rotating it about a core axis strains the neighbour
+        # across that axis along its turn (soft k) and the other two as a tilt (stiff K):
+        # tau = -(k + 2K) sin(theta) axis, expressed in the cubie's own frame (R^T axis).
+        local = ROTATIONS[state.orient[c]].T @ axis
+        np.testing.assert_allclose(tau[c], -(k + 2 * K) * math.sin(theta) * local, atol=1e-12)
+        # Internal couples: the torques on all cubies, in the world (= core) frame, sum to zero.
+        world = sum(data.xmat[b].reshape(3, 3) @ tau[i] for i, b in enumerate(det.bodies))
         np.testing.assert_allclose(world, 0.0, atol=1e-12)
 
 

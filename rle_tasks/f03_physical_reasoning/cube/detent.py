@@ -4,23 +4,25 @@ Each of the 12 pairs of face-adjacent slots holds two cubies ``(i, j)`` that str
 plane, with normal ``a`` (the axis along which the two slots differ). Every physics step:
 
 1. Each cubie's slot is read from its nearest lattice orientation relative to the DBL cubie.
-2. For the occupants ``(i, j)`` of each adjacent-slot pair, ``Q = conj(q_i) q_j`` is ``j`` relative to
-   ``i`` (``q`` are ball-joint quaternions, cubie relative to core) and ``L`` its nearest lattice
-   rotation; the error ``conj(L) Q`` is a small rotation ``e = 2 sin(theta/2) axis`` in ``j``'s frame.
+2. For the occupants ``(i, j)`` of each adjacent-slot pair, ``M = R_i^T R_j`` is ``j``'s orientation
+   relative to ``i`` and ``L`` the nearest of the 24 lattice rotations; the error ``E = L^T M`` is a
+   rotation by ``theta`` about ``axis`` in ``j``'s frame, and ``e = sin(theta) axis`` (the vee of the
+   skew part of ``E``).
 3. The only legitimate relative motion of a straddling pair is a turn about ``a`` (``a_j`` in ``j``'s
    frame). The couple on ``j`` is
 
-       tau_j = -k (e . a_j) a_j - K e_perp - C w_perp      [N m], and  tau_i = -Q tau_j (in i's frame),
+       tau_j = -k (e . a_j) a_j - K e_perp - C w_perp      [N m],   tau_i = -M tau_j (in i's frame),
 
    with ``e_perp`` and the relative angular velocity ``w_perp`` the parts off ``a_j``: a soft detent
-   ``k`` along the turn axis (it changes sign 45 degrees into a turn, where the nearest lattice rotation
-   and the slot pairing change, so a turn pushed past halfway completes) and a stiff, damped hold ``K``,
-   ``C`` against any tilt, as a real cube's core and interlocking tongues are. A layer turn strains
-   the four pairs on its boundary: the layer's restoring torque is ``4 k theta``.
+   ``k`` along the turn axis (the nearest lattice rotation, and with it the slot pairing, changes 45
+   degrees into a turn, so a turn pushed past halfway completes and one released before returns) and a
+   stiff hold ``K`` (damped by ``C``) against any tilt, as a real cube's core and interlocking tongues
+   are. A layer turn strains the four pairs on its boundary: its restoring torque is ``4 k sin(theta)``.
 
 The couples act between cubies only (generalised forces on the ball joints whose reactions on the core
 cancel), so they conserve momentum; the core is a passive carrier. Gains are the model's numeric
-``<cube>_detent`` = ``(k, K, C)``.
+``<cube>_detent`` = ``(k, K, C)``. The torques depend on the cubies' current orientations: apply them
+between ``mj_step1`` and ``mj_step2`` (``scripted.step`` does), where ``xmat`` is up to date.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ import mujoco
 import numpy as np
 
 from rle_design.errors import MissingElement
-from rle_tasks.f03_physical_reasoning.cube.group import QUATS, ROTATIONS
+from rle_tasks.f03_physical_reasoning.cube.group import ROTATIONS
 from rle_tasks.f03_physical_reasoning.cube.lattice import ANCHOR, CUBIES, SLOTS
 
 __all__ = ["SLOT_PAIRS", "CubeDetent"]
@@ -38,40 +40,17 @@ SLOT_PAIRS: np.ndarray = np.array(
     [(s, t) for s in range(8) for t in range(s + 1, 8) if int(np.abs(SLOTS[s] - SLOTS[t]).sum()) == 2]
 )
 """``(12, 2)`` face-adjacent slot pairs (slots differing in one coordinate)."""
-_PAIR_AXIS = np.array([(SLOTS[s] != SLOTS[t]).astype(np.float64) for s, t in SLOT_PAIRS])
+_PAIR_AXIS = np.array([int(np.flatnonzero(SLOTS[s] != SLOTS[t])[0]) for s, t in SLOT_PAIRS])
 _SLOT_INDEX = {tuple(p): k for k, p in enumerate(SLOTS)}
 _SLOT_OF = np.array([[_SLOT_INDEX[tuple(ROTATIONS[r] @ SLOTS[c])] for r in range(24)] for c in range(8)])
 """``_SLOT_OF[cubie, rotation]``: the slot a cubie occupies at that lattice orientation."""
-_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
+_AXIS_IN = ROTATIONS.astype(np.float64)
+"""``_AXIS_IN[r, k]`` (row ``k`` of ``R_r``, i.e. ``R_r^T e_k``): lattice axis ``k`` of the DBL frame in the
+frame of a cubie at orientation ``r``."""
+_FLAT = ROTATIONS.reshape(24, 9).T.astype(np.float64)
 _ONE_HOT = np.eye(8)
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of ``(n, 3)`` arrays (``np.cross`` costs ~10x more on small arrays)."""
-    a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
-    b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=1)
-
-
-def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    w1, v1 = a[:, :1], a[:, 1:]
-    w2, v2 = b[:, :1], b[:, 1:]
-    return np.concatenate(
-        [w1 * w2 - (v1 * v2).sum(axis=1, keepdims=True), w1 * v2 + w2 * v1 + _cross(v1, v2)], 1
-    )
-
-
-def _rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Rotate vectors ``v`` by unit quaternions ``q`` (row-wise)."""
-    w, u = q[:, :1], q[:, 1:]
-    t = 2.0 * _cross(u, v)
-    return v + w * t + _cross(u, t)
-
-
-def _nearest(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    dots = q @ QUATS.T
-    idx = np.argmax(np.abs(dots), axis=1)
-    return idx, QUATS[idx] * np.sign(dots[np.arange(len(q)), idx])[:, None]
+_VEE_A = (np.array([2, 0, 1]), np.array([1, 2, 0]))
+_VEE_B = (np.array([1, 2, 0]), np.array([2, 0, 1]))
 
 
 def _joint(model: mujoco.MjModel, name: str) -> int:
@@ -101,37 +80,43 @@ class CubeDetent:
             float(v) for v in model.numeric_data[adr : adr + 3]
         )
         joints = [_joint(model, name + "_" + c + "_ball") for c in CUBIES]
-        self._qpos = np.array([np.arange(4) + model.jnt_qposadr[j] for j in joints])
+        self.bodies = np.array([model.jnt_bodyid[j] for j in joints])
+        """Body ids of the cubies, ``CUBIES`` order."""
         self._dofs = np.array([np.arange(3) + model.jnt_dofadr[j] for j in joints])
 
-    def torques(self, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+    def torques(self, xmat: np.ndarray, qvel_local: np.ndarray) -> np.ndarray:
         """``(8, 3)`` detent torques [N m], each in its cubie's frame (the ball joint's dofs).
 
         Args:
-            qpos: The model's ``qpos`` vector.
-            qvel: The model's ``qvel`` vector.
+            xmat: ``(8, 3, 3)`` cubie orientations (world or core frame; only products ``R_i^T R_j``
+                are used).
+            qvel_local: ``(8, 3)`` cubie angular velocities relative to the core, each in its own frame
+                (the ball joints' ``qvel``).
         """
-        q = qpos[self._qpos]
-        q = q / np.linalg.norm(q, axis=1, keepdims=True)
-        w = qvel[self._dofs]
-        rot, _ = _nearest(_qmul(np.broadcast_to(q[ANCHOR] * _CONJ, q.shape), q))
-        slot = _SLOT_OF[np.arange(8), rot]
+        rel_dbl = np.einsum("ki,nkj->nij", xmat[ANCHOR], xmat).reshape(8, 9)
+        rot = np.argmax(rel_dbl @ _FLAT, axis=1)  # max trace(L^T R): nearest lattice rotation
         occupant = np.full(8, -1)
-        occupant[slot] = np.arange(8)
+        occupant[_SLOT_OF[np.arange(8), rot]] = np.arange(8)
         i, j = occupant[SLOT_PAIRS[:, 0]], occupant[SLOT_PAIRS[:, 1]]
-        ok = (i >= 0) & (j >= 0)
-        i, j, axis = i[ok], j[ok], _PAIR_AXIS[ok]
-        rel = _qmul(q[i] * _CONJ, q[j])
-        _, near = _nearest(rel)
-        e = 2.0 * _qmul(near * _CONJ, rel)[:, 1:]
-        a_j = np.einsum("nki,nk->ni", ROTATIONS[rot[j]], axis)  # R_j^T a: the straddle axis in j's frame
+        ok = (i >= 0) & (j >= 0)  # a broken state (two cubies in one slot) drops the pairs it breaks
+        i, j = i[ok], j[ok]
+        m = np.einsum("nki,nkj->nij", xmat[i], xmat[j])
+        lat = ROTATIONS[np.argmax(m.reshape(-1, 9) @ _FLAT, axis=1)]
+        err = np.einsum("nki,nkj->nij", lat, m)
+        e = 0.5 * (err[:, _VEE_A[0], _VEE_A[1]] - err[:, _VEE_B[0], _VEE_B[1]])
+        a_j = _AXIS_IN[rot[j], _PAIR_AXIS[ok]]
         along = (e * a_j).sum(axis=1, keepdims=True) * a_j
-        w_rel = w[j] - _rotate(rel * _CONJ, w[i])  # j's angular velocity relative to i, in j's frame
-        w_perp = w_rel - (w_rel * a_j).sum(axis=1, keepdims=True) * a_j
-        tau_j = -self.stiffness * along - self.tilt_stiffness * (e - along) - self.tilt_damping * w_perp
-        # Each cubie is in at most three pairs; sum by one-hot matrices (np.add.at is slow on tiny arrays).
-        return _ONE_HOT[j].T @ tau_j - _ONE_HOT[i].T @ _rotate(rel, tau_j)
+        tau_j = -self.stiffness * along - self.tilt_stiffness * (e - along)
+        if self.tilt_damping:
+            w = qvel_local[j] - np.einsum("nki,nk->ni", m, qvel_local[i])
+            tau_j -= self.tilt_damping * (w - (w * a_j).sum(axis=1, keepdims=True) * a_j)
+        return _ONE_HOT[j].T @ tau_j - _ONE_HOT[i].T @ np.einsum("nij,nj->ni", m, tau_j)
 
     def apply(self, data: mujoco.MjData) -> None:
-        """Write the detent torques into ``data.qfrc_applied`` (only the cube's ball-joint dofs)."""
-        data.qfrc_applied[self._dofs] = self.torques(data.qpos, data.qvel)
+        """Write the detent torques into ``data.qfrc_applied`` (only the cube's ball-joint dofs).
+
+        Call after ``mj_step1`` (or ``mj_kinematics``), before ``mj_step2``.
+        """
+        data.qfrc_applied[self._dofs] = self.torques(
+            data.xmat[self.bodies].reshape(8, 3, 3), data.qvel[self._dofs]
+        )

@@ -43,10 +43,11 @@ class TurnResult:
 
 
 def step(model: mujoco.MjModel, data: mujoco.MjData, detent: CubeDetent, n: int = 1) -> None:
-    """``n`` physics steps, each with the detent torque applied."""
+    """``n`` physics steps, each with the detent torque applied between ``mj_step1`` and ``mj_step2``."""
     for _ in range(n):
+        mujoco.mj_step1(model, data)
         detent.apply(data)
-        mujoco.mj_step(model, data)
+        mujoco.mj_step2(model, data)
 
 
 def _mat(q: np.ndarray) -> np.ndarray:
