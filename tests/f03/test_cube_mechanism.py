@@ -126,3 +126,43 @@ def test_free_cube_rests_on_the_floor_without_warnings_and_stays_solved():
     # Resting on the table is not a solve: the predicate wants it held above.
     check = check_solved(poses, 0.0)
     assert not check.solved and "not held above the table" in check.reason
+
+
+def _push_one_cubie(model, data, det, cubie, axis, torque, steps):
+    """Torque on a single cubie (world axis) for ``steps`` steps or until the cube reads within 25 deg of
+    a new lattice state (every cubie well past halfway), then 250 steps to settle; every step's reading."""
+    body = det.bodies[CUBIES.index(cubie)]
+    record = []
+    pushing = True
+    for n in range(steps + 250):
+        moved = record and record[-1].state != record[0].state and record[-1].misalignment < math.radians(25)
+        pushing = pushing and n < steps and not moved
+        data.xfrc_applied[body, 3:] = torque * np.asarray(axis, float) if pushing else 0.0
+        step(model, data, det)
+        mujoco.mj_kinematics(model, data)
+        record.append(read(poses_from_data(model, data)))
+    return record
+
+
+def test_pushing_one_cubie_turns_its_whole_layer():
+    # A real cube's layer moves as a whole: a torque on one corner about the U axis carries the three
+    # other U cubies along (contacts within the layer), and the detent finishes the quarter turn. The
+    # torque, 30 mN m, exceeds the layer's peak detent 4 k sin(45 deg) = 11 mN m plus what the
+    # in-layer contacts lose to tilting the pushed corner.
+    model, data, det = _bench()
+    record = _push_one_cubie(model, data, det, "UFR", [0, 0, -1], 0.03, 200)
+    final = record[-1]
+    assert final.state == SOLVED.apply("U") and final.misalignment < ON_LATTICE
+    assert [t.move for t in transitions(record)] == ["U"]
+
+
+def test_a_tilting_torque_on_one_cubie_moves_nothing():
+    # About the corner's diagonal the U, R and F layers would all have to turn at once and jam each
+    # other: the cube yields (the soft turn detents of three layers) and springs back when released.
+    model, data, det = _bench()
+    diag = np.array([1.0, -1.0, 1.0]) / math.sqrt(3)
+    record = _push_one_cubie(model, data, det, "UFR", diag, 0.02, 100)
+    assert max(r.misalignment for r in record) < math.radians(45)
+    assert all(r.state == SOLVED for r in record)
+    assert record[-1].misalignment < ON_LATTICE and record[-1].misalignment < ON_LATTICE
+    assert transitions(record) == []
