@@ -166,3 +166,21 @@ def test_a_tilting_torque_on_one_cubie_moves_nothing():
     assert all(r.state == SOLVED for r in record)
     assert record[-1].misalignment < ON_LATTICE and record[-1].misalignment < ON_LATTICE
     assert transitions(record) == []
+
+
+def test_free_floating_cube_turns_by_internal_couples_alone():
+    # Zero gravity, free core: the couples (scripted pair of hands and detent) are internal, so the
+    # cube's centre stays put (momentum conserved) while its layers turn exactly as the move model says.
+    spec = cube_spec(CubeConfig(pos=(0.0, 0.0, 0.5)), floor=False)
+    spec.option.gravity = [0.0, 0.0, 0.0]
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    det = CubeDetent(model)
+    expect = SOLVED
+    for move in ["R", "U'", "F", "D", "L'", "B"]:
+        result = scripted_turn(model, data, det, move)
+        expect = expect.apply(move).normalized()
+        assert result.reading.state == expect and result.reading.misalignment < ON_LATTICE
+    mujoco.mj_kinematics(model, data)
+    centre = data.xpos[det.bodies].mean(axis=0)
+    np.testing.assert_allclose(centre, [0.0, 0.0, 0.5], atol=1e-3)

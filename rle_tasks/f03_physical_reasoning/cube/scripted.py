@@ -100,6 +100,7 @@ def scripted_turn(
     if move not in MOVES:
         raise ValueError(f"unknown move '{move}'; moves are {', '.join(MOVES)}")
     sense = -1.0 if len(move) == 1 else 1.0  # clockwise seen from outside = -90 deg about the normal
+    mujoco.mj_kinematics(model, data)
     poses = poses_from_data(model, data, name)
     normal = FACE_NORMALS[move[0]].astype(np.float64)
     layer = read(poses).state.slots() @ normal > 0
