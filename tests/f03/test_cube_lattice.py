@@ -124,4 +124,9 @@ def test_full_table_gods_number_14_and_276_antipodes(tmp_path, monkeypatch):
     again = distance.distance_table()
     assert distance._digest(again) == distance.TABLE_SHA256
     assert distance._load(distance.table_path()) is not None
+    # So is a truncated one, and a file that is not a numpy array at all.
+    for junk in (distance.table_path().read_bytes()[:1000], b"not a table"):
+        distance.table_path().write_bytes(junk)
+        distance.distance_table.cache_clear()
+        assert distance._digest(distance.distance_table()) == distance.TABLE_SHA256
     distance.distance_table.cache_clear()

@@ -7,6 +7,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from rle_design.errors import MissingElement
 from rle_tasks.f03_physical_reasoning.cube.detent import SLOT_PAIRS, CubeDetent
 from rle_tasks.f03_physical_reasoning.cube.group import QUATS, ROTATIONS
 from rle_tasks.f03_physical_reasoning.cube.lattice import CUBIES, MOVES, SOLVED
@@ -184,3 +185,13 @@ def test_free_floating_cube_turns_by_internal_couples_alone():
     mujoco.mj_kinematics(model, data)
     centre = data.xpos[det.bodies].mean(axis=0)
     np.testing.assert_allclose(centre, [0.0, 0.0, 0.5], atol=1e-3)
+
+
+def test_errors_name_the_element_and_the_alternatives():
+    model = cube_spec(CubeConfig(name="cube")).compile()
+    with pytest.raises(MissingElement, match="cubex_detent") as err:
+        CubeDetent(model, name="cubex")
+    assert "cube_detent" in str(err.value)
+    data = mujoco.MjData(model)
+    with pytest.raises(ValueError, match="unknown move 'M'"):
+        scripted_turn(model, data, CubeDetent(model), "M")

@@ -155,3 +155,22 @@ def test_lowest_corner_of_a_cube_resting_on_a_corner():
     poses = _poses(SOLVED, world=world, centre=(0, 0, 1.0))
     expect = 1.0 - math.sqrt(3) * (0.016 + HALF)
     assert lowest_corner(poses) == pytest.approx(expect, abs=1e-9)
+
+
+def test_a_broken_cube_is_not_solved_and_does_not_crash():
+    # Two cubies in one slot (physically impossible unless the cube came apart): UFL turned onto UFR.
+    broken = LatticeState((0, _onto_ufr(), 0, 0, 0, 0, 0, 0))
+    assert not broken.is_valid() and not broken.is_solved()
+    with pytest.raises(ValueError, match="broken cube"):
+        broken.facelets()
+    c = check_solved(_poses(broken, centre=(0, 0, TABLE_Z + 0.1)), TABLE_Z)
+    assert not c.solved and "broken" in c.reason
+    assert classify(SOLVED, broken) is None
+
+
+def _onto_ufr() -> int:
+    """A rotation taking the UFL cubie's home slot onto UFR's."""
+    from rle_tasks.f03_physical_reasoning.cube.group import ROTATIONS
+
+    ufl, ufr = SLOTS[CUBIES.index("UFL")], SLOTS[CUBIES.index("UFR")]
+    return next(r for r in range(24) if np.array_equal(ROTATIONS[r] @ ufl, ufr))

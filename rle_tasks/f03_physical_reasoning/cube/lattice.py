@@ -114,11 +114,20 @@ class LatticeState:
         """True when the two states differ only by a rotation of the whole cube."""
         return self.normalized() == other.normalized()
 
+    def is_valid(self) -> bool:
+        """True when the eight cubies occupy eight different slots (a cube that is not broken)."""
+        return len({tuple(p) for p in self.slots()}) == 8
+
     def facelets(self) -> str:
         """24 sticker colours as face letters: faces in ``FACES`` order, four stickers per face.
 
         Within a face the stickers are listed by the slot they occupy, in ``SLOTS`` order.
+
+        Raises:
+            ValueError: Two cubies occupy the same slot (``is_valid`` is False).
         """
+        if not self.is_valid():
+            raise ValueError(f"broken cube: two cubies in one slot ({self.slots().tolist()})")
         rots = ROTATIONS[list(self.orient)]
         slots = self.slots()
         out = []
@@ -132,6 +141,8 @@ class LatticeState:
 
     def is_solved(self) -> bool:
         """Every face shows a single colour (the solved state up to a rotation of the whole cube)."""
+        if not self.is_valid():
+            return False
         f = self.facelets()
         return all(len(set(f[4 * k : 4 * k + 4])) == 1 for k in range(6))
 

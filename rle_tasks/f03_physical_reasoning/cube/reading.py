@@ -134,6 +134,8 @@ def check_solved(poses: CubePoses, table_z: float) -> SolvedCheck:
     }
     if not all(np.isfinite(v) for v in measured.values()):
         return SolvedCheck(False, "cube poses are not finite", measured)
+    if not reading.state.is_valid():
+        return SolvedCheck(False, "cube broken: two cubies read in the same slot", measured)
     if not reading.state.is_solved():
         return SolvedCheck(False, "faces are not uniform: " + reading.state.facelets(), measured)
     if reading.misalignment > ALIGNED_TOL:
