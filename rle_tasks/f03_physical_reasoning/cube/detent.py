@@ -47,10 +47,25 @@ _SLOT_OF = np.array([[_SLOT_INDEX[tuple(ROTATIONS[r] @ SLOTS[c])] for r in range
 _AXIS_IN = ROTATIONS.astype(np.float64)
 """``_AXIS_IN[r, k]`` (row ``k`` of ``R_r``, i.e. ``R_r^T e_k``): lattice axis ``k`` of the DBL frame in the
 frame of a cubie at orientation ``r``."""
-_FLAT = ROTATIONS.reshape(24, 9).T.astype(np.float64)
+_LATTICE = ROTATIONS.astype(np.float64)
+_FLAT = _LATTICE.reshape(24, 9).T
 _ONE_HOT = np.eye(8)
-_VEE_A = (np.array([2, 0, 1]), np.array([1, 2, 0]))
-_VEE_B = (np.array([1, 2, 0]), np.array([2, 0, 1]))
+_ARANGE = np.arange(8)
+
+
+def _vee_maps() -> np.ndarray:
+    """``(24, 3, 9)``: ``_VEE[r] @ vec(M)`` = ``vee(skew(L_r^T M)) = sin(theta) axis`` (row-major vec)."""
+    out = np.zeros((24, 3, 9))
+    for r, lat in enumerate(_LATTICE):
+        for k, (a, b) in enumerate(((2, 1), (0, 2), (1, 0))):
+            # (L^T M)[a, b] = sum_c L[c, a] M[c, b]
+            for c in range(3):
+                out[r, k, 3 * c + b] += 0.5 * lat[c, a]
+                out[r, k, 3 * c + a] -= 0.5 * lat[c, b]
+    return out
+
+
+_VEE = _vee_maps()
 
 
 def _joint(model: mujoco.MjModel, name: str) -> int:
@@ -93,24 +108,24 @@ class CubeDetent:
             qvel_local: ``(8, 3)`` cubie angular velocities relative to the core, each in its own frame
                 (the ball joints' ``qvel``).
         """
-        rel_dbl = np.einsum("ki,nkj->nij", xmat[ANCHOR], xmat).reshape(8, 9)
-        rot = np.argmax(rel_dbl @ _FLAT, axis=1)  # max trace(L^T R): nearest lattice rotation
+        # Nearest lattice rotation of R_DBL^T R_n: max over L of trace(L^T R_DBL^T R_n) = vec(R_DBL L).vec(R_n).
+        rot = np.argmax(xmat.reshape(8, 9) @ (xmat[ANCHOR] @ _LATTICE).reshape(24, 9).T, axis=1)
         occupant = np.full(8, -1)
-        occupant[_SLOT_OF[np.arange(8), rot]] = np.arange(8)
+        occupant[_SLOT_OF[_ARANGE, rot]] = _ARANGE
         i, j = occupant[SLOT_PAIRS[:, 0]], occupant[SLOT_PAIRS[:, 1]]
         ok = (i >= 0) & (j >= 0)  # a broken state (two cubies in one slot) drops the pairs it breaks
         i, j = i[ok], j[ok]
-        m = np.einsum("nki,nkj->nij", xmat[i], xmat[j])
-        lat = ROTATIONS[np.argmax(m.reshape(-1, 9) @ _FLAT, axis=1)]
-        err = np.einsum("nki,nkj->nij", lat, m)
-        e = 0.5 * (err[:, _VEE_A[0], _VEE_A[1]] - err[:, _VEE_B[0], _VEE_B[1]])
+        m = xmat[i].transpose(0, 2, 1) @ xmat[j]
+        flat = m.reshape(-1, 9)
+        e = (_VEE[np.argmax(flat @ _FLAT, axis=1)] @ flat[:, :, None])[:, :, 0]
         a_j = _AXIS_IN[rot[j], _PAIR_AXIS[ok]]
-        along = (e * a_j).sum(axis=1, keepdims=True) * a_j
-        tau_j = -self.stiffness * along - self.tilt_stiffness * (e - along)
+        # -k (e.a) a - K (e - (e.a) a)
+        tau_j = (self.tilt_stiffness - self.stiffness) * (e * a_j).sum(axis=1, keepdims=True) * a_j
+        tau_j -= self.tilt_stiffness * e
         if self.tilt_damping:
-            w = qvel_local[j] - np.einsum("nki,nk->ni", m, qvel_local[i])
+            w = qvel_local[j] - (m.transpose(0, 2, 1) @ qvel_local[i][:, :, None])[:, :, 0]
             tau_j -= self.tilt_damping * (w - (w * a_j).sum(axis=1, keepdims=True) * a_j)
-        return _ONE_HOT[j].T @ tau_j - _ONE_HOT[i].T @ np.einsum("nij,nj->ni", m, tau_j)
+        return _ONE_HOT[j].T @ tau_j - _ONE_HOT[i].T @ (m @ tau_j[:, :, None])[:, :, 0]
 
     def apply(self, data: mujoco.MjData) -> None:
         """Write the detent torques into ``data.qfrc_applied`` (only the cube's ball-joint dofs).
