@@ -71,9 +71,12 @@ def test_each_quarter_turn_is_classified(move):
     assert got == {"D": "U", "L": "R", "B": "F"}.get(move[0], move[0]) + move[1:]
 
 
-def test_half_turns_double_turns_and_twists_are_unclassified():
+def test_half_turns_count_two_and_two_layers_or_twists_are_unclassified():
     s = SOLVED.apply("F")
-    assert classify(s, s.apply_all(["U", "U"])) is None
+    assert classify(s, s.apply_all(["U", "U"])) == "U2"
+    assert classify(s, s.apply_all(["D'", "D'"])) == "U2"
+    t = transitions([_reading(s, 0), _reading(s.apply_all(["R", "R"]), 0)])
+    assert [(x.move, x.quarter_turns) for x in t] == [("R2", 2)]
     assert classify(s, s.apply_all(["U", "R"])) is None
     # One corner twisted in place (120 deg about its diagonal): not reachable by turns at all.
     ufr = CUBIES.index("UFR")

@@ -72,6 +72,22 @@ def test_scramble_optimum_is_four():
     assert optimal_turns(SOLVED.apply_all(SCRAMBLE)) == 4
 
 
+def test_a_half_turn_counts_two_quarter_turns():
+    from rle_tasks.f03_physical_reasoning.cube.distance import optimal_turns
+
+    start = SOLVED.apply_all(["R", "R", "U"])
+    assert optimal_turns(start) == 3
+    mid = start.apply("U'")
+    t = [
+        Transition(0, start.normalized(), mid.normalized(), classify(start, mid)),
+        Transition(1, mid.normalized(), SOLVED, classify(mid, SOLVED)),
+    ]
+    assert [x.move for x in t] == ["U'", "R2"]
+    s = cube_reward(solved=True, optimal=3, ledger_turns=3, transitions=t)
+    assert (s.turns, s.reward) == (3, 1.0)
+    assert cube_reward(solved=True, optimal=3, ledger_turns=2, transitions=t).reward == 0.0
+
+
 def test_out_of_range_optimum_is_our_bug():
     with pytest.raises(ValueError, match="0..14"):
         cube_reward(solved=True, optimal=15, ledger_turns=0, transitions=[])

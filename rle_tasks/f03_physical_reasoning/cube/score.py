@@ -1,8 +1,9 @@
 """The pocket cube's reward: a pure function of the solve, the ledger's turn count and the transitions.
 
-    reward = 0                              if the ledger's turn count != classified transitions
-                                            (invalid counters), or the cube is not solved
-           = min(1, opt / turns)            otherwise (turns = classified quarter turns; 1 if turns = 0)
+    reward = 0                              if the ledger's turn count != the quarter turns of the
+                                            classified transitions (invalid counters), or unsolved
+           = min(1, opt / turns)            otherwise (turns = quarter turns, a half turn counting 2;
+                                            1 if turns = opt = 0)
            then capped at 0.5               if any transition is unclassified
 
 ``opt`` is the optimal quarter-turn count of the scramble (``distance.optimal_turns``), so a solve in
@@ -28,7 +29,7 @@ class CubeScore:
     Attributes:
         reward: In [0, 1].
         reason: Which rule decided it.
-        turns: Classified quarter turns.
+        turns: Quarter turns of the classified transitions (a half turn counts 2).
         unclassified: Unclassified transitions.
         optimal: Optimal quarter turns for the scramble.
         cap: The cap applied, or None.
@@ -55,8 +56,8 @@ def cube_reward(
     """
     if not 0 <= optimal <= 14:
         raise ValueError(f"optimal quarter-turn count must be in 0..14 (God's number), got {optimal}")
-    turns = sum(1 for t in transitions if t.classified)
-    unclassified = len(transitions) - turns
+    turns = sum(t.quarter_turns for t in transitions)
+    unclassified = sum(1 for t in transitions if not t.classified)
     cap = UNCLASSIFIED_CAP if unclassified else None
 
     def done(reward: float, reason: str) -> CubeScore:

@@ -8,8 +8,9 @@ produces a turn, and a turn is counted once the layer has settled into its new q
 Each change between consecutive settled states is classified: it is the quarter turn ``X`` when
 ``after == before.apply(X)`` for one of the six generators that keep DBL in place (U, U', R, R', F, F';
 a turn of the D, L or B layer reads as the same-sense turn of the opposite face, because the cube's frame
-moves with DBL). Anything else (a half turn between two samples, two layers at once, a forced twist) is
-unclassified.
+moves with DBL), or the half turn ``X2`` (two quarter turns of one layer, e.g. spun past its 90-degree
+position between two settled readings). Anything else (two layers at once, a forced twist, a broken
+cube) is unclassified.
 
 ``SETTLED_TOL`` = 10 deg: above the mechanism's settled misalignment (2 deg, tested) with margin for
 the grip's squeeze, and far inside the 45-degree basin of a lattice state, so a settled reading is never
@@ -37,7 +38,8 @@ class Transition:
         index: Sample index (e.g. control step) of the reading that settled into ``after``.
         before: Normalised state before.
         after: Normalised state after.
-        move: The quarter turn (one of ``coords.GENERATORS``), or None when unclassified.
+        move: The quarter turn (one of ``coords.GENERATORS``), a half turn (``"U2"``, ``"R2"``,
+            ``"F2"``), or None when unclassified.
     """
 
     index: int
@@ -47,12 +49,20 @@ class Transition:
 
     @property
     def classified(self) -> bool:
-        """True when the change is exactly one quarter turn."""
+        """True when the change is one quarter turn or one half turn of a single layer."""
         return self.move is not None
+
+    @property
+    def quarter_turns(self) -> int:
+        """Quarter turns in the transition: 1, 2 for a half turn, 0 when unclassified."""
+        if self.move is None:
+            return 0
+        return 2 if self.move.endswith("2") else 1
 
 
 def classify(before: LatticeState, after: LatticeState) -> str | None:
-    """The quarter turn that takes ``before`` to ``after`` (both up to a whole-cube rotation), or None.
+    """The quarter turn (or half turn ``X2``) taking ``before`` to ``after`` (up to a whole-cube
+    rotation), or None.
 
     Raises:
         ValueError: The two states are the same puzzle state (no transition to classify).
@@ -63,6 +73,9 @@ def classify(before: LatticeState, after: LatticeState) -> str | None:
     for move in GENERATORS:
         if b.apply(move).normalized() == a:
             return move
+    for move in GENERATORS[::2]:
+        if b.apply(move).apply(move).normalized() == a:
+            return move + "2"
     return None
 
 
