@@ -1,0 +1,42 @@
+"""The physical pocket cube of task 03-pocket-cube: model, move model, state reading, distances, score.
+
+The task itself (two-arm scene, metered session, verifier, solutions) is not registered yet; this
+subpackage holds everything that does not need the scene. See README.md.
+"""
+
+from rle_tasks.f03_physical_reasoning.cube.detent import CubeDetent
+from rle_tasks.f03_physical_reasoning.cube.distance import distance_table, optimal_turns
+from rle_tasks.f03_physical_reasoning.cube.lattice import CUBIES, FACES, MOVES, SOLVED, LatticeState
+from rle_tasks.f03_physical_reasoning.cube.model import CubeConfig, cube_spec
+from rle_tasks.f03_physical_reasoning.cube.reading import (
+    CubePoses,
+    CubeReading,
+    check_solved,
+    poses_from_data,
+    read,
+)
+from rle_tasks.f03_physical_reasoning.cube.score import CubeScore, cube_reward
+from rle_tasks.f03_physical_reasoning.cube.turns import Transition, classify, transitions
+
+__all__ = [
+    "CUBIES",
+    "FACES",
+    "MOVES",
+    "SOLVED",
+    "CubeConfig",
+    "CubeDetent",
+    "CubePoses",
+    "CubeReading",
+    "CubeScore",
+    "LatticeState",
+    "Transition",
+    "check_solved",
+    "classify",
+    "cube_reward",
+    "cube_spec",
+    "distance_table",
+    "optimal_turns",
+    "poses_from_data",
+    "read",
+    "transitions",
+]
