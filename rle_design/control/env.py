@@ -16,13 +16,16 @@ Observation (free): ``time`` [s]; ``arms``: one dict per arm with ``q``, ``dq`` 
 ``gripper`` (finger opening [m], 0..0.08), ``base_pos`` [m] / ``base_quat``; ``rgb``: dict camera ->
 (H, W, 3) uint8, rendered after a reset and every ``camera_every`` actions (absent otherwise and
 when ``image_size`` is None); ``bodies`` (only when ``privileged``): free body -> (x, y, z, qw, qx,
-qy, qz) [m]. Privileged observations exist for reference programs and tests; agents get
+qy, qz) [m] and ``sizes``: free body -> its first geom's size (box half extents) [m]. Privileged observations exist for reference programs and tests; agents get
 ``privileged=False``.
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import mujoco
@@ -78,6 +81,14 @@ class TabletopEnv(MeteredEnv):
     image_size: tuple[int, int] | None = (120, 160)
     camera_every: int = 10
     privileged: bool = False
+
+    def fingerprint(self) -> str:
+        """Digest of the scene that does not depend on where the mesh files are installed [hex].
+
+        Each mesh file reference is replaced by the SHA-256 of the file's bytes before hashing the
+        MJCF, so the same scene recorded on one checkout replays on another.
+        """
+        return _portable_digest(self.xml)
 
     def _arm_ctl(self, model: mujoco.MjModel) -> tuple[_Arm, ...]:
         entry = _ARMS.get(id(model))
@@ -147,9 +158,22 @@ class TabletopEnv(MeteredEnv):
             obs["rgb"] = render_rgb(model, data, self.cameras, self.image_size)
         if self.privileged:
             obs["bodies"] = free_body_poses(model, data)
+            obs["sizes"] = {name: model.geom_size[model.body(name).geomadr[0]].copy() for name in obs["bodies"]}
         for name, fn in self.observers:
             obs[name] = fn(model, data)
         return obs
+
+
+@functools.lru_cache(maxsize=32)
+def _portable_digest(xml: str) -> str:
+    from lxml import etree
+
+    root = etree.fromstring(xml.encode())
+    for el in root.iter("mesh", "texture", "hfield", "skin"):
+        file = el.get("file")
+        if file:
+            el.set("file", hashlib.sha256(Path(file).read_bytes()).hexdigest())
+    return hashlib.sha256(etree.tostring(root)).hexdigest()
 
 
 def free_body_poses(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, np.ndarray]:
