@@ -9,7 +9,8 @@ or a replay restores it exactly.
 One action (``layout``): per arm 12 numbers in [-1, 1]; each action moves the arm's target by the
 scaled delta (the target is kept within ``LEASH`` of the tool site so contact cannot wind it up),
 sets the gripper, then ``n_substeps`` physics steps run, the torques recomputed every step
-(``OperationalSpaceController``; ``mj_step1``/``mj_step2`` so they use the current state).
+(``OperationalSpaceController``, its matrices refreshed every ``OSC_REFRESH`` steps; ``mj_step1``/
+``mj_step2`` so they use the current state).
 
 Observation (free): ``time`` [s]; ``arms``: one dict per arm with ``q``, ``dq`` (7) [rad, rad/s],
 ``ee_pos`` [m] / ``ee_quat`` (w, x, y, z) of the tool site, ``target_pos`` / ``target_quat``,
@@ -41,6 +42,8 @@ __all__ = ["LEASH", "TabletopEnv"]
 
 LEASH = 0.08
 """Largest distance between an arm's target and its tool site [m]."""
+OSC_REFRESH = 5
+"""Physics steps between recomputations of the controller's Jacobian and inertias (10 ms)."""
 FINGER_MAX = 0.04
 """Travel of one finger [m]."""
 
@@ -124,10 +127,12 @@ class TabletopEnv(MeteredEnv):
             data.mocap_quat[arm.mocap] = quat
             opening = FINGER_MAX * (1.0 - a[GRIPPER]) / 2.0
             data.ctrl[arm.fingers] = (opening, -opening)
-        for _ in range(self.n_substeps):
+        for k in range(self.n_substeps):
             mujoco.mj_step1(model, data)
             for arm in arms:
-                arm.osc.apply(data, data.mocap_pos[arm.mocap], data.mocap_quat[arm.mocap])
+                arm.osc.apply(
+                    data, data.mocap_pos[arm.mocap], data.mocap_quat[arm.mocap], k % OSC_REFRESH == 0
+                )
             mujoco.mj_step2(model, data)
         mujoco.mj_forward(model, data)
 
@@ -158,7 +163,9 @@ class TabletopEnv(MeteredEnv):
             obs["rgb"] = render_rgb(model, data, self.cameras, self.image_size)
         if self.privileged:
             obs["bodies"] = free_body_poses(model, data)
-            obs["sizes"] = {name: model.geom_size[model.body(name).geomadr[0]].copy() for name in obs["bodies"]}
+            obs["sizes"] = {
+                name: model.geom_size[model.body(name).geomadr[0]].copy() for name in obs["bodies"]
+            }
         for name, fn in self.observers:
             obs[name] = fn(model, data)
         return obs

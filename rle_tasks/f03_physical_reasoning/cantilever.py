@@ -42,8 +42,13 @@ class Instance:
         mass = DENSITY * length * WIDTH * HEIGHT
         colours = ((0.85, 0.3, 0.2, 1), (0.2, 0.6, 0.85, 1), (0.3, 0.75, 0.3, 1), (0.9, 0.75, 0.2, 1))
         self.pieces = tuple(
-            Piece(f"block{i}", (length / 2, WIDTH / 2, HEIGHT / 2), (float(x), float(y), CONFIG.top_z + HEIGHT / 2),
-                  mass=mass, rgba=colours[i])  # fmt: skip
+            Piece(
+                f"block{i}",
+                (length / 2, WIDTH / 2, HEIGHT / 2),
+                (float(x), float(y), CONFIG.top_z + HEIGHT / 2),
+                mass=mass,
+                rgba=colours[i],
+            )  # fmt: skip
             for i, (x, y) in enumerate(spots)
         )
 
@@ -58,7 +63,7 @@ def instance(secret: Secret) -> Instance:
     rng = derive_rng(secret, CANTILEVER_ID, "instance")
     length = float(rng.uniform(0.14, 0.18))
     ys = np.array([-0.33, -0.2, 0.2, 0.33]) + rng.uniform(-0.01, 0.01, 4)
-    xs = 0.2 + rng.uniform(-0.03, 0.03, 4)
+    xs = 0.3 + rng.uniform(-0.03, 0.03, 4)
     return Instance(length, np.column_stack([xs, ys]))
 
 
@@ -109,3 +114,19 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         {"overhang": outcome}, valid=True, errors=findings.errors,
         native_metrics={"steps": gate.steps, "block_length_m": inst.length},
     )  # fmt: skip
+
+
+def task_spec():
+    """TaskSpec of 03-cantilever."""
+    from .task import current_secret, tabletop_task
+
+    return tabletop_task(
+        CANTILEVER_ID,
+        "Tabletop physical reasoning: maximise the overhang of four blocks",
+        "cantilever.md",
+        CANTILEVER_RUBRIC.markdown_table(),
+        verify,
+        lambda: instance(current_secret()).pieces,
+        ("reference", "baseline/overreach", "baseline/unsealed"),
+        f"{__package__}.solutions.cantilever",
+    )

@@ -113,7 +113,9 @@ def settle(
     return model, data, speed
 
 
-def piece_poses(model: mujoco.MjModel, data: mujoco.MjData, pieces: tuple[Piece, ...]) -> dict[str, np.ndarray]:
+def piece_poses(
+    model: mujoco.MjModel, data: mujoco.MjData, pieces: tuple[Piece, ...]
+) -> dict[str, np.ndarray]:
     """Name -> (x, y, z, qw, qx, qy, qz) of each piece's free joint."""
     out = {}
     for piece in pieces:

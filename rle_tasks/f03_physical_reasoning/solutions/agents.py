@@ -8,8 +8,9 @@ job is to show that the verifier gives full credit to a near-optimal scene built
 actions, not to show how an agent perceives the pieces.
 
 - ``harmonic_cantilever(scale)``: the four blocks as a harmonic stack, block k from the top
-  overhanging the one below by ``scale`` x L/(2k); ``scale = 0.97`` is the reference (overhang
-  0.97 x 25/24 L = 1.010 L, 0.865 of the optimum), ``scale = 1.15`` the baseline past its tipping point.
+  overhanging the one below by ``scale`` x L/(2k); ``scale = 0.93`` is the reference (overhang
+  0.93 x 25/24 L = 0.969 L, 0.83 of the optimum; at 0.97 the top block, 2 mm from its tipping point,
+  fell in one of two trials), ``scale = 1.15`` the baseline past its tipping point.
 - ``tower(plan, knock_over)``: stacks the pieces of a tower plan bottom-up at the build spot; with
   ``knock_over`` it then sweeps the arm through the tower.
 """
@@ -72,7 +73,7 @@ def pick_and_place(
 
 def harmonic_cantilever(
     step: Callable[[np.ndarray], dict[str, Any]], obs: dict[str, Any], edge_x: float, top_z: float,
-    scale: float = 0.97,
+    scale: float = 0.93,
 ) -> CartesianHelper:  # fmt: skip
     """Build the harmonic stack of the four blocks (bottom first) at the table edge ``edge_x``."""
     helper = CartesianHelper(step, obs)
