@@ -13,6 +13,7 @@ its long axis, so turning a block in yaw never lengthens it (the 3-D diagonal tr
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -34,14 +35,24 @@ WIDTH = 0.04
 HEIGHT = 0.03
 
 
+@dataclass(frozen=True)
 class Instance:
-    """One cantilever instance: ``L`` [m] and the four blocks."""
+    """One cantilever instance.
 
-    def __init__(self, length: float, spots: np.ndarray) -> None:
-        self.length = float(length)
+    Attributes:
+        length: Block length L [m].
+        pieces: The four blocks, as spawned.
+    """
+
+    length: float
+    pieces: tuple[Piece, ...]
+
+    @classmethod
+    def build(cls, length: float, spots: np.ndarray) -> Instance:
+        """Four blocks of length ``length`` [m] lying at ``spots`` ((x, y) [m]), long axis along x."""
         mass = DENSITY * length * WIDTH * HEIGHT
         colours = ((0.85, 0.3, 0.2, 1), (0.2, 0.6, 0.85, 1), (0.3, 0.75, 0.3, 1), (0.9, 0.75, 0.2, 1))
-        self.pieces = tuple(
+        pieces = tuple(
             Piece(
                 f"block{i}",
                 (length / 2, WIDTH / 2, HEIGHT / 2),
@@ -51,6 +62,7 @@ class Instance:
             )  # fmt: skip
             for i, (x, y) in enumerate(spots)
         )
+        return cls(float(length), pieces)
 
     @property
     def optimum(self) -> float:
@@ -64,7 +76,7 @@ def instance(secret: Secret) -> Instance:
     length = float(rng.uniform(0.14, 0.18))
     ys = np.array([-0.33, -0.2, 0.2, 0.33]) + rng.uniform(-0.01, 0.01, 4)
     xs = 0.3 + rng.uniform(-0.03, 0.03, 4)
-    return Instance(length, np.column_stack([xs, ys]))
+    return Instance.build(length, np.column_stack([xs, ys]))
 
 
 def reach(pose: np.ndarray, length: float) -> float:

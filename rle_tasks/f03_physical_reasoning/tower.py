@@ -14,6 +14,8 @@ above the table top and at rest, minus the table top; score = height / H*, clipp
 
 from __future__ import annotations
 
+import functools
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -40,12 +42,11 @@ SPOTS = tuple((x, s * y) for x in (0.33, 0.2) for y in (0.25, 0.37, 0.49) for s 
 """Twelve spawn spots (x, y) [m], all 0.35-0.62 m from the arm's base."""
 
 
+@dataclass(frozen=True)
 class Instance:
-    """Pieces of one tower instance and their optimum."""
+    """Pieces of one tower instance (``pieces``) and their optimum (``plan``, computed once)."""
 
-    def __init__(self, pieces: tuple[Piece, ...]) -> None:
-        self.pieces = pieces
-        self._plan: TowerPlan | None = None
+    pieces: tuple[Piece, ...]
 
     def blocks(self) -> list[Block]:
         """The pieces as the optimiser sees them (resting on their spawn face)."""
@@ -54,11 +55,10 @@ class Instance:
             for p in self.pieces
         ]
 
-    @property
+    @functools.cached_property
     def plan(self) -> TowerPlan:
-        if self._plan is None:
-            self._plan = optimal_tower(self.blocks())
-        return self._plan
+        """The optimal tower (``tower_optimum.optimal_tower``)."""
+        return optimal_tower(self.blocks())
 
     @property
     def optimum(self) -> float:
