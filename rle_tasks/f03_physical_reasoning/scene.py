@@ -10,6 +10,7 @@ scored.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import mujoco
@@ -18,7 +19,17 @@ import numpy as np
 from rle_design.control import TabletopEnv
 from rle_design.scene.tabletop import TabletopConfig, add_free_box, build_tabletop, finish
 
-__all__ = ["CONFIG", "N_SUBSTEPS", "SETTLE_S", "Piece", "make_env", "settle", "scene_spec"]
+__all__ = [
+    "CONFIG",
+    "N_SUBSTEPS",
+    "SETTLE_S",
+    "Piece",
+    "SceneEdit",
+    "make_env",
+    "piece_poses",
+    "scene_spec",
+    "settle",
+]
 
 CONFIG = TabletopConfig()
 """The family's table: top at 0.75 m, edge at x = 0.45 m (normal +x), one Panda at (-0.05, 0)."""
@@ -73,32 +84,52 @@ def _add_piece(spec: mujoco.MjSpec, piece: Piece) -> None:
                   mass=piece.mass, rgba=list(piece.rgba), condim=4)  # fmt: skip
 
 
-def scene_spec(pieces: tuple[Piece, ...], robot: bool = True) -> mujoco.MjSpec:
-    """Table, (robot), pieces, keyframe ``initial``."""
+SceneEdit = Callable[[mujoco.MjSpec], None]
+"""Adds task-specific elements (a balance, sealed boxes, ...) to the scene spec before it is finished;
+a module-level function, applied alike to the metered scene and the robot-free settle scene."""
+
+
+def scene_spec(
+    pieces: tuple[Piece, ...], robot: bool = True, extras: tuple[SceneEdit, ...] = ()
+) -> mujoco.MjSpec:
+    """Table, (robot), pieces, ``extras``, keyframe ``initial``."""
     config = CONFIG if robot else TabletopConfig(arms=())
     spec = build_tabletop(config)
     for piece in pieces:
         _add_piece(spec, piece)
+    for edit in extras:
+        edit(spec)
     return finish(spec, config)
 
 
-def make_env(pieces: tuple[Piece, ...], *, privileged: bool = False, images: bool = True) -> TabletopEnv:
+def make_env(
+    pieces: tuple[Piece, ...],
+    *,
+    privileged: bool = False,
+    images: bool = True,
+    extras: tuple[SceneEdit, ...] = (),
+) -> TabletopEnv:
     """The metered environment of an instance (agents: ``privileged=False``)."""
-    xml = scene_spec(pieces).to_xml()
+    xml = scene_spec(pieces, extras=extras).to_xml()
     return TabletopEnv(
         xml=xml, n_substeps=N_SUBSTEPS, privileged=privileged, image_size=(120, 160) if images else None
     )
 
 
 def settle(
-    pieces: tuple[Piece, ...], poses: dict[str, np.ndarray], seconds: float = SETTLE_S
+    pieces: tuple[Piece, ...],
+    poses: dict[str, np.ndarray],
+    seconds: float = SETTLE_S,
+    extras: tuple[SceneEdit, ...] = (),
 ) -> tuple[mujoco.MjModel, mujoco.MjData, float]:
     """Robot-free scene with each piece at ``poses[name]`` (x, y, z, qw, qx, qy, qz), settled.
+
+    Other joints (those of ``extras``) start from their defaults.
 
     Returns:
         (model, data, largest piece speed at the end [m/s]).
     """
-    model = scene_spec(pieces, robot=False).compile()
+    model = scene_spec(pieces, robot=False, extras=extras).compile()
     data = mujoco.MjData(model)
     mujoco.mj_resetData(model, data)
     for piece in pieces:
