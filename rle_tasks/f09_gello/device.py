@@ -383,9 +383,10 @@ def load_submission(robot: str, directory: Path) -> Submission:
     from rle_tasks.f09_gello.buildable import buildability_findings
     from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workspace_grid
 
-    # spring paths are checked at hinge poses; a leader with other joints already fails its structure
-    hinges_only = m.nq == m.njnt
-    public_grid = workspace_grid(m.jnt_range, PUBLIC_GRID_SIZE) if hinges_only else np.zeros((0, m.nq))
+    # spring paths are checked on the stock joints' grid; a leader with other joints already fails
+    stock = stock_model(robot)
+    same_joints = m.njnt == stock.njnt and m.nq == stock.nq
+    public_grid = workspace_grid(stock.jnt_range, PUBLIC_GRID_SIZE) if same_joints else np.zeros((0, m.nq))
     sub.structure += buildability_findings(
         sub.design.fresh_spec(), m, sub.added_bodies, public_grid, _geom_volume, rel
     )

@@ -110,7 +110,8 @@ def test_point_mass_and_over_mass_are_validity_findings(tmp_path):
 def test_the_over_mass_deduction_is_linear_up_to_the_hard_bound(tmp_path, extra_kg, code):
     # a steel cube of the extra mass on the base: side = (m / 7850)^(1/3), so no point-mass finding
     side = (extra_kg / 7850.0) ** (1 / 3)
-    block = f'<body name="lead" pos="0 0 0.05"><geom type="box" size="{side / 2} {side / 2} {side / 2}" mass="{extra_kg}"/></body>'
+    # resting on the base plate (its top face is the base frame's z = 0), 1 mm into it: fastened
+    block = f'<body name="lead" pos="0 0 {side / 2 - 0.001}"><geom type="box" size="{side / 2} {side / 2} {side / 2}" mass="{extra_kg}"/></body>'
     sub = _variant(tmp_path, '<site name="mount_site"', block + '<site name="mount_site"')
     if code is None:  # stock ur5e 0.447 kg + 2.2 kg = 2.647 kg: (2.647 - 2.30) / 0.70 = 0.496 of 0.10
         assert sub.usable and [f.code for f in sub.validity] == ["contract.over_mass"]
@@ -160,9 +161,9 @@ def test_thin_added_part_is_not_printable(tmp_path):
         '<mesh name="base" file="base.stl"/>',
         '<mesh name="base" file="base.stl"/><mesh name="fin" file="fin.stl"/>',
     )
-    text = text.replace(
-        '<site name="handle_site"',
-        '<body name="fin" pos="0 0.05 0"><geom name="fin" type="mesh" mesh="fin" density="1240"/></body><site name="handle_site"',
+    text = text.replace(  # a fin lying in the base plate (fastened, but too thin to print)
+        '<site name="mount_site"',
+        '<body name="fin" pos="0 0 -0.006"><geom name="fin" type="mesh" mesh="fin" density="1240"/></body><site name="mount_site"',
     )
     (d / "lead.xml").write_text(text)
     sub = load_submission("ur5e", d)
@@ -179,8 +180,9 @@ def test_exclude_cannot_hide_a_counterweight_collision(tmp_path):
     shutil.copytree(ASSET_DIR / "ur5e", d)
     text = (d / "lead.xml").read_text()
     # a steel ball on a 12 cm arm at the shoulder sweeps through the table and the base
-    ball = (
-        '<body name="ball" pos="0.12 0 0"><geom name="ball" type="sphere" size="0.03" density="7850"/></body>'
+    ball = (  # on a printed rod back to the joint axis, so it is fastened to link 2
+        '<body name="ball" pos="0.12 0 0"><geom name="ball" type="sphere" size="0.03" density="7850"/>'
+        '<geom name="ball_rod" type="cylinder" fromto="0 0 0 -0.12 0 0" size="0.006" density="1240"/></body>'
     )
     text = text.replace('<joint name="j2"', ball + '<joint name="j2"', 1)
     excluded = text.replace(
