@@ -7,7 +7,9 @@ Mechanism (all lengths in the balance frame, x along the beam, z up, origin at t
   depth ``bob_depth`` below it); its centre of mass lies ``d = bob_mass bob_depth / M_beam`` below the
   pivot, with ``M_beam = bar_mass + bob_mass``;
 - each pan hangs from a hinge about y at ``(+-arm_length, 0, 0)``, on the beam's axis line, so a load
-  on a pan acts on the beam as a vertical force through that point whatever the tilt;
+  on a pan acts on the beam as a vertical force through that point whatever the tilt; the tray sits
+  ``tray_offset`` along +y from below its hang point (open above for a gripper), an offset along the
+  hinge axes that adds no moment about them;
 - moment balance about the pivot at tilt theta: ``dm g L cos(theta) = M_beam g d sin(theta)``, so
   ``tan(theta) = dm L_arm / (M_beam d)`` (``dm`` = left load minus right load; positive theta lowers
   the left pan (at -x), i.e. the beam hinge angle is q = -theta);
@@ -54,9 +56,13 @@ class BalanceParams:
     """Depth of the bob's centre below the pivot [m]."""
     hang_depth: float = 0.08
     """Depth of a tray's top below its hang point [m]."""
-    tray_half: float = 0.055
-    """Half side of a square pan tray [m]."""
-    pan_mass: float = 0.05
+    tray_half: tuple[float, float] = (0.03, 0.085)
+    """Half extents of a pan tray along the beam and along the hinge axis [m]; loads go in a row along
+    the hinge axis, where their offsets tilt no pan."""
+    tray_offset: float = 0.1
+    """Offset of a tray's centre from its hang point along the hinge axis (balance y) [m]: leaves the
+    space above the tray free of the beam; along the hinge axis it changes no moment about it."""
+    pan_mass: float = 0.15
     """Mass of one pan (tray) [kg]."""
     pivot_height: float = 0.16
     """Height of the pivot above the table top [m]."""
@@ -66,6 +72,7 @@ class BalanceParams:
     """Beam hinge damping [N m s/rad] (settles a three-cube weighing to 1 % within 4 s)."""
     pan_damping: float = 0.01
     """Pan hinge damping [N m s/rad]."""
+    # pan masses act at the hang points like equal loads: they leave tan(theta) unchanged
 
     @property
     def beam_mass(self) -> float:
@@ -118,15 +125,27 @@ def _box(
     return geom
 
 
-def add_balance(spec: mujoco.MjSpec, params: BalanceParams, base: tuple[float, float, float]) -> None:
-    """Add stand, beam, pans and the lock to ``spec``; ``base`` is the stand's foot on the table [m]."""
+def add_balance(
+    spec: mujoco.MjSpec, params: BalanceParams, base: tuple[float, float, float], yaw: float = 0.0
+) -> None:
+    """Add stand, beam, pans and the lock to ``spec``.
+
+    Args:
+        spec: The scene.
+        params: The balance.
+        base: The stand's foot on the table [m].
+        yaw: Heading of the balance frame about world z [rad] (0: beam along world x).
+    """
     p = params
     stand = spec.worldbody.add_body()
     stand.name = "balance_stand"
     stand.pos = np.asarray(base, dtype=float)
+    stand.quat = np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
     grey = (0.45, 0.45, 0.5, 1.0)
     _box(stand, "balance_foot", (0.05, 0.03, 0.005), (0, 0, 0.005), 0.0, grey)
-    _box(stand, "balance_post", (0.008, 0.008, p.pivot_height / 2), (0, 0.025, p.pivot_height / 2), 0.0, grey)
+    _box(
+        stand, "balance_post", (0.008, 0.008, p.pivot_height / 2), (0, -0.025, p.pivot_height / 2), 0.0, grey
+    )
     beam = stand.add_body()
     beam.name = BEAM
     beam.pos = np.array([0.0, 0.0, p.pivot_height])
@@ -155,23 +174,10 @@ def add_balance(spec: mujoco.MjSpec, params: BalanceParams, base: tuple[float, f
         joint.axis = np.array([0.0, 1.0, 0.0])
         joint.damping = np.array([p.pan_damping, 0.0, 0.0])
         joint.armature = 1e-4
-        _box(
-            pan,
-            f"{pan_name}_rod",
-            (0.002, 0.002, p.hang_depth / 2),
-            (0, 0, -p.hang_depth / 2),
-            0.0,
-            grey,
-            False,
-        )
-        _box(
-            pan,
-            tray_name,
-            (p.tray_half, p.tray_half, 0.003),
-            (0, 0, -p.hang_depth - 0.003),
-            p.pan_mass,
-            brass,
-        )
+        off, depth = p.tray_offset, p.hang_depth
+        _box(pan, f"{pan_name}_rod", (0.002, 0.002, depth / 2), (0, 0, -depth / 2), 0.0, grey, False)
+        _box(pan, f"{pan_name}_arm", (0.002, off / 2, 0.002), (0, off / 2, -depth), 0.0, grey, False)
+        _box(pan, tray_name, (*p.tray_half, 0.003), (0, off, -depth - 0.003), p.pan_mass, brass)
     lock = spec.add_equality()
     lock.name = LOCK
     lock.type = mujoco.mjtEq.mjEQ_JOINT

@@ -25,7 +25,7 @@ def _scene(left: list[int], right: list[int], cubes: bs.CubeSet):
     pos = np.array([[0.3 + 0.05 * i, 0.3, cubes.size / 2] for i in range(bs.N_CUBES)])
     for side, idx in ((-1.0, left), (1.0, right)):
         for k, i in enumerate(idx):
-            pos[i] = (side * PARAMS.arm_length + (k - (len(idx) - 1) / 2) * (cubes.size + 0.003), 0.0, top)
+            pos[i] = (side * PARAMS.arm_length, PARAMS.tray_offset + (k - (len(idx) - 1) / 2) * 0.04, top)
     bs.add_cubes(spec, cubes, pos)
     model = spec.compile()
     return model, mujoco.MjData(model)
