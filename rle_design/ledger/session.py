@@ -123,7 +123,7 @@ class MeteredSession:
                 "timestep": float(self.model.opt.timestep),
             }
             self.writer = LedgerWriter(ledger_path, key, task_id, meta)
-        self._ctrl = np.empty(self.model.nu)
+        self._ctrl = np.empty(env.action_size(self.model))
         self.actions_per_record = actions_per_record
         self._group: list[str] = []
         self._group_end: tuple[int, float] = (0, 0.0)
@@ -169,10 +169,11 @@ class MeteredSession:
             arr = np.asarray(action, dtype=np.float64)
         except (TypeError, ValueError):
             arr = None
-        if arr is None or arr.shape != (self.model.nu,):
+        if arr is None or arr.shape != self._ctrl.shape:
             got = "non-numeric" if arr is None else f"shape {arr.shape}"
+            what = "the actuators' ctrl" if self._ctrl.size == self.model.nu else "the environment's action"
             raise LedgerError(
-                f"action must be {self.model.nu} real numbers (the actuators' ctrl), got {got}",
+                f"action must be {self._ctrl.size} real numbers ({what}), got {got}",
                 code="ledger.bad_action",
             )
         self._ctrl[:] = arr
@@ -207,6 +208,7 @@ class MeteredSession:
             "nq": self.model.nq,
             "nv": self.model.nv,
             "nu": self.model.nu,
+            "action_size": int(self._ctrl.size),
             "n_substeps": self.env.n_substeps,
             "timestep": float(self.model.opt.timestep),
         }

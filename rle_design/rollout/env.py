@@ -72,15 +72,22 @@ class EnvDefinition:
         """Fresh terms of one evaluation episode (termination, success, events)."""
         return ()
 
+    def action_size(self, model: mujoco.MjModel) -> int:
+        """Length of one action: the actuators' ctrl by default; an environment that maps a command
+        layout onto its actuators (e.g. ``rle_design.control.TabletopEnv``) says its own."""
+        return model.nu
+
     def action(self, model: mujoco.MjModel, action: Any) -> np.ndarray:
         """``action`` as a finite ctrl vector; raises ``ActionError`` naming what is wrong."""
         try:
             arr = np.asarray(action, dtype=np.float64)
         except (TypeError, ValueError):
             arr = None
-        if arr is None or arr.shape != (model.nu,):
+        size = self.action_size(model)
+        if arr is None or arr.shape != (size,):
             got = "non-numeric" if arr is None else f"shape {arr.shape}"
-            raise ActionError(f"action must be {model.nu} real numbers (the actuators' ctrl), got {got}")
+            what = "the actuators' ctrl" if size == model.nu else "the environment's action"
+            raise ActionError(f"action must be {size} real numbers ({what}), got {got}")
         if not np.isfinite(arr).all():
             raise ActionError("action holds NaN or infinity")
         return arr

@@ -31,6 +31,7 @@ from rle_design.scene.robots import (
     robot_constants,
 )
 from rle_design.scene.site import SiteConfig
+from rle_design.scene.tabletop import ArmPlacement, TabletopConfig, add_free_box, build_tabletop
 from rle_design.scene.variation import (
     ComOffset,
     FrictionScale,
@@ -49,6 +50,7 @@ __all__ = [
     "XARM7",
     "AdhesionActuator",
     "Arena",
+    "ArmPlacement",
     "CameraConfig",
     "ComOffset",
     "FloorConfig",
@@ -65,15 +67,18 @@ __all__ = [
     "SiteConfig",
     "SkyboxConfig",
     "SpecEdit",
+    "TabletopConfig",
     "Uniform",
     "Variation",
     "VariationSpace",
     "arm_ids",
     "arm_model_path",
+    "add_free_box",
     "attach",
     "attach_arm",
     "attach_part",
     "attach_payload",
+    "build_tabletop",
     "compile_spec",
     "compose",
     "element_id",

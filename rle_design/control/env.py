@@ -1,0 +1,162 @@
+"""``TabletopEnv``: the tabletop scene driven by 12-D actions through operational-space control.
+
+A ``rle_design.ledger.MeteredEnv`` (one MJCF string built by ``rle_design.scene.tabletop``), so
+``MeteredSession`` / ``rle dev`` serve it with one charged step per reset and per executed action
+and the verifier can replay a ledger's actions on the same definition (``replay``). Everything the
+controller keeps between actions (the target poses) lives in ``MjData`` (mocap bodies), so a reset
+or a replay restores it exactly.
+
+One action (``layout``): per arm 12 numbers in [-1, 1]; each action moves the arm's target by the
+scaled delta (the target is kept within ``LEASH`` of the tool site so contact cannot wind it up),
+sets the gripper, then ``n_substeps`` physics steps run, the torques recomputed every step
+(``OperationalSpaceController``; ``mj_step1``/``mj_step2`` so they use the current state).
+
+Observation (free): ``time`` [s]; ``arms``: one dict per arm with ``q``, ``dq`` (7) [rad, rad/s],
+``ee_pos`` [m] / ``ee_quat`` (w, x, y, z) of the tool site, ``target_pos`` / ``target_quat``,
+``gripper`` (finger opening [m], 0..0.08), ``base_pos`` [m] / ``base_quat``; ``rgb``: dict camera ->
+(H, W, 3) uint8, rendered after a reset and every ``camera_every`` actions (absent otherwise and
+when ``image_size`` is None); ``bodies`` (only when ``privileged``): free body -> (x, y, z, qw, qx,
+qy, qz) [m]. Privileged observations exist for reference programs and tests; agents get
+``privileged=False``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from rle_design.control.layout import ACTION_SIZE, ARM, GRIPPER, POS_STEP, ROT_STEP
+from rle_design.control.osc import OperationalSpaceController, OscGains
+from rle_design.ledger import MeteredEnv
+from rle_design.scene.robots import PANDA
+from rle_design.scene.tabletop import INITIAL_KEY, ArmNames
+
+__all__ = ["LEASH", "TabletopEnv"]
+
+LEASH = 0.08
+"""Largest distance between an arm's target and its tool site [m]."""
+FINGER_MAX = 0.04
+"""Travel of one finger [m]."""
+
+
+class _Arm:
+    def __init__(self, model: mujoco.MjModel, prefix: str, gains: OscGains) -> None:
+        names = ArmNames(prefix)
+        self.osc = OperationalSpaceController(
+            model, names.tool_site, names.joints, names.motors, PANDA.home, gains
+        )
+        self.fingers = np.array([model.actuator(f).id for f in names.fingers])
+        self.finger_q = np.array([model.jnt_qposadr[model.actuator_trnid[a, 0]] for a in self.fingers])
+        self.mocap = model.body(names.target).mocapid[0]
+        self.base = model.body(names.base).id
+
+
+_ARMS: dict[int, tuple[mujoco.MjModel, tuple[_Arm, ...]]] = {}
+
+
+@dataclass(frozen=True)
+class TabletopEnv(MeteredEnv):
+    """The tabletop (see the module docstring).
+
+    Attributes:
+        arms: Prefixes of the arms, in action order.
+        keyframe: Keyframe a reset restores (``finish`` writes ``"initial"``).
+        gains: Operational-space gains.
+        cameras: Cameras rendered into ``rgb``.
+        image_size: (height, width) of the RGB images [px]; None renders none.
+        camera_every: Render every this many actions (and after every reset).
+        privileged: Add the free bodies' poses to the observation (reference programs, tests).
+    """
+
+    arms: tuple[str, ...] = ("panda/",)
+    keyframe: str | None = INITIAL_KEY
+    gains: OscGains = OscGains()
+    cameras: tuple[str, ...] = ("front", "side", "top")
+    image_size: tuple[int, int] | None = (120, 160)
+    camera_every: int = 10
+    privileged: bool = False
+
+    def _arm_ctl(self, model: mujoco.MjModel) -> tuple[_Arm, ...]:
+        entry = _ARMS.get(id(model))
+        if entry is None or entry[0] is not model:
+            if len(_ARMS) > 16:
+                _ARMS.clear()
+            entry = _ARMS[id(model)] = (model, tuple(_Arm(model, p, self.gains) for p in self.arms))
+        return entry[1]
+
+    def prepare(self, model: mujoco.MjModel) -> None:
+        super().prepare(model)
+        self._arm_ctl(model)
+
+    def action_size(self, model: mujoco.MjModel) -> int:
+        return ACTION_SIZE * len(self.arms)
+
+    def step(self, model: mujoco.MjModel, data: mujoco.MjData, ctrl: np.ndarray) -> None:
+        act = np.clip(np.nan_to_num(np.asarray(ctrl, dtype=float)), -1.0, 1.0)
+        arms = self._arm_ctl(model)
+        for i, arm in enumerate(arms):
+            a = act[ACTION_SIZE * i : ACTION_SIZE * (i + 1)]
+            rot = data.xmat[arm.base].reshape(3, 3)
+            d_pos = rot @ (a[ARM][:3] * POS_STEP)
+            d_rot = rot @ (a[ARM][3:] * ROT_STEP)
+            ee = data.site_xpos[arm.osc.site]
+            target = data.mocap_pos[arm.mocap] + d_pos
+            data.mocap_pos[arm.mocap] = ee + np.clip(target - ee, -LEASH, LEASH)
+            dq = np.zeros(4)
+            mujoco.mju_axisAngle2Quat(dq, d_rot / max(np.linalg.norm(d_rot), 1e-12), np.linalg.norm(d_rot))
+            quat = np.zeros(4)
+            mujoco.mju_mulQuat(quat, dq, data.mocap_quat[arm.mocap].copy())
+            mujoco.mju_normalize4(quat)
+            data.mocap_quat[arm.mocap] = quat
+            opening = FINGER_MAX * (1.0 - a[GRIPPER]) / 2.0
+            data.ctrl[arm.fingers] = (opening, -opening)
+        for _ in range(self.n_substeps):
+            mujoco.mj_step1(model, data)
+            for arm in arms:
+                arm.osc.apply(data, data.mocap_pos[arm.mocap], data.mocap_quat[arm.mocap])
+            mujoco.mj_step2(model, data)
+        mujoco.mj_forward(model, data)
+
+    def observe(self, model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, Any]:
+        obs: dict[str, Any] = {"time": float(data.time), "arms": []}
+        for arm in self._arm_ctl(model):
+            pos, quat = arm.osc.site_pose(data)
+            base_quat = np.zeros(4)
+            mujoco.mju_mat2Quat(base_quat, data.xmat[arm.base])
+            obs["arms"].append(
+                {
+                    "q": data.qpos[arm.osc.qadr].copy(),
+                    "dq": data.qvel[arm.osc.dof].copy(),
+                    "ee_pos": pos,
+                    "ee_quat": quat,
+                    "target_pos": data.mocap_pos[arm.mocap].copy(),
+                    "target_quat": data.mocap_quat[arm.mocap].copy(),
+                    "gripper": float(data.qpos[arm.finger_q[0]] - data.qpos[arm.finger_q[1]]),
+                    "base_pos": data.xpos[arm.base].copy(),
+                    "base_quat": base_quat,
+                }
+            )
+        period = self.n_substeps * model.opt.timestep
+        tick = int(round(data.time / period))
+        if self.image_size is not None and tick % self.camera_every == 0:
+            from rle_design.control.cameras import render_rgb
+
+            obs["rgb"] = render_rgb(model, data, self.cameras, self.image_size)
+        if self.privileged:
+            obs["bodies"] = free_body_poses(model, data)
+        for name, fn in self.observers:
+            obs[name] = fn(model, data)
+        return obs
+
+
+def free_body_poses(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, np.ndarray]:
+    """Free body name -> (x, y, z, qw, qx, qy, qz) from its free joint's qpos [m]."""
+    out = {}
+    for j in range(model.njnt):
+        if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:
+            adr = model.jnt_qposadr[j]
+            out[model.body(model.jnt_bodyid[j]).name] = data.qpos[adr : adr + 7].copy()
+    return out

@@ -1,0 +1,143 @@
+"""Operational-space controller, 12-D action layout, Cartesian helper and ledger replay."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from rle_design.control import (
+    ACTION_SIZE,
+    POS_STEP,
+    CartesianHelper,
+    ReplayError,
+    TabletopEnv,
+    orientation_error,
+    replay,
+)
+from rle_design.ledger import MeteredSession, verify_ledger
+from rle_design.scene.tabletop import TabletopConfig, add_free_box, build_tabletop, finish
+
+POS_TOL = 1e-3
+"""Controller convergence tolerance on position [m]."""
+ROT_TOL = 1e-2
+"""Controller convergence tolerance on orientation [rad]."""
+
+
+@pytest.fixture(scope="module")
+def scene() -> tuple[TabletopEnv, mujoco.MjModel]:
+    spec = build_tabletop(TabletopConfig())
+    add_free_box(spec, "block", (0.02, 0.02, 0.02), (0.3, 0.2, 0.77), mass=0.1)
+    finish(spec)
+    env = TabletopEnv(xml=spec.to_xml(), n_substeps=10, image_size=None, privileged=True)
+    model = env.build()
+    env.prepare(model)
+    return env, model
+
+
+def _reset(env: TabletopEnv, model: mujoco.MjModel) -> mujoco.MjData:
+    data = mujoco.MjData(model)
+    env.reset(model, data)
+    return data
+
+
+def test_orientation_error_is_the_rotation_vector() -> None:
+    axis = np.array([1.0, 2.0, -0.5]) / np.linalg.norm([1.0, 2.0, -0.5])
+    angle = 0.3
+    q_rot = np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * axis])
+    q0 = np.array([0.0, 0.7071067811865476, 0.7071067811865476, 0.0])
+    q1 = np.zeros(4)
+    mujoco.mju_mulQuat(q1, q_rot, q0)  # world-frame rotation of q0
+    np.testing.assert_allclose(orientation_error(q1, q0), angle * axis, atol=1e-12)
+
+
+def test_osc_converges_to_a_target_pose(scene: tuple[TabletopEnv, mujoco.MjModel]) -> None:
+    env, model = scene
+    data = _reset(env, model)
+    mocap = model.body("panda/target").mocapid[0]
+    goal = data.mocap_pos[mocap] + np.array([0.06, -0.07, -0.08])  # within the leash
+    turn = np.array([np.cos(0.2), 0.0, 0.0, np.sin(0.2)])  # 0.4 rad about world z
+    goal_q = np.zeros(4)
+    mujoco.mju_mulQuat(goal_q, turn, data.mocap_quat[mocap].copy())
+    data.mocap_pos[mocap], data.mocap_quat[mocap] = goal, goal_q
+    hold = np.zeros(ACTION_SIZE)
+    hold[6] = -1.0
+    for _ in range(40):  # 2 s
+        env.step(model, data, hold)
+    site = model.site("panda/hand/grip_site").id
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, data.site_xmat[site])
+    assert np.linalg.norm(data.site_xpos[site] - goal) < POS_TOL
+    assert np.linalg.norm(orientation_error(goal_q, quat)) < ROT_TOL
+
+
+def test_action_moves_the_target_by_the_scaled_delta_in_the_base_frame(
+    scene: tuple[TabletopEnv, mujoco.MjModel],
+) -> None:
+    env, model = scene
+    data = _reset(env, model)
+    mocap = model.body("panda/target").mocapid[0]
+    before = data.mocap_pos[mocap].copy()
+    action = np.zeros(ACTION_SIZE)
+    action[0], action[2], action[7:] = 0.5, -1.0, 1.0  # base/torso/mode inert
+    env.step(model, data, action)
+    np.testing.assert_allclose(data.mocap_pos[mocap] - before, [0.5 * POS_STEP, 0.0, -POS_STEP], atol=1e-12)
+
+
+def test_helper_issues_only_ordinary_actions(scene: tuple[TabletopEnv, mujoco.MjModel]) -> None:
+    env, model = scene
+    data = _reset(env, model)
+    sent: list[np.ndarray] = []
+
+    def step(action: np.ndarray) -> dict:
+        sent.append(np.array(action, dtype=float))
+        env.step(model, data, action)
+        return env.observe(model, data)
+
+    helper = CartesianHelper(step, env.observe(model, data))
+    goal = np.array([0.3, 0.2, 0.79])
+    result = helper.move_to(goal + [0.0, 0.0, 0.1])
+    assert result.reached
+    assert helper.move_to(goal).reached
+    helper.grasp()
+    lifted = helper.move_to(goal + [0.0, 0.0, 0.1])
+    assert lifted.reached and lifted.pos_error < 2e-3
+    assert data.qpos[model.jnt_qposadr[model.joint("block").id] + 2] > 0.84  # the block came along
+    assert len(sent) == helper.steps
+    arr = np.array(sent)
+    assert arr.shape == (helper.steps, ACTION_SIZE)
+    assert np.isfinite(arr).all() and np.abs(arr).max() <= 1.0
+    assert not arr[:, 7:].any()  # base, torso, mode never used by a fixed arm
+
+
+def test_metered_session_replays_to_the_same_final_state(
+    scene: tuple[TabletopEnv, mujoco.MjModel], tmp_path
+) -> None:
+    env, _ = scene
+    key = b"k" * 32
+    session = MeteredSession(
+        env, task_id="test-tabletop", budget=200, key=key, ledger_path=tmp_path / "l.jsonl"
+    )
+    obs = session.reset()
+    helper = CartesianHelper(session.step, obs)
+    helper.move_to(np.array([0.3, 0.2, 0.85]), max_steps=30)
+    session.reset()
+    helper.obs = session.observe()
+    helper.move_to(np.array([0.2, -0.1, 0.9]), max_steps=25)
+    session.seal()
+    assert session.steps_used == 2 + helper.steps
+    assert verify_ledger(tmp_path / "l.jsonl", key, "test-tabletop").valid
+    _, data, n = replay(env, tmp_path / "l.jsonl")
+    assert n == helper.steps
+    np.testing.assert_array_equal(data.qpos, session.data.qpos)
+    other = TabletopEnv(xml=env.xml.replace("tabletop", "tabletop2", 1), n_substeps=10, image_size=None)
+    with pytest.raises(ReplayError, match="recorded on scene"):
+        replay(other, tmp_path / "l.jsonl")
+
+
+def test_wrong_action_size_is_refused_without_charge(scene: tuple[TabletopEnv, mujoco.MjModel]) -> None:
+    env, _ = scene
+    session = MeteredSession(env, task_id="t", budget=5)
+    with pytest.raises(Exception, match=r"action must be 12 real numbers \(the environment's action\)"):
+        session.step(np.zeros(9))
+    assert session.steps_used == 0
