@@ -17,7 +17,7 @@ restores the scene, not the knowledge gained) and lives in ``MjData.userdata[0]`
 replay reproduces it exactly.
 
 Observation (free), besides the tabletop's: ``balance`` = {``cubes``: 9 x 3 cube centres [m],
-``pans``: 2 x 3 tray top centres (left, right) [m], ``released``: bool, ``weighings``: int}. Masses
+``pans``: 2 x 3 tray top centres (left, right) [m], ``mat``: the mat's centre [m], ``released``: bool, ``weighings``: int}. Masses
 are never observed.
 """
 
@@ -141,6 +141,7 @@ def balance_observation(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str,
     return {
         "cubes": np.array([data.xpos[model.body(bs.cube_name(i)).id] for i in range(bs.N_CUBES)]),
         "pans": np.array(pans),
+        "mat": data.geom_xpos[model.geom(bs.MAT).id].copy(),
         "released": not bs.is_locked(model, data),
         "weighings": int(data.userdata[WEIGHINGS]),
     }
