@@ -37,6 +37,8 @@ TILT_Z = 0.005
 """Pan height difference that counts as a tilt [m] (the lightest instance tilts the pans by ~40 mm)."""
 HALF = 0.015
 """Half a cube [m]."""
+TRAVEL_Z = 1.0
+"""Height of every carry [m]: a held cube clears the beam (0.91 m) and cubes on a raised pan."""
 PARK = np.array([0.15, 0.0, 1.05])
 """Where the hand waits during a weighing [m]."""
 DOWN = np.array([0.0, 0.70710678, 0.70710678, 0.0])
@@ -66,14 +68,14 @@ class Agent:
     def move_cube(self, cube: int, dest: np.ndarray) -> None:
         """Pick ``cube`` where it is now and set it down with its centre at ``dest`` [m]."""
         src = np.asarray(self.balance["cubes"][cube], dtype=float)
-        self._move(src + [0, 0, 0.10])
+        self._move([*src[:2], TRAVEL_Z])
         self._move(src, speed=0.5, tol=0.004)
         self.helper.grasp(12)
-        self._move(src + [0, 0, 0.12])
-        self._move(dest + [0, 0, 0.10])
+        self._move([*src[:2], TRAVEL_Z])
+        self._move([*dest[:2], TRAVEL_Z])
         self._move(dest + [0, 0, 0.012], speed=0.5, tol=0.004)
         self.helper.release(8)
-        self._move(dest + [0, 0, 0.10])
+        self._move([*dest[:2], TRAVEL_Z])
 
     def to_pan(self, cube: int, pan: int, slot: int) -> None:
         self.move_cube(cube, self._slot(pan, slot))
