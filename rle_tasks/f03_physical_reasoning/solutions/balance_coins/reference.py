@@ -22,6 +22,7 @@ Run it in a workspace with ``python reference.py`` (it connects, solves and seal
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -103,8 +104,13 @@ class Agent:
         self._move(PARK)
 
 
-def solve(env: Any, *, extra_weighings: int = 0) -> int:
-    """Find the heavy cube in two weighings (plus ``extra_weighings`` repeats of the first) and put it on the mat.
+def solve(env: Any, *, extra_weighings: int = 0, choose: Callable[[int], int] = lambda heavy: heavy) -> int:
+    """Find the heavy cube in two weighings and put it on the mat.
+
+    Args:
+        env: The session (``reset``, ``step``, ``observe``).
+        extra_weighings: Repeats of the first weighing (baselines only).
+        choose: Maps the cube found to the cube put on the mat (baselines only).
 
     Returns:
         The cube put on the mat.
@@ -134,8 +140,9 @@ def solve(env: Any, *, extra_weighings: int = 0) -> int:
         second = agent.weigh()
         lower = {-1: 0, 1: 1}.get(second)
         heavy = c if lower is None else (a if lower == cand_pan else b)
-    agent.to_mat(heavy, np.asarray(agent.balance["mat"], dtype=float) + [0.0, 0.0, HALF])
-    return heavy
+    chosen = choose(heavy)
+    agent.to_mat(chosen, np.asarray(agent.balance["mat"], dtype=float) + [0.0, 0.0, HALF])
+    return chosen
 
 
 def main() -> None:
