@@ -48,7 +48,7 @@ class BoxParams:
     """One sealed box (SI units).
 
     Attributes:
-        half: Shell half extents (x, y, z) [m].
+        half: Shell half extents (x, y, z) [m]; 70 mm across fits the Panda gripper (80 mm).
         shell_mass: Shell mass, uniform [kg].
         ballast_mass: Ballast mass [kg].
         ballast_offset: q: the ballast centre sits at (+-q, +-q, 0) in the box frame [m].
@@ -56,11 +56,11 @@ class BoxParams:
         quadrant: "A".."D" (secret).
     """
 
-    half: tuple[float, float, float] = (0.06, 0.06, 0.04)
+    half: tuple[float, float, float] = (0.035, 0.035, 0.04)
     shell_mass: float = 0.2
     ballast_mass: float = 0.4
-    ballast_offset: float = 0.03
-    ballast_half: float = 0.02
+    ballast_offset: float = 0.018
+    ballast_half: float = 0.015
     quadrant: str = "A"
 
     def __post_init__(self) -> None:
@@ -88,7 +88,9 @@ class BoxParams:
     def edge_lift_force(self, axis: int, sign: float, g: float = 9.81) -> float:
         """Force [N] that starts lifting the bottom edge at ``sign * half[axis]`` (pivot: the opposite edge).
 
-        ``F = m g (x_c - x_p) / (x_F - x_p)`` with ``x_F = sign * half``, ``x_p = -sign * half`` along ``axis``.
+        ``F = m g (x_c - x_p) / (x_F - x_p)`` with ``x_F = sign * half``, ``x_p = -sign * half`` along
+        ``axis``: moments about the pivot edge, the force in the plane of the centre of mass normal to
+        the edge.
         """
         x_f, x_p = sign * self.half[axis], -sign * self.half[axis]
         return self.mass * g * (self.com[axis] - x_p) / (x_f - x_p)
