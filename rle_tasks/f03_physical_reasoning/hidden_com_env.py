@@ -128,6 +128,11 @@ class HiddenComEnv(TabletopEnv):
         super().step(model, data, ctrl)
 
 
-def make_env(instance: HiddenComInstance, *, privileged: bool = False, image_size=IMAGE_SIZE) -> HiddenComEnv:
-    """The metered environment of ``instance`` (``privileged``: tests only)."""
-    return HiddenComEnv(xml=scene_xml(instance), privileged=privileged, image_size=image_size)
+def make_env(
+    instance: HiddenComInstance, *, privileged: bool = False, image_size=IMAGE_SIZE, camera_every: int = 10
+) -> HiddenComEnv:
+    """The metered environment of ``instance`` (``privileged``: tests only; ``camera_every``: actions
+    between renders, which leaves the scene and its ledger fingerprint unchanged)."""
+    return HiddenComEnv(
+        xml=scene_xml(instance), privileged=privileged, image_size=image_size, camera_every=camera_every
+    )
