@@ -40,7 +40,6 @@ TOP_CAMERA = (np.array([0.30, 0.0, 1.80]), 50.0)
 GRIP_Z = TABLE_Z + BOX_H - 0.025
 LIFT = 0.01
 HOLD = 30
-COLOURS = {"A": (1, 0, 0), "B": (0, 1, 0), "C": (0, 0, 1), "D": (1, 1, 0)}
 BOX_CODES = (-1.0, 0.0, 1.0)
 QUADRANT_CODES = {"A": -0.75, "B": -0.25, "C": 0.25, "D": 0.75}
 
@@ -64,11 +63,14 @@ def top_pixel(point: np.ndarray, size: tuple[int, int]) -> tuple[int, int]:
 
 
 def patch_colour(image: np.ndarray, point: np.ndarray) -> str:
-    """Quadrant letter whose patch colour best matches the 3 x 3 pixels at ``point``."""
+    """Quadrant letter of the patch colour at ``point`` (3 x 3 pixels): yellow when red and green both
+    exceed 0.75 of the brightest channel and blue does not, else the brightest channel (red, green, blue)."""
     r, c = top_pixel(point, image.shape[:2])
-    px = image[r - 1 : r + 2, c - 1 : c + 2].reshape(-1, 3).mean(axis=0) / 255.0
+    px = image[r - 1 : r + 2, c - 1 : c + 2].reshape(-1, 3).mean(axis=0)
     px = px / max(float(px.max()), 1e-6)
-    return min(COLOURS, key=lambda k: float(np.sum((px - np.array(COLOURS[k])) ** 2)))
+    if px[0] > 0.75 and px[1] > 0.75 and px[2] < 0.75:
+        return "D"
+    return "ABC"[int(np.argmax(px))]
 
 
 class Prober:
