@@ -13,7 +13,13 @@ Interface (what tasks and agents use):
 - ``CartesianHelper(step, obs)``: ``move_to(pos, quat)``, ``grasp()``, ``release()``, ``wait(n)``;
   it only calls ``step(action)``, so with a ``LedgerClient`` every motion is a metered action.
 - ``replay(env, ledger_path)``: rebuilds the final state of a ledger's session by replaying its
-  recorded resets and actions on the same environment definition.
+  recorded resets and actions on the same environment definition (``replay.other_scene`` when the
+  ledger's model digest differs, ``replay.diverged`` when the simulation time does not match).
+
+Replays are exact only for the same scene, controller and MuJoCo build: a change to the tabletop
+scene, ``TabletopEnv.step`` or ``OperationalSpaceController`` changes what recorded actions do, so
+committed ledgers must then be regenerated. ``TabletopEnv.fingerprint`` hashes the MJCF with mesh
+files replaced by their content digests, so a ledger replays on any checkout.
 """
 
 from rle_design.control.env import LEASH, TabletopEnv, free_body_poses

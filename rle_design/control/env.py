@@ -9,20 +9,24 @@ or a replay restores it exactly.
 One action (``layout``): per arm 12 numbers in [-1, 1]; each action moves the arm's target by the
 scaled delta (the target is kept within ``LEASH`` of the tool site so contact cannot wind it up),
 sets the gripper, then ``n_substeps`` physics steps run, the torques recomputed every step
-(``OperationalSpaceController``; ``mj_step1``/``mj_step2`` so they use the current state).
+(``OperationalSpaceController``, its matrices refreshed every ``OSC_REFRESH`` steps; ``mj_step1``/
+``mj_step2`` so they use the current state).
 
 Observation (free): ``time`` [s]; ``arms``: one dict per arm with ``q``, ``dq`` (7) [rad, rad/s],
 ``ee_pos`` [m] / ``ee_quat`` (w, x, y, z) of the tool site, ``target_pos`` / ``target_quat``,
 ``gripper`` (finger opening [m], 0..0.08), ``base_pos`` [m] / ``base_quat``; ``rgb``: dict camera ->
 (H, W, 3) uint8, rendered after a reset and every ``camera_every`` actions (absent otherwise and
 when ``image_size`` is None); ``bodies`` (only when ``privileged``): free body -> (x, y, z, qw, qx,
-qy, qz) [m]. Privileged observations exist for reference programs and tests; agents get
+qy, qz) [m] and ``sizes``: free body -> its first geom's size (box half extents) [m]. Privileged observations exist for reference programs and tests; agents get
 ``privileged=False``.
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import mujoco
@@ -38,6 +42,8 @@ __all__ = ["LEASH", "TabletopEnv"]
 
 LEASH = 0.08
 """Largest distance between an arm's target and its tool site [m]."""
+OSC_REFRESH = 5
+"""Physics steps between recomputations of the controller's Jacobian and inertias (10 ms)."""
 FINGER_MAX = 0.04
 """Travel of one finger [m]."""
 
@@ -79,6 +85,14 @@ class TabletopEnv(MeteredEnv):
     camera_every: int = 10
     privileged: bool = False
 
+    def fingerprint(self) -> str:
+        """Digest of the scene that does not depend on where the mesh files are installed [hex].
+
+        Each mesh file reference is replaced by the SHA-256 of the file's bytes before hashing the
+        MJCF, so the same scene recorded on one checkout replays on another.
+        """
+        return _portable_digest(self.xml)
+
     def _arm_ctl(self, model: mujoco.MjModel) -> tuple[_Arm, ...]:
         entry = _ARMS.get(id(model))
         if entry is None or entry[0] is not model:
@@ -113,10 +127,12 @@ class TabletopEnv(MeteredEnv):
             data.mocap_quat[arm.mocap] = quat
             opening = FINGER_MAX * (1.0 - a[GRIPPER]) / 2.0
             data.ctrl[arm.fingers] = (opening, -opening)
-        for _ in range(self.n_substeps):
+        for k in range(self.n_substeps):
             mujoco.mj_step1(model, data)
             for arm in arms:
-                arm.osc.apply(data, data.mocap_pos[arm.mocap], data.mocap_quat[arm.mocap])
+                arm.osc.apply(
+                    data, data.mocap_pos[arm.mocap], data.mocap_quat[arm.mocap], k % OSC_REFRESH == 0
+                )
             mujoco.mj_step2(model, data)
         mujoco.mj_forward(model, data)
 
@@ -147,9 +163,24 @@ class TabletopEnv(MeteredEnv):
             obs["rgb"] = render_rgb(model, data, self.cameras, self.image_size)
         if self.privileged:
             obs["bodies"] = free_body_poses(model, data)
+            obs["sizes"] = {
+                name: model.geom_size[model.body(name).geomadr[0]].copy() for name in obs["bodies"]
+            }
         for name, fn in self.observers:
             obs[name] = fn(model, data)
         return obs
+
+
+@functools.lru_cache(maxsize=32)
+def _portable_digest(xml: str) -> str:
+    from lxml import etree
+
+    root = etree.fromstring(xml.encode())
+    for el in root.iter("mesh", "texture", "hfield", "skin"):
+        file = el.get("file")
+        if file:
+            el.set("file", hashlib.sha256(Path(file).read_bytes()).hexdigest())
+    return hashlib.sha256(etree.tostring(root)).hexdigest()
 
 
 def free_body_poses(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, np.ndarray]:

@@ -92,6 +92,9 @@ class OperationalSpaceController:
         self._jacp = np.zeros((3, model.nv))
         self._jacr = np.zeros((3, model.nv))
         self._mass = np.zeros((model.nv, model.nv))
+        self._eye = np.eye(len(self.dof))
+        self._eps6 = gains.singular_eps * np.eye(6)
+        self._jac: np.ndarray | None = None
 
     def site_pose(self, data: mujoco.MjData) -> tuple[np.ndarray, np.ndarray]:
         """(position [m], quaternion (w, x, y, z)) of the tool site in the world frame."""
@@ -99,25 +102,40 @@ class OperationalSpaceController:
         mujoco.mju_mat2Quat(quat, data.site_xmat[self.site])
         return data.site_xpos[self.site].copy(), quat
 
-    def torques(self, data: mujoco.MjData, target_pos: np.ndarray, target_quat: np.ndarray) -> np.ndarray:
-        """Motor torques [N m] for the current state (``mj_forward`` or ``mj_step`` quantities)."""
+    def refresh(self, data: mujoco.MjData) -> None:
+        """Recompute the configuration-dependent matrices (J, Lambda, the null-space projector, M)."""
         mujoco.mj_jacSite(self.model, data, self._jacp, self._jacr, self.site)
         jac = np.vstack([self._jacp[:, self.dof], self._jacr[:, self.dof]])
         mujoco.mj_fullM(self.model, data, self._mass)
         mass = self._mass[np.ix_(self.dof, self.dof)]
         minv = np.linalg.inv(mass)
-        lam = np.linalg.inv(jac @ minv @ jac.T + self.gains.singular_eps * np.eye(6))
+        lam = np.linalg.inv(jac @ minv @ jac.T + self._eps6)
+        self._jac, self._arm_mass = jac, mass
+        self._jt_lam = jac.T @ lam
+        self._proj = self._eye - jac.T @ (minv @ self._jt_lam).T
+
+    def torques(
+        self, data: mujoco.MjData, target_pos: np.ndarray, target_quat: np.ndarray, refresh: bool = True
+    ) -> np.ndarray:
+        """Motor torques [N m] for the current state (``mj_forward`` or ``mj_step1`` quantities).
+
+        With ``refresh=False`` the matrices of the last ``refresh`` are reused (the errors, velocities
+        and bias forces are always current); they change little within a few milliseconds.
+        """
+        if refresh or self._jac is None:
+            self.refresh(data)
         pos, quat = self.site_pose(data)
         err = np.concatenate([np.asarray(target_pos) - pos, orientation_error(np.asarray(target_quat), quat)])
         dq = data.qvel[self.dof]
-        acc = self.kp * err - self.kd * (jac @ dq)
-        tau = jac.T @ (lam @ acc) + data.qfrc_bias[self.dof]
+        acc = self.kp * err - self.kd * (self._jac @ dq)
+        tau = self._jt_lam @ acc + data.qfrc_bias[self.dof]
         kn = self.gains.kp_null
-        posture = mass @ (kn * (self.home - data.qpos[self.qadr]) - 2.0 * np.sqrt(kn) * dq)
-        jbar = minv @ jac.T @ lam
-        tau += (np.eye(len(self.dof)) - jac.T @ jbar.T) @ posture
+        posture = self._arm_mass @ (kn * (self.home - data.qpos[self.qadr]) - 2.0 * np.sqrt(kn) * dq)
+        tau += self._proj @ posture
         return np.clip(tau, self.limits[:, 0], self.limits[:, 1])
 
-    def apply(self, data: mujoco.MjData, target_pos: np.ndarray, target_quat: np.ndarray) -> None:
+    def apply(
+        self, data: mujoco.MjData, target_pos: np.ndarray, target_quat: np.ndarray, refresh: bool = True
+    ) -> None:
         """Write ``torques`` into ``data.ctrl`` of the arm's motors."""
-        data.ctrl[self.motors] = self.torques(data, target_pos, target_quat)
+        data.ctrl[self.motors] = self.torques(data, target_pos, target_quat, refresh)

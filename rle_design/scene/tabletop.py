@@ -45,6 +45,10 @@ __all__ = [
 
 GRIPPER_MODEL = "models/assets/grippers/panda_gripper.xml"
 """robosuite Panda gripper, relative to the robosuite package."""
+STIFF_SOLREF = (0.005, 1.0)
+"""Contact time constant [s] and damping ratio of pieces and table: stiffer than MuJoCo's default
+(0.02 s) so a block resting near a supporting edge does not sink and roll over it (the time constant
+stays above twice the 2 ms step)."""
 INITIAL_KEY = "initial"
 """Keyframe ``finish`` writes: arms at home, free bodies where added, targets at the tool sites."""
 
@@ -105,7 +109,7 @@ class TabletopConfig:
         half_size: Table half extents (x, y) [m].
         thickness: Table slab thickness [m].
         friction: Sliding friction of the table top [1].
-        arms: The robots.
+        arms: The robots (none: a robot-free scene, e.g. to settle what the robots left behind).
         cameras: Names of the three RGB cameras (front, side, top), aimed at ``look_at``.
         look_at: Point the cameras aim at [m].
         timestep: Physics step [s].
@@ -132,8 +136,6 @@ class TabletopConfig:
         return cls(arms=arms, **kwargs)  # type: ignore[arg-type]
 
     def validate(self) -> None:
-        if len(self.arms) < 1:
-            raise ConfigError("TabletopConfig.arms must hold at least one ArmPlacement")
         prefixes = [a.prefix for a in self.arms]
         if len(set(prefixes)) != len(prefixes) or any(not p.endswith("/") for p in prefixes):
             raise ConfigError(f"TabletopConfig.arms prefixes must be unique and end with '/', got {prefixes}")
@@ -187,6 +189,7 @@ def build_tabletop(config: TabletopConfig = TabletopConfig()) -> mujoco.MjSpec:
         pos=[config.center_x, 0.0, config.top_z - config.thickness / 2],
         friction=[config.friction, 0.005, 0.0001],
         rgba=[0.55, 0.42, 0.3, 1.0],
+        solref=list(STIFF_SOLREF),
     )
     for sx in (-1, 1):
         for sy in (-1, 1):
@@ -234,8 +237,9 @@ def add_free_box(
     mass: float = 0.1,
     friction: float = 0.8,
     rgba: tuple[float, float, float, float] = (0.8, 0.3, 0.2, 1.0),
+    solref: tuple[float, float] = STIFF_SOLREF,
 ) -> mujoco.MjsBody:
-    """A free box body ``name`` with one geom ``name`` (half extents [m], mass [kg])."""
+    """A free box body ``name`` with one geom ``name`` (half extents [m], mass [kg], contact ``solref``)."""
     if spec.body(name) is not None:
         raise ConfigError(f"body '{name}' exists already", code="scene.duplicate_body")
     body = spec.worldbody.add_body(name=name, pos=list(pos), quat=list(quat))
@@ -248,6 +252,7 @@ def add_free_box(
         friction=[friction, 0.005, 0.0001],
         rgba=list(rgba),
         condim=4,
+        solref=list(solref),
     )
     return body
 

@@ -38,7 +38,7 @@ _CLIENT = '''"""Metered development environment of task {task_id} (written by `r
     from client import connect
     with connect() as env:
         obs = env.reset()          # costs one step of the budget
-        obs = env.step(action)     # costs one step: ctrl ({nu} values) held for {n_substeps} physics steps
+        obs = env.step(action)     # costs one step: an action of {nu} values, held for {n_substeps} physics steps
         obs = env.observe()        # free: qpos, qvel, time{extra}
         env.info()                 # free: steps_used, budget and model dimensions
 
@@ -139,7 +139,7 @@ def layout_workspace(
         (workspace / "client.py").write_text(
             _CLIENT.format(
                 task_id=spec.id,
-                nu=model.nu,
+                nu=env.action_size(model),
                 n_substeps=env.n_substeps,
                 extra=extra,
                 budget=budget,

@@ -141,3 +141,19 @@ def test_wrong_action_size_is_refused_without_charge(scene: tuple[TabletopEnv, m
     with pytest.raises(Exception, match=r"action must be 12 real numbers \(the environment's action\)"):
         session.step(np.zeros(9))
     assert session.steps_used == 0
+
+
+def test_replay_on_a_different_control_period_is_refused(
+    scene: tuple[TabletopEnv, mujoco.MjModel], tmp_path
+) -> None:
+    env, _ = scene
+    key = b"k" * 32
+    session = MeteredSession(env, task_id="t", budget=20, key=key, ledger_path=tmp_path / "l.jsonl")
+    session.reset()
+    for _ in range(3):
+        session.step(np.zeros(ACTION_SIZE))
+    session.seal()
+    slower = TabletopEnv(xml=env.xml, n_substeps=5, image_size=None)  # same scene, other control period
+    with pytest.raises(ReplayError, match="differs from the recorded") as info:
+        replay(slower, tmp_path / "l.jsonl")
+    assert info.value.code == "replay.diverged"

@@ -1,0 +1,144 @@
+"""03-cantilever: four identical blocks, the settled overhang beyond the table edge.
+
+Instance (from the secret): block length L in [0.14, 0.18] m, cross-section 0.04 m (y) x 0.03 m (z),
+spruce-like density 450 kg/m^3; the four blocks lie on the table, long axis along x (the edge
+normal), at four secret-jittered spots.
+
+Measurement (after the robot-free settle, ``scene.settle``): a block counts when its centre is above
+the table top and it is at rest; its reach along the edge normal is ``x_c + (L/2)|u_x|`` with ``u``
+its long axis, so turning a block in yaw never lengthens it (the 3-D diagonal trick cannot beat the
+2-D optimum); the overhang is the largest reach minus ``edge_x``, and the score is
+``overhang / ((15 - 4 sqrt 2)/8 L)`` clipped to [0, 1].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.scoring import Outcome
+from rle_tasks.core.secrets import Secret, derive_rng
+from rle_tasks.core.task import VerifyContext
+
+from .scene import CONFIG, Piece, make_env, settle
+from .scoring import CANTILEVER_ID, CANTILEVER_RUBRIC, PZ4
+from .session import LEDGER_FILE, final_poses
+
+__all__ = ["DENSITY", "Instance", "instance", "measure", "verify"]
+
+DENSITY = 450.0
+"""Block density [kg/m^3]."""
+WIDTH = 0.04
+HEIGHT = 0.03
+
+
+@dataclass(frozen=True)
+class Instance:
+    """One cantilever instance.
+
+    Attributes:
+        length: Block length L [m].
+        pieces: The four blocks, as spawned.
+    """
+
+    length: float
+    pieces: tuple[Piece, ...]
+
+    @classmethod
+    def build(cls, length: float, spots: np.ndarray) -> Instance:
+        """Four blocks of length ``length`` [m] lying at ``spots`` ((x, y) [m]), long axis along x."""
+        mass = DENSITY * length * WIDTH * HEIGHT
+        colours = ((0.85, 0.3, 0.2, 1), (0.2, 0.6, 0.85, 1), (0.3, 0.75, 0.3, 1), (0.9, 0.75, 0.2, 1))
+        pieces = tuple(
+            Piece(
+                f"block{i}",
+                (length / 2, WIDTH / 2, HEIGHT / 2),
+                (float(x), float(y), CONFIG.top_z + HEIGHT / 2),
+                mass=mass,
+                rgba=colours[i],
+            )  # fmt: skip
+            for i, (x, y) in enumerate(spots)
+        )
+        return cls(float(length), pieces)
+
+    @property
+    def optimum(self) -> float:
+        """Paterson-Zwick overhang of four blocks [m]."""
+        return PZ4 * self.length
+
+
+def instance(secret: Secret) -> Instance:
+    """The instance of ``secret`` (the public key gives the development instance)."""
+    rng = derive_rng(secret, CANTILEVER_ID, "instance")
+    length = float(rng.uniform(0.14, 0.18))
+    ys = np.array([-0.33, -0.2, 0.2, 0.33]) + rng.uniform(-0.01, 0.01, 4)
+    xs = 0.3 + rng.uniform(-0.03, 0.03, 4)
+    return Instance.build(length, np.column_stack([xs, ys]))
+
+
+def reach(pose: np.ndarray, length: float) -> float:
+    """x of the block's far end along the edge normal: x_c + (L/2)|u_x| [m]."""
+    w, x, y, z = pose[3:7]
+    u_x = 1.0 - 2.0 * (y * y + z * z)  # first column of the rotation matrix, x component
+    return float(pose[0] + 0.5 * length * abs(u_x))
+
+
+def measure(inst: Instance, poses: dict[str, np.ndarray]) -> dict[str, float]:
+    """Settle ``poses`` without the robot and measure the overhang (see the module docstring)."""
+    model, data, speed = settle(inst.pieces, poses)
+    reaches, standing = [], 0
+    for piece in inst.pieces:
+        adr = model.jnt_qposadr[model.joint(piece.name).id]
+        pose = data.qpos[adr : adr + 7]
+        vel = data.qvel[model.jnt_dofadr[model.joint(piece.name).id] :][:3]
+        if pose[2] > CONFIG.top_z and np.linalg.norm(vel) < 0.01:
+            standing += 1
+            reaches.append(reach(pose, inst.length))
+    overhang = max(reaches, default=CONFIG.edge_x) - CONFIG.edge_x
+    return {
+        "overhang_m": max(0.0, overhang),
+        "optimum_m": inst.optimum,
+        "ratio": max(0.0, overhang) / inst.optimum,
+        "blocks_on_table": standing,
+        "max_speed_mps": speed,
+    }
+
+
+def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
+    """Ledger gate, replay, robot-free settle, overhang / Paterson-Zwick optimum."""
+    findings = Findings()
+    inst = instance(ctx.secret)
+    gate = final_poses(root, ctx.secret, CANTILEVER_ID, make_env(inst.pieces, images=False), inst.pieces)
+    if not gate.ok:
+        findings.add_error(gate.code, gate.message, LEDGER_FILE)
+        outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
+        return CANTILEVER_RUBRIC.report({"overhang": outcome}, valid=False, errors=findings.errors)
+    m = measure(inst, gate.poses)
+    message = (
+        f"overhang {1000 * m['overhang_m']:.1f} mm of the optimum {1000 * m['optimum_m']:.1f} mm "
+        f"({m['blocks_on_table']} of 4 blocks on the table)"
+    )
+    outcome = Outcome({"scene": CANTILEVER_RUBRIC.spec("overhang").score(m["ratio"])}, message, m)
+    return CANTILEVER_RUBRIC.report(
+        {"overhang": outcome}, valid=True, errors=findings.errors,
+        native_metrics={"steps": gate.steps, "block_length_m": inst.length},
+    )  # fmt: skip
+
+
+def task_spec():
+    """TaskSpec of 03-cantilever."""
+    from .task import current_secret, tabletop_task
+
+    return tabletop_task(
+        CANTILEVER_ID,
+        "Tabletop physical reasoning: maximise the overhang of four blocks",
+        "cantilever.md",
+        CANTILEVER_RUBRIC.markdown_table(),
+        verify,
+        lambda: instance(current_secret()).pieces,
+        ("reference", "baseline/overreach", "baseline/unsealed"),
+        f"{__package__}.solutions.cantilever",
+    )

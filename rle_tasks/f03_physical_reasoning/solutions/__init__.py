@@ -1,0 +1,24 @@
+"""Shipped solutions of the family's tabletop tasks (one ``SolutionSet`` per task module).
+
+Artifacts are sealed ledgers recorded under the public development key by ``make_ledgers`` running the
+agent programs of ``agents`` (which read privileged piece poses; see there):
+
+- ``reference`` (``reference/<task>/ledger.jsonl``): cantilever: harmonic stack at 0.93 of its
+  critical offsets; tower: the optimal order of ``tower_optimum`` without the wedge.
+- ``baseline/overreach`` (cantilever): harmonic stack at 1.15 of its critical offsets: past its
+  tipping point, the top blocks fall.
+- ``baseline/knocked_over`` (tower): the reference tower, then the arm sweeps through it.
+- ``baseline/unsealed`` (both): the reference ledger with its seal record cut off (score 0, reason
+  ``ledger.unsealed``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def unseal(directory: Path) -> None:
+    """Cut the seal (the last record) off ``ledger.jsonl``."""
+    path = directory / "ledger.jsonl"
+    lines = path.read_bytes().splitlines(keepends=True)
+    path.write_bytes(b"".join(lines[:-1]))

@@ -1,0 +1,84 @@
+"""The family's ledger gate: missing, unsealed, truncated, altered or foreign ledgers score 0 with the reason."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.task import VerifyContext
+from rle_tasks.f03_physical_reasoning.cantilever import verify
+
+REFERENCE = Path(__file__).parents[2] / "rle_tasks/f03_physical_reasoning/solutions/reference/cantilever"
+CTX = VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True)
+
+
+def _copy(tmp_path: Path) -> Path:
+    shutil.copy(REFERENCE / "ledger.jsonl", tmp_path / "ledger.jsonl")
+    return tmp_path / "ledger.jsonl"
+
+
+def _expect_zero(root: Path, code: str, ctx: VerifyContext = CTX) -> None:
+    report = verify(root, ctx)
+    assert report.score == 0.0 and not report.valid
+    assert [e.code for e in report.errors] == [code]
+    assert report.checkpoints[0].message.startswith("no score: ")
+
+
+def test_missing_ledger(tmp_path: Path) -> None:
+    _expect_zero(tmp_path, "ledger.missing")
+
+
+def test_seal_cut_off(tmp_path: Path) -> None:
+    path = _copy(tmp_path)
+    lines = path.read_bytes().splitlines(keepends=True)
+    path.write_bytes(b"".join(lines[:-1]))
+    _expect_zero(tmp_path, "ledger.unsealed")
+
+
+def test_a_record_removed(tmp_path: Path) -> None:
+    path = _copy(tmp_path)
+    lines = path.read_bytes().splitlines(keepends=True)
+    path.write_bytes(b"".join(lines[:3] + lines[4:]))
+    report = verify(tmp_path, CTX)
+    assert report.score == 0.0 and report.errors[0].code in ("ledger.truncated", "ledger.broken_chain")
+
+
+def test_final_state_edited(tmp_path: Path) -> None:
+    # the final scene is what the recorded actions produce: editing the last executed action is
+    # editing the final state, and the record's MAC no longer matches
+    path = _copy(tmp_path)
+    lines = path.read_text().splitlines()
+    i = max(k for k, line in enumerate(lines) if json.loads(line)["kind"] == "steps")
+    rec = json.loads(lines[i])
+    rec["payload"]["actions"][-1] = "00" * 8 * 12
+    lines[i] = json.dumps(rec, separators=(",", ":"))
+    path.write_text("\n".join(lines) + "\n")
+    _expect_zero(tmp_path, "ledger.altered")
+
+
+def test_ledger_of_another_secret_is_refused(tmp_path: Path) -> None:
+    _copy(tmp_path)
+    _expect_zero(
+        tmp_path,
+        "ledger.forged_key",
+        VerifyContext(secret=Secret(b"hidden evaluation key", public=False), quick=True),
+    )
+
+
+def test_ledger_of_another_task_is_refused(tmp_path: Path) -> None:
+    from rle_tasks.f03_physical_reasoning.tower import verify as verify_tower
+
+    _copy(tmp_path)
+    report = verify_tower(tmp_path, CTX)
+    assert report.score == 0.0 and report.errors[0].code == "ledger.forged_key"
+
+
+@pytest.mark.parametrize("content", [b"", b"not json\n", b"\x00" * 100])
+def test_garbage_never_crashes(tmp_path: Path, content: bytes) -> None:
+    (tmp_path / "ledger.jsonl").write_bytes(content)
+    report = verify(tmp_path, CTX)
+    assert report.score == 0.0 and report.errors
