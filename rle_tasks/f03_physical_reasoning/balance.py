@@ -44,4 +44,6 @@ def task_spec() -> TaskSpec:
         ),
         make_dev_env=make_dev_env,
         verify=verify,
+        solutions=("reference", "baseline/five_weighings", "baseline/unsealed"),
+        solutions_module=f"{__package__}.solutions.balance_coins",
     )

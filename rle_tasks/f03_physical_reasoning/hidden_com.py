@@ -46,4 +46,6 @@ def task_spec() -> TaskSpec:
         ),
         make_dev_env=make_dev_env,
         verify=verify,
+        solutions=("reference", "baseline/random_answers", "baseline/unsealed"),
+        solutions_module=f"{__package__}.solutions.hidden_com",
     )
