@@ -175,6 +175,8 @@ class BalanceEnv(TabletopEnv):
             data.userdata[COUNTED] = 1.0
 
 
-def make_env(instance: BalanceInstance, *, privileged: bool = False, image_size=(120, 160)) -> BalanceEnv:
+def make_env(
+    instance: BalanceInstance, *, privileged: bool = False, image_size: tuple[int, int] | None = (120, 160)
+) -> BalanceEnv:
     """The metered environment of ``instance`` (``privileged`` adds free-body poses: reference and tests only)."""
     return BalanceEnv(xml=scene_xml(instance), privileged=privileged, image_size=image_size)

@@ -110,7 +110,13 @@ class CubeSet:
 
 
 def _box(
-    body: mujoco.MjsBody, name: str, half, pos, mass: float, rgba, collide: bool = True
+    body: mujoco.MjsBody,
+    name: str,
+    half: tuple[float, ...],
+    pos: tuple[float, ...],
+    mass: float,
+    rgba: tuple[float, ...],
+    collide: bool = True,
 ) -> mujoco.MjsGeom:
     geom = body.add_geom()
     geom.name = name

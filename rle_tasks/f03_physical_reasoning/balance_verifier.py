@@ -29,7 +29,7 @@ from rle_design.ledger import verify_ledger
 from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.scoring import CheckpointSpec, Fraction, Outcome, Rubric
-from rle_tasks.core.secrets import derive_rng
+from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
 from . import balance_scene as bs
@@ -75,9 +75,9 @@ def weighing_score(heavy_only: bool, weighings: int) -> float:
     return 1.0 if weighings <= OPTIMAL_WEIGHINGS else OPTIMAL_WEIGHINGS / weighings
 
 
-def instance(ctx_secret) -> BalanceInstance:
+def instance(secret: Secret) -> BalanceInstance:
     """The instance of a secret."""
-    return BalanceInstance.draw(derive_rng(ctx_secret, TASK_ID, "instance"))
+    return BalanceInstance.draw(derive_rng(secret, TASK_ID, "instance"))
 
 
 @dataclass(frozen=True)

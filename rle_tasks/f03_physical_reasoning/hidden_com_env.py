@@ -129,7 +129,11 @@ class HiddenComEnv(TabletopEnv):
 
 
 def make_env(
-    instance: HiddenComInstance, *, privileged: bool = False, image_size=IMAGE_SIZE, camera_every: int = 10
+    instance: HiddenComInstance,
+    *,
+    privileged: bool = False,
+    image_size: tuple[int, int] | None = IMAGE_SIZE,
+    camera_every: int = 10,
 ) -> HiddenComEnv:
     """The metered environment of ``instance`` (``privileged``: tests only; ``camera_every``: actions
     between renders, which leaves the scene and its ledger fingerprint unchanged)."""

@@ -27,6 +27,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from rle_design.errors import ConfigError
+
 QUADRANTS = ("A", "B", "C", "D")
 QUADRANT_SIGNS: dict[str, tuple[float, float]] = {"A": (1, 1), "B": (-1, 1), "C": (-1, -1), "D": (1, -1)}
 _PATCH_RGBA = {
@@ -65,9 +67,16 @@ class BoxParams:
 
     def __post_init__(self) -> None:
         if self.quadrant not in QUADRANTS:
-            raise ValueError(f"quadrant must be one of {', '.join(QUADRANTS)}, got {self.quadrant!r}")
+            raise ConfigError(
+                f"BoxParams.quadrant must be one of {', '.join(QUADRANTS)}, got {self.quadrant!r}",
+                code="f03.box_quadrant",
+            )
         if self.ballast_offset + self.ballast_half > min(self.half[:2]):
-            raise ValueError("the ballast must fit inside the shell")
+            raise ConfigError(
+                f"BoxParams: the ballast (offset {self.ballast_offset} m + half side {self.ballast_half} m) must fit "
+                f"inside the shell (half width {min(self.half[:2])} m)",
+                code="f03.box_ballast",
+            )
 
     @property
     def mass(self) -> float:
@@ -96,7 +105,9 @@ class BoxParams:
         return self.mass * g * (self.com[axis] - x_p) / (x_f - x_p)
 
 
-def add_box(spec: mujoco.MjSpec, name: str, params: BoxParams, pos, yaw: float = 0.0) -> mujoco.MjsBody:
+def add_box(
+    spec: mujoco.MjSpec, name: str, params: BoxParams, pos: tuple[float, float, float], yaw: float = 0.0
+) -> mujoco.MjsBody:
     """Add a sealed box body ``name`` resting at ``pos`` (bottom centre) with heading ``yaw`` [rad]."""
     hx, hy, hz = params.half
     body = spec.worldbody.add_body()

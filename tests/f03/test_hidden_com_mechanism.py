@@ -4,6 +4,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from rle_design.errors import ConfigError
 from rle_tasks.f03_physical_reasoning.hidden_com_scene import QUADRANTS, BoxParams, add_box
 
 G = 9.81
@@ -85,5 +86,6 @@ def test_heavy_side_needs_about_twice_the_lift_force():
 
 
 def test_bad_quadrant_is_refused():
-    with pytest.raises(ValueError, match="quadrant must be one of A, B, C, D, got 'E'"):
+    with pytest.raises(ConfigError, match="BoxParams.quadrant must be one of A, B, C, D, got 'E'") as err:
         BoxParams(quadrant="E")
+    assert err.value.code == "f03.box_quadrant"

@@ -54,7 +54,6 @@ class Agent:
         obs = env.reset()
         self.helper = CartesianHelper(env.step, obs)
         self.home = np.array(obs["balance"]["cubes"])  # table places, also where cubes go back
-        self.where: dict[int, tuple[str, int] | None] = {i: None for i in range(9)}  # None: on the table
 
     @property
     def balance(self) -> dict[str, Any]:
@@ -80,11 +79,9 @@ class Agent:
 
     def to_pan(self, cube: int, pan: int, slot: int) -> None:
         self.move_cube(cube, self._slot(pan, slot))
-        self.where[cube] = (("left", "right")[pan], slot)
 
     def to_table(self, cube: int) -> None:
         self.move_cube(cube, self.home[cube])
-        self.where[cube] = None
 
     def weigh(self) -> int:
         """One weighing; returns -1 (left pan lower), +1 (right pan lower) or 0 (level)."""
