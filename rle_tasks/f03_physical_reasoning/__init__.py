@@ -10,7 +10,7 @@ from importlib import import_module
 
 from rle_tasks.core.task import TaskSpec
 
-TASK_MODULES: tuple[str, ...] = ("tower", "cantilever")
+TASK_MODULES: tuple[str, ...] = ("tower", "cantilever", "balance", "hidden_com")
 """Modules of the implemented tasks, relative to this package (``balance``, ``hidden_com``, ``cube``
 join here)."""
 

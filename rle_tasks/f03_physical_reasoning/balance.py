@@ -1,0 +1,49 @@
+"""TaskSpec of ``03-balance-coins``: find the heavy cube among nine with a two-pan balance."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+
+HERE = Path(__file__).resolve().parent
+TASK_ID = "03-balance-coins"
+BUDGET_STEPS = 50_000
+
+
+def instruction() -> str:
+    """The agent instruction with the rubric's table appended."""
+    from .balance_verifier import RUBRIC
+
+    return (HERE / "instructions" / "balance_coins.md").read_text() + "\n" + RUBRIC.markdown_table() + "\n"
+
+
+def make_dev_env(workspace: Path):
+    """The metered environment of the instance of the current secret (the public one without a secret)."""
+    from rle_tasks.core.secrets import load_secret
+
+    from .balance_env import make_env
+    from .balance_verifier import instance
+
+    return make_env(instance(load_secret()))
+
+
+def task_spec() -> TaskSpec:
+    from .balance_verifier import verify
+
+    return TaskSpec(
+        id=TASK_ID,
+        family=3,
+        title="Tabletop physical reasoning: find the heavy cube among nine with a balance",
+        instruction=instruction(),
+        budget=Budget(wall_time_s=9 * 3600.0, cpus=4, gpus=1, steps=BUDGET_STEPS, verifier_timeout_s=1800.0),
+        contract=ArtifactContract(
+            required=("ledger.jsonl",),
+            description="ledger.jsonl: the sealed ledger of the metered development session (written by the "
+            "ledger server outside the workspace; copy it into the submission).",
+        ),
+        make_dev_env=make_dev_env,
+        verify=verify,
+        solutions=("reference", "baseline/five_weighings", "baseline/unsealed"),
+        solutions_module=f"{__package__}.solutions.balance_coins",
+    )

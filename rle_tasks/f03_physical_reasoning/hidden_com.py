@@ -1,0 +1,51 @@
+"""TaskSpec of ``03-hidden-com``: name the ballast quadrant of three sealed boxes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+
+HERE = Path(__file__).resolve().parent
+TASK_ID = "03-hidden-com"
+STEPS_PER_BOX = 12_000
+BUDGET_STEPS = 3 * STEPS_PER_BOX
+"""The card's 12,000 steps per box, for the three boxes of one session."""
+
+
+def instruction() -> str:
+    """The agent instruction with the rubric's table appended."""
+    from .hidden_com_verifier import RUBRIC
+
+    return (HERE / "instructions" / "hidden_com.md").read_text() + "\n" + RUBRIC.markdown_table() + "\n"
+
+
+def make_dev_env(workspace: Path):
+    """The metered environment of the instance of the current secret (the public one without a secret)."""
+    from rle_tasks.core.secrets import load_secret
+
+    from .hidden_com_env import make_env
+    from .hidden_com_verifier import instance
+
+    return make_env(instance(load_secret()))
+
+
+def task_spec() -> TaskSpec:
+    from .hidden_com_verifier import verify
+
+    return TaskSpec(
+        id=TASK_ID,
+        family=3,
+        title="Tabletop physical reasoning: identify the ballast quadrant of three sealed boxes",
+        instruction=instruction(),
+        budget=Budget(wall_time_s=3600.0, cpus=4, gpus=1, steps=BUDGET_STEPS, verifier_timeout_s=1800.0),
+        contract=ArtifactContract(
+            required=("ledger.jsonl",),
+            description="ledger.jsonl: the sealed ledger of the metered session in which the three answers "
+            "were given (written by the ledger server outside the workspace; copy it into the submission).",
+        ),
+        make_dev_env=make_dev_env,
+        verify=verify,
+        solutions=("reference", "baseline/random_answers", "baseline/unsealed"),
+        solutions_module=f"{__package__}.solutions.hidden_com",
+    )
