@@ -136,6 +136,11 @@ class TabletopEnv(MeteredEnv):
             mujoco.mj_step2(model, data)
         mujoco.mj_forward(model, data)
 
+    observation_doc = (
+        "time, arms (per arm: q, dq, ee_pos, ee_quat, target_pos, target_quat, gripper, base_pos, "
+        "base_quat), rgb (per camera)"
+    )
+
     def observe(self, model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, Any]:
         obs: dict[str, Any] = {"time": float(data.time), "arms": []}
         for arm in self._arm_ctl(model):

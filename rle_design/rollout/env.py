@@ -64,6 +64,9 @@ class EnvDefinition:
         mujoco.mj_resetData(model, data)
         mujoco.mj_forward(model, data)
 
+    observation_doc: str = "qpos, qvel, time"
+    """The observation's keys in words, as the development workspace's ``client.py`` states them."""
+
     def observe(self, model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, Any]:
         """What the controller sees: ``qpos``, ``qvel``, ``time`` (subclasses add more)."""
         return {"qpos": data.qpos.copy(), "qvel": data.qvel.copy(), "time": data.time}

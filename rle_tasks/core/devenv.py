@@ -39,7 +39,7 @@ _CLIENT = '''"""Metered development environment of task {task_id} (written by `r
     with connect() as env:
         obs = env.reset()          # costs one step of the budget
         obs = env.step(action)     # costs one step: an action of {nu} values, held for {n_substeps} physics steps
-        obs = env.observe()        # free: qpos, qvel, time{extra}
+        obs = env.observe()        # free: {observation}{extra}
         env.info()                 # free: steps_used, budget and model dimensions
 
 Budget: {budget}. Resets and executed actions are recorded in a sealed ledger kept by the server
@@ -141,6 +141,7 @@ def layout_workspace(
                 task_id=spec.id,
                 nu=env.action_size(model),
                 n_substeps=env.n_substeps,
+                observation=env.observation_doc,
                 extra=extra,
                 budget=budget,
                 address=str(socket_path),
