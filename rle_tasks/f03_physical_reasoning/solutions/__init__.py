@@ -14,7 +14,9 @@ agent programs of ``agents`` (which read privileged piece poses; see there):
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 
 def unseal(directory: Path) -> None:
@@ -22,3 +24,36 @@ def unseal(directory: Path) -> None:
     path = directory / "ledger.jsonl"
     lines = path.read_bytes().splitlines(keepends=True)
     path.write_bytes(b"".join(lines[:-1]))
+
+
+def record_session(
+    env, secret, task_id: str, budget: int, ledger: Path, solve: Callable[..., Any], **kwargs
+) -> Path:
+    """Play ``solve(client, **kwargs)`` on a metered session of ``env`` served by a ledger server under
+    ``secret``'s key, seal it, and return the sealed ledger file ``ledger`` (replaced if present)."""
+    import tempfile
+
+    from rle_design.ledger import LedgerClient, LedgerServer
+    from rle_tasks.core.devenv import ledger_key
+
+    ledger = Path(ledger)
+    ledger.parent.mkdir(parents=True, exist_ok=True)
+    ledger.unlink(missing_ok=True)
+    with tempfile.TemporaryDirectory(prefix="rle-f03-") as tmp:
+        server = LedgerServer(
+            env,
+            key=ledger_key(secret, task_id),
+            ledger_path=ledger,
+            socket_path=Path(tmp) / "ledger.sock",
+            task_id=task_id,
+            budget=budget,
+        )
+        server.start()
+        try:
+            with LedgerClient(server.socket_path) as client:
+                solve(client, **kwargs)
+                client.seal()
+            server.wait(60)
+        finally:
+            server.stop()
+    return ledger

@@ -18,6 +18,7 @@ import importlib
 from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
+from rle_tasks.f03_physical_reasoning.solutions import unseal
 
 PROGRAMS = {"reference": 1.0, "five_weighings": 0.4, "wrong_cube": 0.0}
 """Program -> expected score (any instance)."""
@@ -27,46 +28,18 @@ SHIPPED = ("reference", "five_weighings")
 
 def record(program: str, secret, dest: Path, **kwargs) -> Path:
     """Play ``program`` on the instance of ``secret``; write and return ``dest`` holding ``ledger.jsonl``."""
-    import tempfile
-
-    from rle_design.ledger import LedgerClient, LedgerServer
-    from rle_tasks.core.devenv import ledger_key
-
     from ...balance import BUDGET_STEPS
     from ...balance_env import TASK_ID, make_env
     from ...balance_verifier import LEDGER_FILE, instance
+    from .. import record_session
 
     if program not in PROGRAMS:
         raise ValueError(f"unknown program {program!r}. Programs: {', '.join(PROGRAMS)}")
     solve = importlib.import_module(f"{__name__}.{program}").solve
     dest = Path(dest)
-    dest.mkdir(parents=True, exist_ok=True)
-    (dest / LEDGER_FILE).unlink(missing_ok=True)
-    with tempfile.TemporaryDirectory(prefix="rle-f03-") as tmp:
-        server = LedgerServer(
-            make_env(instance(secret), image_size=None),
-            key=ledger_key(secret, TASK_ID),
-            ledger_path=dest / LEDGER_FILE,
-            socket_path=Path(tmp) / "ledger.sock",
-            task_id=TASK_ID,
-            budget=BUDGET_STEPS,
-        )
-        server.start()
-        try:
-            with LedgerClient(server.socket_path) as client:
-                solve(client, **kwargs)
-                client.seal()
-            server.wait(60)
-        finally:
-            server.stop()
+    env = make_env(instance(secret), image_size=None)
+    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, **kwargs)
     return dest
-
-
-def _unseal(directory: Path) -> None:
-    """Cut the seal (the last record) off ``ledger.jsonl``."""
-    path = directory / "ledger.jsonl"
-    lines = path.read_bytes().splitlines(keepends=True)
-    path.write_bytes(b"".join(lines[:-1]))
 
 
 SOLUTIONS = SolutionSet(
@@ -89,7 +62,7 @@ SOLUTIONS = SolutionSet(
             sha256="a710d934c4d311d845443eb9bbbfce1b8a0ab5a6eea09f96b2db858b89eebdb7",
             quick_score=0.0,
             base="reference",
-            transforms=(_unseal,),
+            transforms=(unseal,),
         ),
     ),
 )

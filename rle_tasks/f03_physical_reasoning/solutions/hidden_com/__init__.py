@@ -15,6 +15,7 @@ import importlib
 from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
+from rle_tasks.f03_physical_reasoning.solutions import unseal
 
 PROGRAMS = ("reference", "random_answers")
 SHIPPED = PROGRAMS
@@ -26,46 +27,18 @@ def record(program: str, secret, dest: Path, camera_every: int = 10, **kwargs) -
 
     ``camera_every`` > 10 renders fewer views (the reference reads only the view after its reset).
     """
-    import tempfile
-
-    from rle_design.ledger import LedgerClient, LedgerServer
-    from rle_tasks.core.devenv import ledger_key
-
     from ...hidden_com import BUDGET_STEPS
     from ...hidden_com_env import TASK_ID, make_env
     from ...hidden_com_verifier import LEDGER_FILE, instance
+    from .. import record_session
 
     if program not in PROGRAMS:
         raise ValueError(f"unknown program {program!r}. Programs: {', '.join(PROGRAMS)}")
     solve = importlib.import_module(f"{__name__}.{program}").solve
     dest = Path(dest)
-    dest.mkdir(parents=True, exist_ok=True)
-    (dest / LEDGER_FILE).unlink(missing_ok=True)
-    with tempfile.TemporaryDirectory(prefix="rle-f03-") as tmp:
-        server = LedgerServer(
-            make_env(instance(secret), camera_every=camera_every),
-            key=ledger_key(secret, TASK_ID),
-            ledger_path=dest / LEDGER_FILE,
-            socket_path=Path(tmp) / "ledger.sock",
-            task_id=TASK_ID,
-            budget=BUDGET_STEPS,
-        )
-        server.start()
-        try:
-            with LedgerClient(server.socket_path) as client:
-                solve(client, **kwargs)
-                client.seal()
-            server.wait(60)
-        finally:
-            server.stop()
+    env = make_env(instance(secret), camera_every=camera_every)
+    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, **kwargs)
     return dest
-
-
-def _unseal(directory: Path) -> None:
-    """Cut the seal (the last record) off ``ledger.jsonl``."""
-    path = directory / "ledger.jsonl"
-    lines = path.read_bytes().splitlines(keepends=True)
-    path.write_bytes(b"".join(lines[:-1]))
 
 
 SOLUTIONS = SolutionSet(
@@ -88,7 +61,7 @@ SOLUTIONS = SolutionSet(
             sha256="6b35178ffce428b6b64dc3aef75a742615a36632476dc9697d7ab541bcb693e2",
             quick_score=0.0,
             base="reference",
-            transforms=(_unseal,),
+            transforms=(unseal,),
         ),
     ),
 )
