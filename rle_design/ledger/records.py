@@ -20,7 +20,8 @@ seal always closes the open group first. A ``reset`` payload is ``{"steps": n, "
 
 The open record carries a random nonce; the seal records the number of records before it, the
 charged step count, the head hash (``prev`` of the seal) and the ledger id (SHA-256 of the open line),
-so a seal cannot be moved to another ledger. The key never appears in the file.
+so a seal cannot be moved to another ledger. A time-limited session states its limit in the open
+record (``wall_time_s``) and the wall time it used in the seal (``elapsed_s``) [s]. The key never appears in the file.
 """
 
 from __future__ import annotations
@@ -155,11 +156,21 @@ class LedgerWriter:
         actions = '","'.join(action_hexes)
         return self._append("steps", f'{{"actions":["{actions}"],"steps":{steps:d},"time":{sim_time!r}}}')
 
-    def seal(self, steps: int) -> str:
-        """Write the seal (record count, step count, head, ledger id), flush and close; returns the seal hash."""
+    def seal(self, steps: int, extra: dict[str, Any] | None = None) -> str:
+        """Write the seal (record count, step count, head, ledger id, then ``extra`` such as the wall
+        time used), flush and close; returns the seal hash."""
         if self.sealed:
             raise LedgerError(f"ledger {self.path} is sealed already", code="ledger.sealed")
-        payload = {"head": self.prev, "ledger": self.ledger_id, "records": self.seq, "steps": steps}
+        reserved = {"head", "ledger", "records", "steps"} & set(extra or {})
+        if reserved:
+            raise ValueError(f"seal fields {sorted(reserved)} are reserved")
+        payload = {
+            **(extra or {}),
+            "head": self.prev,
+            "ledger": self.ledger_id,
+            "records": self.seq,
+            "steps": steps,
+        }
         head = self._append("seal", canonical(payload))
         self.sealed = True
         self._file.flush()

@@ -101,6 +101,7 @@ def serve(
     task_id: str,
     budget: int | None,
     actions_per_record: int = 16,
+    wall_time_s: float | None = None,
     ready: Connection | None = None,
 ) -> None:
     """Serve one metered session until sealed or signalled (runs in the server process)."""
@@ -115,6 +116,7 @@ def serve(
             key=key,
             ledger_path=ledger_path,
             actions_per_record=actions_per_record,
+            wall_time_s=wall_time_s,
         )
         del key
         old_umask = os.umask(0o077)
@@ -152,6 +154,7 @@ class LedgerServer:
         task_id: Task the ledger belongs to.
         budget: Charged steps allowed, or None for unlimited.
         actions_per_record: Executed actions grouped per ledger record (see ``MeteredSession``).
+        wall_time_s: Wall-clock time the session may charge steps for [s] (see ``MeteredSession``).
     """
 
     def __init__(
@@ -164,6 +167,7 @@ class LedgerServer:
         task_id: str,
         budget: int | None,
         actions_per_record: int = 16,
+        wall_time_s: float | None = None,
     ) -> None:
         if len(str(socket_path)) > 100:
             raise LedgerError(
@@ -181,6 +185,7 @@ class LedgerServer:
             task_id=task_id,
             budget=budget,
             actions_per_record=actions_per_record,
+            wall_time_s=wall_time_s,
         )
         self._process = ctx.Process(
             target=serve,

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import hashlib
+import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -91,6 +93,9 @@ class MeteredSession:
         ledger_path: New ledger file (required with ``key``).
         actions_per_record: Consecutive executed actions grouped in one ``steps`` record (group
             commit; 1 writes one record per action). Resets and the seal close the group.
+        wall_time_s: Wall-clock time the session may charge steps for, counted from its start [s];
+            None for unlimited. The open record states it and the seal records the time used, so a
+            verifier can require a time-limited session.
     """
 
     def __init__(
@@ -102,9 +107,14 @@ class MeteredSession:
         key: bytes | None = None,
         ledger_path: Path | None = None,
         actions_per_record: int = 16,
+        wall_time_s: float | None = None,
     ) -> None:
         if actions_per_record < 1:
             raise ValueError(f"actions_per_record must be >= 1, got {actions_per_record}")
+        if wall_time_s is not None and not (math.isfinite(wall_time_s) and wall_time_s > 0):
+            raise ValueError(f"wall_time_s must be positive and finite, got {wall_time_s}")
+        self._t0 = time.monotonic()
+        self.wall_time_s = wall_time_s
         self.model = env.build()
         env.prepare(self.model)
         self.data = mujoco.MjData(self.model)
@@ -122,6 +132,8 @@ class MeteredSession:
                 "n_substeps": env.n_substeps,
                 "timestep": float(self.model.opt.timestep),
             }
+            if wall_time_s is not None:
+                meta["wall_time_s"] = float(wall_time_s)
             self.writer = LedgerWriter(ledger_path, key, task_id, meta)
         self._ctrl = np.empty(env.action_size(self.model))
         self.actions_per_record = actions_per_record
@@ -130,12 +142,23 @@ class MeteredSession:
         mujoco.mj_forward(self.model, self.data)
 
     @property
+    def elapsed_s(self) -> float:
+        """Wall-clock time since the session started [s]."""
+        return time.monotonic() - self._t0
+
+    @property
     def sealed(self) -> bool:
         return self.writer is not None and self.writer.sealed
 
     def _charge(self) -> None:
         if self.sealed:
             raise LedgerError("the session is sealed; no more resets or steps", code="ledger.sealed")
+        if self.wall_time_s is not None and self.elapsed_s > self.wall_time_s:
+            raise LedgerError(
+                f"the session's {self.wall_time_s:.0f} s are over ({self.elapsed_s:.0f} s since it started); "
+                "observations and the seal still work",
+                code="ledger.time_exhausted",
+            )
         if self.budget is not None and self.steps_used >= self.budget:
             raise LedgerError(
                 f"{self.steps_used} of {self.budget} steps used; resets and executed actions cost one step each, "
@@ -204,6 +227,8 @@ class MeteredSession:
             "task_id": self.task_id,
             "steps_used": self.steps_used,
             "budget": self.budget,
+            "wall_time_s": self.wall_time_s,
+            "elapsed_s": round(self.elapsed_s, 3),
             "sealed": self.sealed,
             "nq": self.model.nq,
             "nv": self.model.nv,
@@ -219,5 +244,6 @@ class MeteredSession:
             return ""
         if not self.writer.sealed:
             self.commit()
-            self._head = self.writer.seal(self.steps_used)
+            extra = {} if self.wall_time_s is None else {"elapsed_s": round(self.elapsed_s, 3)}
+            self._head = self.writer.seal(self.steps_used, extra)
         return self._head

@@ -6,7 +6,7 @@ import hashlib
 import hmac
 import json
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from rle_design.ledger.records import CHARGED, GENESIS, KINDS, canonical, line_hash, mac_input
@@ -42,6 +42,9 @@ class LedgerVerdict:
         message: Human-readable reason naming the line.
         steps: Charged steps recorded by the seal (0 when not valid).
         head: SHA-256 of the seal line (empty when not valid).
+        opened: Payload of the open record (nonce, model digest, budget, ``wall_time_s`` ...) of a
+            valid ledger (empty otherwise).
+        sealed: Payload of the seal record of a valid ledger (``elapsed_s`` when time-limited).
     """
 
     valid: bool
@@ -49,6 +52,8 @@ class LedgerVerdict:
     message: str
     steps: int = 0
     head: str = ""
+    opened: dict = field(default_factory=dict)
+    sealed: dict = field(default_factory=dict)
 
 
 def _digest(payload: dict) -> str:
@@ -182,5 +187,11 @@ def verify_ledger(path: str | Path, key: bytes, task_id: str | None = None) -> L
             f"found {len(recs) - 1} / {steps}",
         )
     return LedgerVerdict(
-        True, "ledger.valid", f"{path.name}: sealed, {steps} steps", steps, line_hash(lines[-1])
+        True,
+        "ledger.valid",
+        f"{path.name}: sealed, {steps} steps",
+        steps,
+        line_hash(lines[-1]),
+        dict(recs[0]["payload"]),
+        dict(seal),
     )

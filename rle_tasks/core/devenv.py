@@ -157,6 +157,7 @@ def layout_workspace(
                 socket_path=socket_path,
                 task_id=spec.id,
                 budget=spec.budget.steps,
+                wall_time_s=spec.budget.wall_time_s,
             )
             del key
             ws.server.start()

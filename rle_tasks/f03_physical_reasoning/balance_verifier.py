@@ -24,9 +24,6 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from rle_design.control import ReplayError, replay
-from rle_design.ledger import verify_ledger
-from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.scoring import CheckpointSpec, Fraction, Outcome, Rubric
 from rle_tasks.core.secrets import Secret, derive_rng
@@ -43,8 +40,8 @@ from .balance_env import (
     make_env,
     robotless_spec,
 )
+from .session import LEDGER_FILE, replay_ledger
 
-LEDGER_FILE = "ledger.jsonl"
 SETTLE_S = 1.0
 """Robot-free settling time [s]: a dropped 30 mm cube lands and stops well within it."""
 REST_TOL = 0.003
@@ -134,17 +131,11 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
     findings = Findings()
-    path = Path(root) / LEDGER_FILE
-    if path.is_symlink() or (path.exists() and not path.is_file()):
-        return _invalid("ledger.missing", f"{LEDGER_FILE} is not a regular file", findings)
-    verdict = verify_ledger(path, ledger_key(ctx.secret, TASK_ID), TASK_ID)
-    if not verdict.valid:
-        return _invalid(verdict.code, verdict.message, findings)
     inst = instance(ctx.secret)
-    try:
-        model, data, n_actions = replay(make_env(inst, image_size=None), path)
-    except ReplayError as exc:
-        return _invalid(exc.code, exc.message, findings)
+    gate = replay_ledger(root, ctx.secret, TASK_ID, make_env(inst, image_size=None))
+    if not gate.ok:
+        return _invalid(gate.code, gate.message, findings)
+    model, data = gate.model, gate.data
     weighings = int(data.userdata[WEIGHINGS])
     final = settle_final(inst, model, data)
     heavy_only = final.on_mat == (inst.heavy,)
@@ -158,7 +149,7 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     else:
         message = f"cube(s) {list(final.on_mat)} rest on the mat: not the heavy cube"
     measured = {"weighings": weighings, "cubes_on_mat": list(final.on_mat), "heavy_only": heavy_only}
-    native = {"weighings": weighings, "steps": verdict.steps, "actions": n_actions, "settle_s": SETTLE_S}
+    native = {"weighings": weighings, "steps": gate.steps, "actions": gate.actions, "settle_s": SETTLE_S}
     return RUBRIC.report(
         {"identified": Outcome({"scene": score}, message, measured)},
         valid=True,

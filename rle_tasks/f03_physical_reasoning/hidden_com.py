@@ -8,9 +8,12 @@ from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 HERE = Path(__file__).resolve().parent
 TASK_ID = "03-hidden-com"
-STEPS_PER_BOX = 12_000
-BUDGET_STEPS = 3 * STEPS_PER_BOX
-"""The card's 12,000 steps per box, for the three boxes of one session."""
+BUDGET_STEPS = 36_000
+"""The card's 12,000 steps per box (``hidden_com_env.STEPS_PER_BOX``), for the three boxes of one
+session; the environment refuses an answer given more than 12,000 steps after the previous one."""
+WALL_TIME_S = 3600.0
+"""The card's "1 h total": the session refuses steps after it, and the verifier requires a session
+that was limited to it."""
 
 
 def instruction() -> str:
@@ -38,7 +41,7 @@ def task_spec() -> TaskSpec:
         family=3,
         title="Tabletop physical reasoning: identify the ballast quadrant of three sealed boxes",
         instruction=instruction(),
-        budget=Budget(wall_time_s=3600.0, cpus=4, gpus=1, steps=BUDGET_STEPS, verifier_timeout_s=1800.0),
+        budget=Budget(wall_time_s=WALL_TIME_S, cpus=4, gpus=1, steps=BUDGET_STEPS, verifier_timeout_s=1800.0),
         contract=ArtifactContract(
             required=("ledger.jsonl",),
             description="ledger.jsonl: the sealed ledger of the metered session in which the three answers "
@@ -46,6 +49,6 @@ def task_spec() -> TaskSpec:
         ),
         make_dev_env=make_dev_env,
         verify=verify,
-        solutions=("reference", "baseline/random_answers", "baseline/unsealed"),
+        solutions=("reference", "baseline/random_answers", "baseline/late_answers", "baseline/unsealed"),
         solutions_module=f"{__package__}.solutions.hidden_com",
     )

@@ -10,9 +10,17 @@ Answer protocol: an action whose **mode** entry (index 11) is above 0.5 is an an
 entry (index 7) names the box (-1, 0, +1 for boxes 0, 1, 2; nearest within 0.25) and its torso entry
 (index 10) the quadrant (-0.75, -0.25, 0.25, 0.75 for A, B, C, D; nearest within 0.125);
 ``answer_action`` builds one. The first valid answer for a box is final (irreversible); later answers
-for it and malformed answer actions are ignored and counted (``invalid``). Answers live in
-``MjData.userdata`` (0 none, 1..4 for A..D; survive resets), so the ledger's replay reproduces them.
-The observation ``answers`` = {``given``: 3 booleans, ``invalid``: int} gives no correctness feedback.
+for it and malformed answer actions are ignored and counted (``invalid``).
+
+Step split (the card's "12,000 steps per box"): the charged steps since the session's start or the
+last accepted answer are counted, resets and the answer action included; an answer given after more
+than ``STEPS_PER_BOX`` of them is late, refused and counted (``late``), so the box it names stays
+unanswered. Working box by box, each box gets its 12,000 steps and unused steps do not carry over.
+
+Answers and counters live in ``MjData.userdata`` (answers 0 none, 1..4 for A..D; all survive resets),
+so the ledger's replay reproduces them. The observation ``answers`` = {``given``: 3 booleans,
+``invalid``: int, ``late``: int, ``steps_left``: steps before the next answer is late} gives no
+correctness feedback.
 """
 
 from __future__ import annotations
@@ -38,8 +46,14 @@ IMAGE_SIZE = (240, 320)
 """RGB size (H, W) [px]: a corner patch spans about 5 px in the top view."""
 BOX_CODES = (-1.0, 0.0, 1.0)
 QUADRANT_CODES = (-0.75, -0.25, 0.25, 0.75)
+STEPS_PER_BOX = 12_000
+"""Charged steps allowed between answers (the card's per-box budget)."""
 INVALID = N_BOXES
 """``MjData.userdata`` index of the ignored-answer counter (0..2 hold the answers)."""
+LATE = N_BOXES + 1
+"""``MjData.userdata`` index of the late-answer counter."""
+SINCE = N_BOXES + 2
+"""``MjData.userdata`` index of the charged steps since the start or the last accepted answer."""
 
 
 @dataclass(frozen=True)
@@ -70,7 +84,7 @@ def scene_xml(instance: HiddenComInstance) -> str:
     spec = build_tabletop(TABLE)
     for i, (x, y) in enumerate(BOX_XY):
         add_box(spec, box_name(i), instance.box(i), (x, y, TABLE.top_z), yaw=instance.yaws[i] * math.pi / 2)
-    spec.nuserdata = N_BOXES + 1
+    spec.nuserdata = N_BOXES + 3
     finish(spec, TABLE)
     return spec.to_xml()
 
@@ -101,8 +115,13 @@ def recorded_answers(data: mujoco.MjData) -> tuple[str | None, ...]:
 
 
 def answers_observation(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, Any]:
-    """The ``answers`` observation: which boxes are answered, how many answer actions were ignored."""
-    return {"given": [bool(v >= 1) for v in data.userdata[:N_BOXES]], "invalid": int(data.userdata[INVALID])}
+    """The ``answers`` observation: which boxes are answered, ignored and late answer actions
+    (``HiddenComEnv.observe`` adds the steps left before the next answer is late)."""
+    return {
+        "given": [bool(v >= 1) for v in data.userdata[:N_BOXES]],
+        "invalid": int(data.userdata[INVALID]),
+        "late": int(data.userdata[LATE]),
+    }
 
 
 @dataclass(frozen=True)
@@ -111,20 +130,32 @@ class HiddenComEnv(TabletopEnv):
 
     observers: tuple = (("answers", answers_observation),)
     image_size: tuple[int, int] | None = IMAGE_SIZE
+    steps_per_box: int = STEPS_PER_BOX
+    """Steps allowed between answers (tests shorten it; the task and its verifier use the card's)."""
 
     def reset(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         kept = data.userdata.copy()
         super().reset(model, data)
         data.userdata[:] = kept
+        data.userdata[SINCE] += 1
+
+    def observe(self, model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, Any]:
+        obs = super().observe(model, data)
+        obs["answers"]["steps_left"] = max(0, self.steps_per_box - int(data.userdata[SINCE]))
+        return obs
 
     def step(self, model: mujoco.MjModel, data: mujoco.MjData, ctrl: np.ndarray) -> None:
         action = np.nan_to_num(np.asarray(ctrl, dtype=float))
+        data.userdata[SINCE] += 1
         if action[MODE] > 0.5:
             decoded = decode_answer(action)
             if decoded is None or data.userdata[decoded[0]] >= 1:
                 data.userdata[INVALID] += 1
+            elif data.userdata[SINCE] > self.steps_per_box:
+                data.userdata[LATE] += 1
             else:
                 data.userdata[decoded[0]] = QUADRANTS.index(decoded[1]) + 1
+                data.userdata[SINCE] = 0
         super().step(model, data, ctrl)
 
 

@@ -3,11 +3,13 @@
 Protocol:
 
 1. ``ledger.jsonl`` in the submission must be a sealed, authentic ledger of this task under the
-   ledger key of the verifier secret; otherwise score 0 (cap ``ledger``) with the verdict's reason.
+   ledger key of the verifier secret, of a session its server limited to the card's hour
+   (``WALL_TIME_S``); otherwise score 0 with the verdict's reason.
 2. The instance is drawn from the secret (``HiddenComInstance.draw``) and the ledger replayed on its
    environment; a ledger of another scene or one that diverges scores 0 with the replay's code.
-3. Each box's answer is the first valid answer action of the session (``hidden_com_env``); a box
-   without one counts as wrong. Score: the fraction of the three answers that name the ballast's
+3. Each box's answer is the first valid answer action of the session given within 12,000 charged
+   steps of the previous accepted answer or the start (``hidden_com_env``); a box without one
+   counts as wrong, and late answers are reported. Score: the fraction of the three answers that name the ballast's
    quadrant. Only the number correct is reported, never which boxes or the right quadrants.
 """
 
@@ -15,17 +17,23 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rle_design.control import ReplayError, replay
-from rle_design.ledger import verify_ledger
-from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.scoring import CheckpointSpec, Fraction, Outcome, Rubric
 from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
-from .hidden_com_env import INVALID, N_BOXES, TASK_ID, HiddenComInstance, make_env, recorded_answers
-
-LEDGER_FILE = "ledger.jsonl"
+from .hidden_com import WALL_TIME_S
+from .hidden_com_env import (
+    INVALID,
+    LATE,
+    N_BOXES,
+    STEPS_PER_BOX,
+    TASK_ID,
+    HiddenComInstance,
+    make_env,
+    recorded_answers,
+)
+from .session import LEDGER_FILE, replay_ledger
 
 RUBRIC = Rubric(
     task_id=TASK_ID,
@@ -61,25 +69,30 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
     findings = Findings()
-    path = Path(root) / LEDGER_FILE
-    if path.is_symlink() or (path.exists() and not path.is_file()):
-        return _invalid("ledger.missing", f"{LEDGER_FILE} is not a regular file", findings)
-    verdict = verify_ledger(path, ledger_key(ctx.secret, TASK_ID), TASK_ID)
-    if not verdict.valid:
-        return _invalid(verdict.code, verdict.message, findings)
     inst = instance(ctx.secret)
-    try:
-        _, data, n_actions = replay(make_env(inst, image_size=None), path)
-    except ReplayError as exc:
-        return _invalid(exc.code, exc.message, findings)
+    gate = replay_ledger(root, ctx.secret, TASK_ID, make_env(inst, image_size=None), WALL_TIME_S)
+    if not gate.ok:
+        return _invalid(gate.code, gate.message, findings)
+    data = gate.data
     answers = recorded_answers(data)
     correct = sum(a == q for a, q in zip(answers, inst.quadrants))
     given = sum(a is not None for a in answers)
+    late = int(data.userdata[LATE])
     message = f"{correct} of {N_BOXES} answers correct ({given} given)"
-    measured = {"correct": correct, "answered": given, "ignored_answer_actions": int(data.userdata[INVALID])}
+    if late:
+        message += (
+            f"; {late} answer action(s) refused as late (more than {STEPS_PER_BOX} steps after the previous)"
+        )
+    measured = {
+        "correct": correct,
+        "answered": given,
+        "ignored_answer_actions": int(data.userdata[INVALID]),
+        "late_answer_actions": late,
+    }
+    native = {"steps": gate.steps, "actions": gate.actions, "elapsed_s": gate.elapsed_s, **measured}
     return RUBRIC.report(
         {"answers": Outcome({"boxes": correct / N_BOXES}, message, measured)},
         valid=True,
         errors=findings.errors,
-        native_metrics={"steps": verdict.steps, "actions": n_actions, **measured},
+        native_metrics=native,
     )

@@ -23,7 +23,9 @@ FULL = os.environ.get("RLE_FULL_BATTERY") == "1"
 
 
 @pytest.mark.physics
-@pytest.mark.parametrize("name", ["reference", "baseline/random_answers", "baseline/unsealed"])
+@pytest.mark.parametrize(
+    "name", ["reference", "baseline/random_answers", "baseline/late_answers", "baseline/unsealed"]
+)
 def test_shipped_solution_scores_its_golden_score(name):
     task = get_task("03-hidden-com")
     report = task.verify(materialise(task, name), VerifyContext(secret=PUBLIC, quick=True))
@@ -35,6 +37,10 @@ def test_shipped_solution_scores_its_golden_score(name):
         assert report.valid and report.score == pytest.approx(
             sum(g == q for g, q in zip(guesses(0), truth)) / 3
         )
+    elif name == "baseline/late_answers":  # box 0 right; boxes 1 and 2 answered after 12,000 idle steps
+        assert report.valid and report.score == pytest.approx(1 / 3)
+        assert report.checkpoints[0].measured["late_answer_actions"] == 2
+        assert "2 answer action(s) refused as late" in report.checkpoints[0].message
     else:
         assert not report.valid and report.score == 0.0 and report.errors[0].code == "ledger.unsealed"
 

@@ -11,6 +11,7 @@ from rle_design.ledger import MeteredSession
 from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
+from rle_tasks.f03_physical_reasoning import hidden_com as hc
 from rle_tasks.f03_physical_reasoning import hidden_com_env as he
 from rle_tasks.f03_physical_reasoning import hidden_com_verifier as hv
 from rle_tasks.f03_physical_reasoning.hidden_com_scene import QUADRANTS
@@ -46,7 +47,7 @@ def test_first_answer_is_final_and_survives_a_reset(env):
     env.step(model, data, malformed)
     env.reset(model, data)
     assert he.recorded_answers(data) == (None, None, "C")
-    assert he.answers_observation(model, data) == {"given": [False, False, True], "invalid": 2}
+    assert he.answers_observation(model, data) == {"given": [False, False, True], "invalid": 2, "late": 0}
 
 
 def test_instance_comes_from_the_secret():
@@ -88,15 +89,18 @@ def test_corner_patches_show_where_the_instruction_says():
             assert int(np.argmax(px)) == colour[quad], (i, quad, px)
 
 
-def _session(env, tmp: Path, actions, secret: Secret = PUBLIC) -> Path:
+def _session(
+    env, tmp: Path, actions, secret: Secret = PUBLIC, wall_time_s: float | None = hc.WALL_TIME_S
+) -> Path:
     sub = tmp / "submission"
-    sub.mkdir()
+    sub.mkdir(parents=True)
     s = MeteredSession(
         env,
         task_id=he.TASK_ID,
         budget=100,
         key=ledger_key(secret, he.TASK_ID),
         ledger_path=sub / "ledger.jsonl",
+        wall_time_s=wall_time_s,
     )
     s.reset()
     for a in actions:
@@ -123,7 +127,12 @@ def test_changing_an_answer_is_ignored_and_unanswered_boxes_are_wrong(env, tmp_p
     actions = [he.answer_action(0, _wrong(q[0])), he.answer_action(0, q[0]), he.answer_action(1, q[1])]
     report = hv.verify(_session(env, tmp_path, actions), VerifyContext(secret=PUBLIC))
     assert report.score == pytest.approx(1 / 3)
-    assert report.checkpoints[0].measured == {"correct": 1, "answered": 2, "ignored_answer_actions": 1}
+    assert report.checkpoints[0].measured == {
+        "correct": 1,
+        "answered": 2,
+        "ignored_answer_actions": 1,
+        "late_answer_actions": 0,
+    }
 
 
 @pytest.mark.parametrize(
@@ -148,3 +157,33 @@ def test_a_ledger_replayed_on_another_instance_is_refused(env, tmp_path):
     sub = _session(other, tmp_path, [he.answer_action(0, "A")])
     report = hv.verify(sub, VerifyContext(secret=PUBLIC))
     assert report.score == 0.0 and report.errors[0].code == "replay.other_scene"
+
+
+def test_an_answer_after_the_box_budget_is_refused_as_late():
+    # steps_per_box shortened to 5 for speed; the task uses the card's 12,000 (pinned below)
+    assert he.STEPS_PER_BOX == 12_000 and hc.BUDGET_STEPS == 3 * he.STEPS_PER_BOX
+    short = he.HiddenComEnv(xml=he.scene_xml(INSTANCE), image_size=None, steps_per_box=5)
+    model = short.build()
+    short.prepare(model)
+    data = mujoco.MjData(model)
+    short.reset(model, data)  # 1 charged step
+    for _ in range(3):
+        short.step(model, data, zero_action())  # 4 charged steps
+    assert short.observe(model, data)["answers"]["steps_left"] == 1
+    short.step(model, data, he.answer_action(0, "A"))  # the 5th step: in time, the count restarts
+    assert short.observe(model, data)["answers"]["steps_left"] == 5
+    for _ in range(5):
+        short.step(model, data, zero_action())
+    short.reset(model, data)  # resets count too: 6 steps since the answer
+    short.step(model, data, he.answer_action(1, "B"))  # 7th: late, refused
+    assert he.recorded_answers(data) == ("A", None, None)
+    assert he.answers_observation(model, data) == {"given": [True, False, False], "invalid": 0, "late": 1}
+
+
+def test_a_session_without_the_cards_hour_is_refused(env, tmp_path):
+    actions = [he.answer_action(i, a) for i, a in enumerate(INSTANCE.quadrants)]
+    for limit in (None, 2 * hc.WALL_TIME_S):
+        sub = _session(env, tmp_path / str(limit), actions, wall_time_s=limit)
+        report = hv.verify(sub, VerifyContext(secret=PUBLIC))
+        assert report.score == 0.0 and report.errors[0].code == "ledger.no_time_limit"
+        assert f"{limit!r} s" in report.errors[0].message

@@ -176,3 +176,37 @@ def test_a_failing_observer_does_not_end_the_session(tmp_path):
         assert info.value.code == "ledger.internal"
         assert str(info.value) == "server error: RuntimeError: observer bug"
         assert client.info()["steps_used"] == 0
+
+
+def test_wall_time_limit_refuses_steps_and_is_recorded(tmp_path, monkeypatch):
+    from rle_design.ledger import session as session_mod
+
+    clock = [100.0]
+    monkeypatch.setattr(session_mod.time, "monotonic", lambda: clock[0])
+    path = tmp_path / "ledger.jsonl"
+    s = MeteredSession(
+        MeteredEnv(SLIDER), task_id=TASK, budget=None, key=KEY, ledger_path=path, wall_time_s=60.0
+    )
+    s.reset()
+    clock[0] += 60.0  # exactly at the limit: still allowed
+    s.step(np.array([1.0]))
+    clock[0] += 0.5
+    with pytest.raises(LedgerError) as err:
+        s.step(np.array([1.0]))
+    assert err.value.code == "ledger.time_exhausted" and "60 s are over" in str(err.value)
+    assert s.steps_used == 2 and s.observe()["time"] > 0  # observations still free
+    s.seal()
+    verdict = verify_ledger(path, KEY, TASK)
+    assert verdict.valid and verdict.steps == 2
+    assert verdict.opened["wall_time_s"] == 60.0 and verdict.sealed["elapsed_s"] == 60.5
+    with pytest.raises(ValueError):
+        MeteredSession(MeteredEnv(SLIDER), task_id=TASK, budget=None, wall_time_s=0.0)
+
+
+def test_a_session_without_wall_limit_records_no_time_fields(tmp_path):
+    path = tmp_path / "ledger.jsonl"
+    s = MeteredSession(MeteredEnv(SLIDER), task_id=TASK, budget=None, key=KEY, ledger_path=path)
+    s.reset()
+    s.seal()
+    verdict = verify_ledger(path, KEY, TASK)
+    assert "wall_time_s" not in verdict.opened and "elapsed_s" not in verdict.sealed

@@ -27,10 +27,18 @@ def unseal(directory: Path) -> None:
 
 
 def record_session(
-    env, secret, task_id: str, budget: int, ledger: Path, solve: Callable[..., Any], **kwargs
+    env,
+    secret,
+    task_id: str,
+    budget: int,
+    ledger: Path,
+    solve: Callable[..., Any],
+    wall_time_s: float | None = None,
+    **kwargs,
 ) -> Path:
     """Play ``solve(client, **kwargs)`` on a metered session of ``env`` served by a ledger server under
-    ``secret``'s key, seal it, and return the sealed ledger file ``ledger`` (replaced if present)."""
+    ``secret``'s key (time-limited by ``wall_time_s`` [s] when given), seal it, and return the sealed
+    ledger file ``ledger`` (replaced if present)."""
     import tempfile
 
     from rle_design.ledger import LedgerClient, LedgerServer
@@ -47,6 +55,7 @@ def record_session(
             socket_path=Path(tmp) / "ledger.sock",
             task_id=task_id,
             budget=budget,
+            wall_time_s=wall_time_s,
         )
         server.start()
         try:

@@ -7,6 +7,7 @@ so the programs are shipped and ``record`` plays one on a metered session of the
 |---|---|---|
 | ``reference`` | 1.0 | wrist-torque probing in four box orientations, patch colour from the top view |
 | ``random_answers`` | 0.0 (seed 0, public instance) | answers without probing: 1/4 correct on average |
+| ``late_answers`` | 1/3 | the reference's probing, idle 12,000 steps after box 0: boxes 1 and 2 refused as late |
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from pathlib import Path
 from rle_tasks.core.solutions import Solution, SolutionSet
 from rle_tasks.f03_physical_reasoning.solutions import unseal
 
-PROGRAMS = ("reference", "random_answers")
+PROGRAMS = ("reference", "random_answers", "late_answers")
 SHIPPED = PROGRAMS
 """Programs whose public-key ledgers are committed (``ledgers/<name>/ledger.jsonl``, ``__main__`` records them)."""
 
@@ -27,7 +28,7 @@ def record(program: str, secret, dest: Path, camera_every: int = 10, **kwargs) -
 
     ``camera_every`` > 10 renders fewer views (the reference reads only the view after its reset).
     """
-    from ...hidden_com import BUDGET_STEPS
+    from ...hidden_com import BUDGET_STEPS, WALL_TIME_S
     from ...hidden_com_env import TASK_ID, make_env
     from ...hidden_com_verifier import LEDGER_FILE, instance
     from .. import record_session
@@ -37,7 +38,7 @@ def record(program: str, secret, dest: Path, camera_every: int = 10, **kwargs) -
     solve = importlib.import_module(f"{__name__}.{program}").solve
     dest = Path(dest)
     env = make_env(instance(secret), camera_every=camera_every)
-    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, **kwargs)
+    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, WALL_TIME_S, **kwargs)
     return dest
 
 
@@ -46,19 +47,25 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="5f6e16ca5ba33adb8be89803fe256121427347f6c7aa8d8a8020511fed548f95",
+            sha256="0bebf9e45f9a33c933bf0111d6194d04b30e632167b824d9b112d3925dd21cca",
             quick_score=1.0,
             files=((".", "solutions/hidden_com/ledgers/reference"),),
         ),
         Solution(
             "baseline/random_answers",
-            sha256="f094031c905c23931627507b7bcde2c3ab97ba5b8b0f85eb17d4362db72da61e",
+            sha256="477c2bf67db528f91409477427f398369b922e777e0cf2345fca3910b71713bd",
             quick_score=0.0,
             files=((".", "solutions/hidden_com/ledgers/random_answers"),),
         ),
         Solution(
+            "baseline/late_answers",
+            sha256="697ec7fd881a36bc90840b241061d23ec0b307485929c34594b3792bec67c243",
+            quick_score=1 / 3,
+            files=((".", "solutions/hidden_com/ledgers/late_answers"),),
+        ),
+        Solution(
             "baseline/unsealed",
-            sha256="6b35178ffce428b6b64dc3aef75a742615a36632476dc9697d7ab541bcb693e2",
+            sha256="578a11a901b49eb65db4f18b2c3fba5128faed9fdbf3f331197edd856c0859d2",
             quick_score=0.0,
             base="reference",
             transforms=(unseal,),

@@ -1,0 +1,33 @@
+"""Baseline of ``03-hidden-com``: the reference's probing, but it dawdles after its first answer.
+
+It answers box 0 as the reference does, then holds still for ``IDLE`` steps before probing boxes 1
+and 2: their answers come more than 12,000 charged steps after the previous accepted one, so the
+environment refuses both as late. Expected: 1/3 (box 0 right), the report naming two late answers.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .reference import BOX_H, BOX_XY, PATCH, TABLE_Z, Prober, patch_colour
+
+IDLE = 12_000
+"""Steps held still after the first answer: alone a whole box's budget."""
+
+
+def solve(env: Any) -> tuple[str, ...]:
+    """Probe and answer the three boxes, idling ``IDLE`` steps after the first; returns the answers."""
+    prober = Prober(env)
+    answers = []
+    for box in range(3):
+        c = prober.offset(box)
+        x, y = BOX_XY[box]
+        corner = np.array([x + PATCH * np.sign(c[0]), y + PATCH * np.sign(c[1]), TABLE_Z + BOX_H])
+        quadrant = patch_colour(prober.image, corner)
+        prober.answer(box, quadrant)
+        answers.append(quadrant)
+        if box == 0:
+            prober.helper.wait(IDLE)
+    return tuple(answers)
