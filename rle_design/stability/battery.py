@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from rle_design.rollout import Event, Term, root_tilt, run_episode
+from rle_design.rollout import Event, SimulationWarnings, Term, root_tilt, run_episode
 from rle_design.stability.contacts import SupportSet, sample_contacts
 from rle_design.stability.support_loss import SupportLossMonitor
 from rle_design.stability.support_polygon import StabilityError, support_polygon
@@ -97,6 +97,10 @@ class ScenarioResult:
         tip_time: Time of the first tip, or None [s].
         longest_loss: Longest continuous loss of support of any support [s].
         lost_support: Whether a loss exceeded the loss duration.
+        weight: Weight of the machine [N].
+        warning: The MuJoCo warning that ended the scenario (``SimulationWarnings``' message), or
+            None. A scenario with a warning never passes: its signals stop where the simulation
+            stopped being trustworthy.
     """
 
     name: str
@@ -111,6 +115,7 @@ class ScenarioResult:
     longest_loss: float
     lost_support: bool
     weight: float = 0.0
+    warning: str | None = None
     extra: dict = field(default_factory=dict)
 
     @functools.cached_property
@@ -237,12 +242,18 @@ def run_scenario(
         if scenario.control is not None:
             scenario.control(m, d, d.time - t0)
 
+    warn = SimulationWarnings(every=probe.sample_every)
     try:
-        run_episode(
-            model, data, int(round(scenario.duration / model.opt.timestep)), control=control, terms=[rec]
+        ep = run_episode(
+            model,
+            data,
+            int(round(scenario.duration / model.opt.timestep)),
+            control=control,
+            terms=[warn, rec],
         )
     finally:
         model.opt.gravity[:] = g0
+    warning = next((e.message for e in ep.events if e.term == warn.name), None)
     arr = {key: np.array(v, dtype=float) for key, v in rec.rows.items() if key != "margin"}
     if arr["normal"].size == 0:
         arr["normal"] = np.zeros((0, k))
@@ -259,6 +270,7 @@ def run_scenario(
         rec.monitor.longest_loss,
         rec.monitor.lost,
         weight,
+        warning,
     )
 
 

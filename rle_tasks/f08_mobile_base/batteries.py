@@ -10,7 +10,8 @@ Dynamic (2 kg payload): with the arm stowed (transport), base accelerations (equ
 forward, backward and sideways, an emergency stop from driving speed and turning in place; with the
 arm extended forward and the wheels braked, a fast swing of the first joint. A scenario passes when no wheel stays below ``LOSS_FRACTION`` m g / 4 (loads averaged over 50 ms)
 for longer than ``LOSS_DURATION_S`` and the peak tilt stays under ``TILT_MAX_DEG``; the smallest
-wheel load is reported.
+wheel load is reported. A MuJoCo warning (bad qacc, contact or constraint overflow, NaN) in a static
+case or a dynamic scenario fails it, naming the warning (``ScenarioResult.warning``).
 """
 
 from __future__ import annotations
@@ -52,11 +53,14 @@ class StaticCase:
     longest_loss_s: float
     tilt_deg: float
     ik_residual: float
+    warning: str | None = None
+    """MuJoCo warning raised while settling (the case then fails), or None."""
 
     @property
     def passed(self) -> bool:
         return (
-            self.margin >= STATIC_MARGIN_MIN
+            self.warning is None
+            and self.margin >= STATIC_MARGIN_MIN
             and self.force_angle_deg >= FORCE_ANGLE_MIN_DEG
             and self.longest_loss_s <= LOSS_DURATION_S
             and self.tilt_deg < TILT_MAX_DEG
@@ -107,6 +111,7 @@ def static_case(scene: Scene, pose: Pose, payload_kg: int, settle_s: float = SET
         res.longest_loss,
         res.peak_tilt_deg if not res.tipped else 90.0,
         pose.residual,
+        res.warning,
     )
 
 
@@ -215,7 +220,12 @@ def dynamic_battery(
             "min_wheel_frac": min_frac,
             "longest_loss_s": res.longest_loss,
             "peak_tilt_deg": 90.0 if res.tipped and res.peak_tilt_deg < TILT_MAX_DEG else res.peak_tilt_deg,
+            "warning": res.warning,
         }
-        s["passed"] = bool(s["longest_loss_s"] <= LOSS_DURATION_S and s["peak_tilt_deg"] < TILT_MAX_DEG)
+        s["passed"] = bool(
+            res.warning is None
+            and s["longest_loss_s"] <= LOSS_DURATION_S
+            and s["peak_tilt_deg"] < TILT_MAX_DEG
+        )
         out.append(s)
     return out

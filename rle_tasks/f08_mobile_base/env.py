@@ -15,7 +15,7 @@ import mujoco
 import numpy as np
 
 from rle_design.catalog import load_catalog
-from rle_design.rollout import ContactBetween, HoldAtTarget, TiltLimit, run_episode
+from rle_design.rollout import ContactBetween, HoldAtTarget, SimulationWarnings, TiltLimit, run_episode
 from rle_design.sandbox import ParticipantFault
 from rle_design.stability import SupportLoad, SupportLost
 from rle_tasks.core.policy import Budget, FunctionSpec, Protocol
@@ -86,6 +86,7 @@ def trial_terms(scene: Scene, target: np.ndarray) -> tuple[SupportLoad, list]:
         ContactBetween(m.ngeom, scene.robot_geoms, scene.shelf_geoms, every=1, what="shelf collision"),
         TiltLimit(scene.chassis, TILT_MAX_DEG, every=n_sub, what="chassis tilt"),
         SupportLost(load, every=n_sub, what="wheel support"),
+        SimulationWarnings(every=n_sub),  # a diverging simulation is never a success
         HoldAtTarget(
             scene.tool_site,
             target,
@@ -110,7 +111,7 @@ def run_trial(scene: Scene, sandbox, target: np.ndarray, payload_kg: float) -> d
     target = np.asarray(target, dtype=float)
     sandbox.call("reset", scene.arm, target, float(payload_kg), layout(scene), timeout=None)
     load, terms = trial_terms(scene, target)
-    tilt, hold = terms[2], terms[4]
+    tilt, hold = terms[2], terms[5]
 
     def control(model: mujoco.MjModel, d: mujoco.MjData, t: float) -> None:
         cmd = sandbox.call(

@@ -266,7 +266,7 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     out["dynamic_stability"] = Outcome(
         per_arm(lambda o: o["dynamic_score"]),
         "; ".join(
-            f"{a}: {', '.join(s['scenario'] for s in o['dynamic'] if not s['passed']) or 'all passed'}"
+            f"{a}: {', '.join(_scenario_failure(s) for s in o['dynamic'] if not s['passed']) or 'all passed'}"
             for a, o in arms.items()
         ),
         measured={a: o["dynamic"] for a, o in arms.items()},
@@ -307,6 +307,11 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     )
 
 
+def _scenario_failure(s: dict) -> str:
+    """A failed dynamic scenario's name, with the MuJoCo warning that failed it if any."""
+    return f"{s['scenario']} ({s['warning']})" if s.get("warning") else s["scenario"]
+
+
 def _static_summary(o: dict) -> dict:
     cases = o["static"]
     worst = min(cases, key=lambda c: c["margin"])
@@ -315,7 +320,11 @@ def _static_summary(o: dict) -> dict:
         "worst_pose": f"{worst['pose']} @ {worst['payload_kg']} kg",
         "min_force_angle_deg": min(c["force_angle_deg"] for c in cases),
         "min_wheel_frac": min(c["min_wheel_frac"] for c in cases),
-        "failed": [f"{c['pose']}@{c['payload_kg']}kg" for c in cases if not c["passed"]],
+        "failed": [
+            f"{c['pose']}@{c['payload_kg']}kg" + (f" ({c['warning']})" if c.get("warning") else "")
+            for c in cases
+            if not c["passed"]
+        ],
     }
 
 

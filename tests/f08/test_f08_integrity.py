@@ -89,3 +89,21 @@ def test_a_part_in_mid_air_is_refused_with_its_gap(tmp_path, edit, part):
     assert (
         len(findings) == 1 and f"'{part}'" in findings[0] and " mm from the nearest structure" in findings[0]
     )
+
+
+def test_f08_cases_with_a_warning_never_pass():
+    import dataclasses
+
+    from rle_tasks.f08_mobile_base.batteries import StaticCase
+
+    fine = StaticCase("p", 1, 0.1, 20.0, 0.8, 0.0, 0.1, 0.0)
+    assert fine.passed
+    assert not dataclasses.replace(fine, warning="simulation warning mjWARN_BADQACC at t = 0.1 s").passed
+
+
+def test_a_dynamic_scenario_failed_by_a_warning_is_named_in_the_message():
+    from rle_tasks.f08_mobile_base.verifier import _scenario_failure
+
+    s = {"scenario": "e_stop", "passed": False, "warning": "simulation warning mjWARN_BADQACC at t = 0.4 s"}
+    assert _scenario_failure(s) == "e_stop (simulation warning mjWARN_BADQACC at t = 0.4 s)"
+    assert _scenario_failure({**s, "warning": None}) == "e_stop"

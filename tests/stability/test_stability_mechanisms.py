@@ -100,3 +100,20 @@ def test_dynamic_battery_finds_tip_acceleration_g_d_over_h():
     a = tip_acceleration(model, reset, probe, direction=np.array([0.0, 1.0, 0.0]), a_max=15.0)
     assert a is not None
     assert a == pytest.approx(G * d / h, rel=0.05)
+
+
+def test_a_scenario_with_a_simulation_warning_names_it_and_a_calm_one_has_none():
+    from rle_design.stability import Scenario, run_scenario
+
+    model = mujoco.MjModel.from_xml_string(_box_on_wheels(0.3, 0.2, 0.3))
+    probe = _probe(model)
+
+    def blow_up(m, d, t):  # a non-finite generalised force: MuJoCo flags bad qacc and resets
+        if t > 0.1:
+            d.qfrc_applied[:] = np.nan
+
+    calm = run_scenario(model, mujoco.MjData(model), Scenario("calm", 0.3), probe)
+    bad = run_scenario(model, mujoco.MjData(model), Scenario("nan", 0.3, control=blow_up), probe)
+    assert calm.warning is None and not calm.tipped
+    assert bad.warning is not None and "mjWARN_BADQACC" in bad.warning
+    assert bad.t[-1] < 0.3 - 1e-9  # the scenario ended at the warning instead of reading on
