@@ -30,6 +30,11 @@ no writes outside workdir   uid/gid drop to nobody/nogroup, workdir     root onl
 cannot signal the parent    own session; different uid (EPERM)          kernel: root only
                             audit hook on os.kill/os.killpg             always (Python-level)
 no privilege regain         prctl(PR_SET_NO_NEW_PRIVS)                  always (kernel)
+no reads or writes outside  Landlock domain: read-only the interpreter, kernel: Landlock (Linux
+the library trees and the   its site-packages, the public toolkit and   >= 5.13), any uid
+working directory           system libraries; read-write the workdir
+no TCP, no signals out      Landlock network rules (ABI >= 4) and       kernel: Landlock ABI 4 / 6
+                            signal scoping (ABI >= 6)
 ==========================  ==========================================  ============================
 
 The audit hook is a tripwire, not a boundary: code that loads ``ctypes`` (allowed, since libraries
@@ -44,12 +49,16 @@ of its own (the container's network policy and the audit hook remain). ``Sandbox
 layers a child got; ``probe_layers()`` says which ones this process can establish, and verifier
 reports record it (``sandbox_layers``).
 
-Not running as root, the child keeps the caller's uid: the kernel still enforces the rlimits
-(RLIMIT_NPROC=0 stops fork and thread creation for an unprivileged uid), but a ctypes-level bypass
-could open sockets, write wherever the caller's user can, read files the caller can read (the
-secret file, ``/proc/<parent>/environ`` holding ``RLE_SECRET``) and signal the parent (same uid).
-Run verifiers of untrusted code as root in a container, or keep the secret out of reach of the
-verifier's user before starting sandboxes.
+Landlock confines file access for any uid: the child reads only its interpreter's trees, the public
+toolkit (``rle_design``, never ``rle_tasks``), shared libraries and a few ``/proc`` and ``/sys``
+entries numeric libraries probe, and writes only its working directory (``/proc/self`` is its own
+entry, so the parent's environ stays out of reach). Without Landlock (older kernels, or a container
+whose seccomp profile refuses the syscalls) and not running as root, the child keeps the caller's
+uid: the kernel still enforces the rlimits (RLIMIT_NPROC=0 stops fork and thread creation for an
+unprivileged uid), but a ctypes-level bypass could open sockets, write wherever the caller's user
+can, read files the caller can read (the secret file, ``/proc/<parent>/environ`` holding
+``RLE_SECRET``) and signal the parent (same uid). Run verifiers of untrusted code as root in a
+container on a Landlock kernel, or keep the secret out of reach of the verifier's user.
 
 As root: files readable only by root stay unreadable; world-writable directories (/tmp, /dev/shm)
 stay writable by ``nobody`` (file size capped by RLIMIT_FSIZE); all concurrent sandboxes share the
@@ -64,8 +73,16 @@ at its CPU-time limit if it is spinning.
 """
 
 from rle_design.sandbox.faults import FAULT_CODES, ParticipantFault
-from rle_design.sandbox.layers import LAYERS, probe_layers
+from rle_design.sandbox.layers import LAYERS, landlock_abi, probe_layers
 from rle_design.sandbox.limits import SandboxLimits
 from rle_design.sandbox.process import Sandbox
 
-__all__ = ["FAULT_CODES", "LAYERS", "ParticipantFault", "Sandbox", "SandboxLimits", "probe_layers"]
+__all__ = [
+    "FAULT_CODES",
+    "LAYERS",
+    "ParticipantFault",
+    "Sandbox",
+    "SandboxLimits",
+    "landlock_abi",
+    "probe_layers",
+]

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from rle_design.paths import REPO_ROOT
-from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
+from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits, landlock_abi
 from rle_design.sandbox import process as sandbox_process
 
 DOCKER_DEFAULT = {
@@ -54,7 +54,14 @@ ALL_CAPS = [
     "cap_block_suspend",
     "cap_audit_read",
 ]
-DEGRADED = {"netns": False, "uid_drop": True, "no_new_privs": True, "nproc": True}
+DEGRADED = {
+    "netns": False,
+    "uid_drop": True,
+    "no_new_privs": True,
+    "landlock": landlock_abi() > 0,
+    "nproc": True,
+}
+"""Docker's default capabilities: no network namespace; Landlock needs no capability."""
 
 PROBE = """
 import errno, json, sys
@@ -167,7 +174,7 @@ def test_verifier_report_records_the_layers(tmp_path):
     )
     report, internal = run_verify(spec, tmp_path, VerifyContext(secret=load_secret()))
     assert not internal and report.sandbox_layers == probe_layers()
-    assert set(report.sandbox_layers) == {"netns", "uid_drop", "no_new_privs", "nproc"}
+    assert set(report.sandbox_layers) == {"netns", "uid_drop", "no_new_privs", "landlock", "nproc"}
     assert json.loads(report.to_json())["sandbox_layers"] == report.sandbox_layers
 
 

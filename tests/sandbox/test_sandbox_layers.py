@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
+from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits, landlock_abi
 from rle_design.sandbox import process as sandbox_process
 
 FAST = SandboxLimits(call_timeout_s=3.0, startup_timeout_s=10.0)
@@ -66,7 +66,9 @@ def test_kernel_layers_stop_a_ctypes_bypass(bypass, tmp_path):
     target = tmp_path / "pwned.txt"
     with Sandbox(bypass, limits=FAST) as box:
         assert box.call("raw_fork") == [-1, errno.EAGAIN]  # RLIMIT_NPROC = 0 for nobody
-        if box.layers["netns"]:  # off where the kernel refuses it (no CAP_SYS_ADMIN, as in Docker)
+        if box.layers["landlock"] and landlock_abi() >= 4:  # TCP connect refused by the Landlock domain
+            assert box.call("raw_connect") == [-1, errno.EACCES]
+        elif box.layers["netns"]:  # off where the kernel refuses it (no CAP_SYS_ADMIN, as in Docker)
             assert box.call("raw_connect") == [-1, errno.ENETUNREACH]  # empty network namespace
         assert box.call("raw_write", str(target)) == [-1, errno.EACCES]  # uid nobody
         assert box.call("raw_read", "/etc/shadow")[1] in (errno.EACCES, errno.ENOENT)
@@ -86,3 +88,40 @@ def test_audit_hook_alone_blocks_python_level_escapes(bypass, monkeypatch):
                 box.call(fn)
             assert info.value.code == "sandbox.forbidden"
             assert f"rle-sandbox: {what} is not allowed in the sandbox" in info.value.message
+
+
+landlock_only = pytest.mark.skipif(
+    landlock_abi() == 0, reason="the kernel has no Landlock (Linux < 5.13 or disabled)"
+)
+
+
+@landlock_only
+def test_landlock_confines_reads_and_writes_for_any_uid(bypass, tmp_path, monkeypatch):
+    # as if not root (no uid drop): before Landlock, the child could read every world-readable file
+    monkeypatch.setattr(sandbox_process, "drop_ids", lambda: None)
+    outside = tmp_path / "hidden_eval.json"
+    outside.write_text("{}")
+    outside.chmod(0o644)
+    target = tmp_path / "pwned.txt"
+    repo_file = Path(__file__).resolve().parents[2] / "rle_tasks" / "__init__.py"
+    with Sandbox(bypass, limits=FAST) as box:
+        assert box.layers["landlock"] and not box.layers["uid_drop"]
+        assert box.call("raw_read", str(outside)) == [-1, errno.EACCES]
+        assert box.call("raw_read", str(repo_file)) == [-1, errno.EACCES]  # the verifier package
+        assert box.call("raw_write", str(target)) == [-1, errno.EACCES]
+        assert box.call("raw_read", "/proc/self/status")[0] >= 0  # its own /proc entry stays readable
+        if landlock_abi() >= 6:  # signal scoping: the parent is outside the sandbox's domain
+            assert box.call("raw_kill_parent") == [-1, errno.EPERM]
+    assert not target.exists()
+
+
+@landlock_only
+def test_landlock_keeps_the_numeric_stack_and_the_toolkit_importable(tmp_path):
+    module = tmp_path / "heavy.py"
+    module.write_text(
+        "import numpy, scipy.linalg, mujoco, onnxruntime\n"
+        "import rle_design.kinematics\n"
+        "def f():\n    return float(numpy.linalg.det(numpy.eye(3)))\n"
+    )
+    with Sandbox(module, limits=SandboxLimits(call_timeout_s=10.0, startup_timeout_s=60.0)) as box:
+        assert box.layers["landlock"] and box.call("f") == 1.0

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rle_design.sandbox import Sandbox, SandboxLimits, codec
+from rle_design.sandbox import Sandbox, SandboxLimits, codec, landlock_abi
 
 POLICY = """
 import os
@@ -107,7 +107,13 @@ def test_kernel_layers_are_active_as_root(policy):
     cap_eff = int(next(ln for ln in status if ln.startswith("CapEff:")).split()[1], 16)
     sys_admin = bool(cap_eff >> 21 & 1)
     with Sandbox(policy) as box:
-        assert box.layers == {"netns": sys_admin, "uid_drop": True, "no_new_privs": True, "nproc": True}
+        assert box.layers == {
+            "netns": sys_admin,
+            "uid_drop": True,
+            "no_new_privs": True,
+            "landlock": landlock_abi() > 0,
+            "nproc": True,
+        }
 
 
 def test_close_kills_the_process_group(policy):
