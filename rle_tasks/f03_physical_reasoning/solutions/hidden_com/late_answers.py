@@ -9,9 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
-from .reference import BOX_H, BOX_XY, PATCH, TABLE_Z, Prober, patch_colour
+from .reference import Prober, probe_and_answer
 
 IDLE = 12_000
 """Steps held still after the first answer: alone a whole box's budget."""
@@ -20,14 +18,7 @@ IDLE = 12_000
 def solve(env: Any) -> tuple[str, ...]:
     """Probe and answer the three boxes, idling ``IDLE`` steps after the first; returns the answers."""
     prober = Prober(env)
-    answers = []
-    for box in range(3):
-        c = prober.offset(box)
-        x, y = BOX_XY[box]
-        corner = np.array([x + PATCH * np.sign(c[0]), y + PATCH * np.sign(c[1]), TABLE_Z + BOX_H])
-        quadrant = patch_colour(prober.image, corner)
-        prober.answer(box, quadrant)
-        answers.append(quadrant)
-        if box == 0:
-            prober.helper.wait(IDLE)
+    answers = [probe_and_answer(prober, 0)]
+    prober.helper.wait(IDLE)
+    answers += [probe_and_answer(prober, box) for box in (1, 2)]
     return tuple(answers)

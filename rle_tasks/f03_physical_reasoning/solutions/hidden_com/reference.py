@@ -131,18 +131,20 @@ class Prober:
         self.helper.obs = self.env.step(a)
 
 
+def probe_and_answer(prober: Prober, box: int) -> str:
+    """Probe ``box``, read the quadrant its ballast offset points to, answer it; returns the quadrant."""
+    c = prober.offset(box)
+    x, y = BOX_XY[box]
+    corner = np.array([x + PATCH * np.sign(c[0]), y + PATCH * np.sign(c[1]), TABLE_Z + BOX_H])
+    quadrant = patch_colour(prober.image, corner)
+    prober.answer(box, quadrant)
+    return quadrant
+
+
 def solve(env: Any) -> tuple[str, ...]:
     """Probe and answer the three boxes; returns the answers."""
     prober = Prober(env)
-    answers = []
-    for box in range(3):
-        c = prober.offset(box)
-        x, y = BOX_XY[box]
-        corner = np.array([x + PATCH * np.sign(c[0]), y + PATCH * np.sign(c[1]), TABLE_Z + BOX_H])
-        quadrant = patch_colour(prober.image, corner)
-        prober.answer(box, quadrant)
-        answers.append(quadrant)
-    return tuple(answers)
+    return tuple(probe_and_answer(prober, box) for box in range(3))
 
 
 def main() -> None:
