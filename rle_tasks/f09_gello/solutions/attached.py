@@ -4,7 +4,11 @@
 balance the arm exactly, but leaves them in mid-air. Here each element is fastened to its link:
 
 * a counterweight hangs on a printed PLA rod (cylinder, ``ARM_RADIUS``) from the nearest point of its
-  link's material (``EMBED`` inside it) to the sphere's centre; the rod's mass is counted;
+  link's material (``EMBED`` inside it) to the sphere's centre; the rod's mass is counted. Or it sits
+  on an L-bracket: a printed post rises from the link's tube ``BRACKET_REACH`` out along the link
+  (away from the joint, clear of the neighbouring link's tube end) parallel to the joint axis to the
+  sphere's axial height, and the rod runs from the post's top across the axis to the sphere, so
+  the rod sweeps a disc beside the neighbouring link instead of through it;
 * each spring end sits on the end face of a printed PLA post (``BRACKET_RADIUS``) from the nearest
   point of its link's material (``EMBED`` inside) to the spring site;
 * with brackets and rods in place, the counterweight masses and centres (within ``BOX`` of the exact
@@ -37,7 +41,11 @@ BRACKET_RADIUS = 0.006
 EMBED = 0.002
 """Printed parts reach this far into the part they are fastened to [m]."""
 BOX = 0.015
-"""Half-width of the box around each exact counterweight centre the optimiser may use [m]."""
+"""Half-width of the square (across the joint axis; the axial height stays) around each exact
+counterweight centre the optimiser may use [m]."""
+BRACKET_REACH = 0.04
+"""Distance of an L-bracket's post from the joint axis, along the link [m]: beyond the ~20 mm
+radius of the neighbouring link's tube that ends at the joint."""
 
 
 @dataclass(frozen=True)
@@ -47,10 +55,13 @@ class Fastened:
     Attributes:
         counterweights: ``(link, centre, mass, rod start)`` per steel sphere.
         spring: ``(link, anchor, post start, link, attachment, post start, stiffness [N/m])`` or None.
+        posts: Per counterweight, its L-bracket post ``(start in the link, top)`` (the rod then
+            starts at the top), or None for a straight rod.
     """
 
     counterweights: tuple[tuple[str, np.ndarray, float, np.ndarray], ...]
     spring: tuple[str, np.ndarray, np.ndarray, str, np.ndarray, np.ndarray, float] | None
+    posts: tuple[tuple[np.ndarray, np.ndarray] | None, ...] = ()
 
 
 def _fmt(v) -> str:
@@ -118,6 +129,12 @@ def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterwei
             rgba="0.95 0.55 0.1 1",
         )
 
+    posts = design.posts or (None,) * len(design.counterweights)
+    for k, ((link, *_), post) in enumerate(zip(design.counterweights, posts, strict=True), 1):
+        if post is not None:  # the L-bracket's post is structure of the link: written even without weights
+            start, top = post
+            holder = etree.SubElement(body(link), "body", name=f"counterweight{k}_post", pos=_fmt(top))
+            rod(holder, f"counterweight{k}_post_pla", np.asarray(start) - top, np.zeros(3), ARM_RADIUS)
     if with_counterweights:
         for k, (link, centre, mass, start) in enumerate(design.counterweights, 1):
             radius = (3 * mass / (4 * np.pi * STEEL_DENSITY)) ** (1 / 3)
@@ -156,25 +173,36 @@ def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterwei
     return path
 
 
-def fasten(robot: str, exact, servo_mount: frozenset[str] = frozenset()) -> Fastened:
+def fasten(
+    robot: str, exact, servo_mount: frozenset[str] = frozenset(), bracket: frozenset[str] = frozenset()
+) -> Fastened:
     """Mounts for an ``exact_design``: rods to each counterweight, posts under each spring end.
 
     A rod starts on its link's printed shell, or on any of the link's geoms (the servo housing) for
-    the links in ``servo_mount``. The masses and stiffness are still the exact (mid-air) ones;
+    the links in ``servo_mount``; for the links in ``bracket`` it starts on the top of an L-bracket's
+    post (module docstring). The masses and stiffness are still the exact (mid-air) ones;
     ``optimise`` re-balances them.
     """
     stock = ASSET_DIR / robot / "lead.xml"
-    cws = []
+    cws, posts = [], []
     for link, pos, mass in exact.counterweights:
         centre = np.asarray(pos, float)
-        start = nearest_on_body(stock, link, centre, shell_only=link not in servo_mount)
-        cws.append((link, centre, float(mass), start))
+        if link in bracket:
+            along = -centre[:2] / np.linalg.norm(centre[:2])  # towards the link's centre of mass
+            foot = np.array([*(BRACKET_REACH * along), 0.0])
+            top = np.array([foot[0], foot[1], centre[2]])
+            posts.append((nearest_on_body(stock, link, foot, shell_only=link not in servo_mount), top))
+            cws.append((link, centre, float(mass), top))
+        else:
+            posts.append(None)
+            start = nearest_on_body(stock, link, centre, shell_only=link not in servo_mount)
+            cws.append((link, centre, float(mass), start))
     spring = None
     if exact.spring is not None:
         l1, p1, l2, p2, k = exact.spring
         p1, p2 = np.asarray(p1, float), np.asarray(p2, float)
         spring = (l1, p1, nearest_on_body(stock, l1, p1), l2, p2, nearest_on_body(stock, l2, p2), float(k))
-    return Fastened(tuple(cws), spring)
+    return Fastened(tuple(cws), spring, tuple(posts))
 
 
 def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple[Fastened, float]:
@@ -212,7 +240,7 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
     for i, (link, centre, mass, start) in enumerate(design.counterweights):
         jid, c = to_joint(link, centre)
         _, s = to_joint(link, start)
-        box = BOX * np.ones(3)
+        box = np.array([BOX, BOX, 0.0])  # axial height kept: it is what clears the neighbouring links
         cw_slots.append(
             CounterweightSlot(f"cw{i}", jid, tuple(c - box), tuple(c + box), 3.0 * mass + 0.05, tuple(s), lam)
         )
@@ -234,7 +262,7 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
     if design.spring is not None:
         l1, p1, s1, l2, p2, s2, _ = design.spring
         spring = (l1, p1, s1, l2, p2, s2, res.springs["spring"][2])
-    return Fastened(tuple(cws), spring), res.worst_residual
+    return Fastened(tuple(cws), spring, design.posts), res.worst_residual
 
 
 def _loss(collisions: float, worst_residual: float) -> float:
@@ -249,7 +277,7 @@ def _loss(collisions: float, worst_residual: float) -> float:
     return clear + resid + hold
 
 
-def clear_fastened(robot: str, n_poses: int = 96, passes: int = 1, verbose: bool = False) -> Fastened:
+def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: bool = False) -> Fastened:
     """The fastened, re-balanced reference of ``robot``, with placements chosen for clearance.
 
     Greedy passes from the tip, as ``build.clear_design``, but each candidate is scored with its rods
@@ -269,7 +297,7 @@ def clear_fastened(robot: str, n_poses: int = 96, passes: int = 1, verbose: bool
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
     grid = workspace_grid(m.jnt_range, n_poses)
     placement: dict[int, tuple[float, float]] = {}
-    servo: set[str] = set()
+    mount: dict[str, tuple[bool, bool]] = {}  # link -> (start on the servo housing, L-bracket)
     stock = set(stock_names(robot)[0])
     g = float(np.linalg.norm(m.opt.gravity))
     unbalanced = {  # joint k -> gravity moment of its subtree without a counterweight [N m]
@@ -277,8 +305,13 @@ def clear_fastened(robot: str, n_poses: int = 96, passes: int = 1, verbose: bool
         for link, pos, mass in exact_design(robot).counterweights
     }
 
+    def fastened(pl, mounts) -> Fastened:
+        servo = frozenset(link for link, (on_servo, _) in mounts.items() if on_servo)
+        bracket = frozenset(link for link, (_, on_bracket) in mounts.items() if on_bracket)
+        return fasten(robot, exact_design(robot, pl), servo, bracket)
+
     def cost(pl, mounts) -> tuple[float, float]:
-        design = fasten(robot, exact_design(robot, pl), frozenset(mounts))
+        design = fastened(pl, mounts)
         with tempfile.TemporaryDirectory() as tmp:
             path = write_leader(robot, design, Path(tmp) / robot)
             leader = load_design(path.parent, entry="lead.xml")
@@ -294,27 +327,28 @@ def clear_fastened(robot: str, n_poses: int = 96, passes: int = 1, verbose: bool
             refused = mass > MASS_CAP or cuts > 0.8 * SPRING_CUT_MAX  # margin to the structure rule
             return _loss(frac, worst) + (1.0 if refused else 0.0), mass
 
+    kinds = [(on_servo, on_bracket) for on_bracket in (False, True) for on_servo in (False, True)]
     for _ in range(passes):
         for k in range(m.nv, 2, -1):
             link = f"link{k}"
-            options = [(opt, on_servo) for opt in PLACEMENTS for on_servo in (False, True)]
+            options = [(opt, kind) for opt in PLACEMENTS for kind in kinds]
 
-            def score(o, k=k, link=link, servo=frozenset(servo)):
-                return cost({**placement, k: o[0]}, servo | {link} if o[1] else servo - {link})
+            def score(o, k=k, link=link):
+                return cost({**placement, k: o[0]}, {**mount, link: o[1]})
 
             best = min(options, key=score)
             placement[k] = best[0]
-            servo = servo | {link} if best[1] else servo - {link}
+            mount[link] = best[1]
             if verbose:
                 what = (
                     "no counterweight"
                     if best[0] is None
-                    else f"r_c {best[0][0]:.2f} m, axial {best[0][1]:+.3f} m, {'servo' if best[1] else 'shell'} mount"
+                    else f"r_c {best[0][0]:.2f} m, axial {best[0][1]:+.3f} m, "
+                    f"{'servo' if best[1][0] else 'shell'} mount{', L-bracket' if best[1][1] else ''}"
                 )
-                print(f"  {robot} joint {k}: {what} -> {cost(placement, servo)}", flush=True)
+                print(f"  {robot} joint {k}: {what} -> {cost(placement, mount)}", flush=True)
     with tempfile.TemporaryDirectory() as tmp:
-        fastened = fasten(robot, exact_design(robot, placement), frozenset(servo))
-        design, worst = optimise(robot, fastened, grid, Path(tmp))
+        design, worst = optimise(robot, fastened(placement, mount), grid, Path(tmp))
     if verbose:
         print(f"  {robot}: re-balanced with rods and posts, worst residual {worst:.2e} N m on the grid")
     return design
