@@ -135,3 +135,23 @@ def test_garbage_never_crashes(tmp_path, content):
     (tmp_path / "ledger.jsonl").write_bytes(content)
     report = verify(tmp_path, CTX)
     assert report.score == 0.0 and not report.valid and report.errors
+
+
+@pytest.mark.physics
+def test_one_quarter_turn_by_the_right_wrist_solves_a_depth_one_scramble_for_full_reward(
+    tmp_path, monkeypatch
+):
+    """Positive path through real metered actions on a shallow test scramble (``U`` from solved): the right
+    wrist turns the top layer back (``U'``, classified), pinches the cube and lifts it: reward
+    opt/turns = 1/1."""
+    import rle_tasks.f03_physical_reasoning.cube.verifier as cube_verifier
+    from rle_tasks.f03_physical_reasoning.cube.scene import CubeInstance
+
+    inst = CubeInstance.from_moves("U")
+    root = record("top_turns", PUBLIC, tmp_path / "u", inst=inst, senses=(1.0,))
+    monkeypatch.setattr(cube_verifier, "instance", lambda secret: inst)
+    report = verify(root, CTX)
+    measured = report.checkpoints[0].measured
+    assert report.valid and report.score == 1.0, report.checkpoints[0].message
+    assert measured["moves"] == ["U'"] and measured["session_turns"] == 1 and measured["optimal"] == 1
+    assert measured["lowest_corner_above_stand_top"] > 0.005 and measured["misalignment_deg"] < 5.0
