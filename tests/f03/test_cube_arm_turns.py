@@ -17,7 +17,7 @@ CTX = VerifyContext(secret=PUBLIC, quick=True)
 
 @pytest.mark.physics
 def test_a_u_turn_on_the_public_scramble_is_classified_and_the_counters_agree(tmp_path):
-    """``R U F' U'`` then one clockwise top turn (``U``): 3 quarter turns from solved, not solved, score 0;
+    """``R U R' U'`` then one clockwise top turn (``U``): 3 quarter turns from solved, not solved, score 0;
     the session counted the turn the verifier recounts."""
     root = record("top_turns", PUBLIC, tmp_path / "u", senses=(-1.0,))
     report = cube_verifier.verify(root, CTX)

@@ -61,6 +61,8 @@ CAMERA_POS = (0.0, -0.5, 1.05)
 MIN_DEPTH = 4
 """Fewest quarter turns from solved of any scramble (the issue: depth >= 4)."""
 PUBLIC_SCRAMBLES: tuple[str, ...] = (
+    "R U R' U'",
+    "U R U R'",
     "R U F' U'",
     "F R' U R F'",
     "U R U' F R'",

@@ -20,7 +20,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-PROGRAMS = ("idle", "dropped", "reset", "top_turns")
+PROGRAMS = ("reference", "idle", "dropped", "reset", "top_turns")
 
 
 def record(program: str, secret, dest: Path, camera_every: int = 100_000, inst=None, **kwargs) -> Path:

@@ -1,4 +1,4 @@
-"""Top-layer turns by the right wrist: the building block of a two-arm solve (not a solve by itself).
+"""Top-layer turns and whole-cube pitches by the right hand: the moves of the reference solve.
 
 Per quarter turn: the right hand comes down over the cube (pointing down, fingers closing along world y),
 pinches the top layer's two side faces at mid-height of the layer, and turns its wrist about the
@@ -7,6 +7,11 @@ bottom layer in place. Then the hand opens, rises and turns back. A positive ``s
 counter-clockwise seen from above (``U'`` in the frame of a cube whose DBL cubie is home), a negative
 one clockwise (``U``). With ``lift`` the hand finally pinches the cube across both layers (at its centre
 height) and lifts it 20 mm off its stand and holds it still (the end predicate's "held above the table").
+
+A pitch (``pitch``) turns the whole cube -90 degrees about world y (the face at +x comes on top): the
+hand pinches the cube across both layers at its centre height, lifts it 35 mm (its corners then clear
+the stand while it turns), turns its wrist about the finger axis in 5-degree steps, sets it back on the
+stand, opens and rises.
 
 Public geometry only (stand top at z = 0.81 m, the 64 mm cube centred on it); no cube pose is read.
 The left arm stays at home.
@@ -34,12 +39,15 @@ LIFT = 0.02
 """Final lift of the held cube [m]."""
 CENTRE_Z = 0.842
 """Height of the resting cube's centre [m]: the final pinch spans both layers (pads 16 mm tall)."""
+PITCH_LIFT = 0.035
+"""Lift before a pitch [m]: the turning cube's corners reach 45 mm below its centre, the stand top is
+32 mm below it when resting."""
 
 
-def _turned(quat: np.ndarray, angle: float) -> np.ndarray:
-    """``quat`` (w, x, y, z) turned by ``angle`` [rad] about world z."""
+def _about(quat: np.ndarray, axis: tuple[float, float, float], angle: float) -> np.ndarray:
+    """``quat`` (w, x, y, z) turned by ``angle`` [rad] about the world ``axis``."""
     about = np.zeros(4)
-    mujoco.mju_axisAngle2Quat(about, np.array([0.0, 0.0, 1.0]), angle)
+    mujoco.mju_axisAngle2Quat(about, np.array(axis), angle)
     out = np.zeros(4)
     mujoco.mju_mulQuat(out, about, quat)
     return out
@@ -52,11 +60,41 @@ def quarter_turn(right: CartesianHelper, home_quat: np.ndarray, sense: float) ->
     right.move_to(grasp, home_quat, tol_pos=0.004, max_steps=200)
     right.grasp()
     for k in range(1, int(round(90.0 / STEP_DEG)) + 1):
-        quat = _turned(home_quat, math.copysign(math.radians(k * STEP_DEG), sense))
+        quat = _about(home_quat, (0.0, 0.0, 1.0), math.copysign(math.radians(k * STEP_DEG), sense))
         right.move_to(grasp, quat, tol_pos=0.02, tol_rot=0.05, max_steps=6)
     right.release()
     right.move_to(grasp + [0, 0, ABOVE], None, tol_pos=0.01, max_steps=100)
     right.move_to(grasp + [0, 0, ABOVE], home_quat, tol_pos=0.01, max_steps=100)
+
+
+def pitch(right: CartesianHelper, home_quat: np.ndarray) -> None:
+    """Turn the whole cube -90 deg about world y (+x face to the top); ends open above the cube."""
+    centre = np.array([0.0, 0.0, CENTRE_Z])
+    right.move_to(centre + [0, 0, ABOVE], home_quat, tol_pos=0.01, max_steps=200)
+    right.move_to(centre, home_quat, tol_pos=0.004, max_steps=200)
+    right.grasp()
+    right.move_to(centre + [0, 0, PITCH_LIFT], home_quat, speed=0.3, tol_pos=0.004, max_steps=200)
+    for k in range(1, int(round(90.0 / STEP_DEG)) + 1):
+        quat = _about(home_quat, (0.0, 1.0, 0.0), -math.radians(k * STEP_DEG))
+        right.move_to(centre + [0, 0, PITCH_LIFT], quat, tol_pos=0.01, tol_rot=0.05, max_steps=6)
+    quat = _about(home_quat, (0.0, 1.0, 0.0), -math.pi / 2)
+    right.move_to(centre + [0, 0, PITCH_LIFT], quat, tol_pos=0.004, tol_rot=0.02, max_steps=60)
+    # set it down pressing 1 mm into the stand: released from 2 mm above, it is pushed sideways and the
+    # rising fingers drag it off the stand (measured on the fourth pitch of a plan)
+    right.move_to(centre + [0, 0, -0.001], None, speed=0.3, tol_pos=0.003, max_steps=200)
+    right.release()
+    right.move_to(centre + [0, 0, ABOVE + 0.02], None, tol_pos=0.01, max_steps=100)
+    right.move_to(centre + [0, 0, ABOVE + 0.02], home_quat, tol_pos=0.01, max_steps=200)
+
+
+def hold_up(right: CartesianHelper, home_quat: np.ndarray) -> None:
+    """Pinch the cube across both layers, lift it ``LIFT`` off its stand and hold it still."""
+    grasp = np.array([0.0, 0.0, CENTRE_Z])
+    right.move_to(grasp + [0, 0, ABOVE], home_quat, tol_pos=0.01, max_steps=200)
+    right.move_to(grasp, home_quat, tol_pos=0.004, max_steps=200)
+    right.grasp()
+    right.move_to(grasp + [0, 0, LIFT], home_quat, speed=0.3, tol_pos=0.003, max_steps=200)
+    right.wait(30)
 
 
 def solve(env: Any, senses: tuple[float, ...] = (1.0,), lift: bool = True) -> None:
@@ -67,8 +105,4 @@ def solve(env: Any, senses: tuple[float, ...] = (1.0,), lift: bool = True) -> No
         quarter_turn(right, home_quat, sense)
     right.wait(20)
     if lift:
-        grasp = np.array([0.0, 0.0, CENTRE_Z])
-        right.move_to(grasp, home_quat, tol_pos=0.004, max_steps=200)
-        right.grasp()
-        right.move_to(grasp + [0, 0, LIFT], home_quat, speed=0.3, tol_pos=0.003, max_steps=200)
-        right.wait(30)
+        hold_up(right, home_quat)
