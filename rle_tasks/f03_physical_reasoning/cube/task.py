@@ -46,4 +46,13 @@ def task_spec() -> TaskSpec:
         ),
         make_dev_env=make_dev_env,
         verify=verify,
+        solutions=(
+            "reference",
+            "baseline/idle",
+            "baseline/dropped",
+            "baseline/reset",
+            "baseline/forced_twist",
+            "baseline/unsealed",
+        ),
+        solutions_module="rle_tasks.f03_physical_reasoning.solutions.pocket_cube",
     )
