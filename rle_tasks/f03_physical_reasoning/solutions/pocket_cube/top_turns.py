@@ -8,8 +8,9 @@ counter-clockwise seen from above (``U'`` in the frame of a cube whose DBL cubie
 one clockwise (``U``). With ``lift`` the hand finally pinches the cube across both layers (at its centre
 height) and lifts it 20 mm off its stand and holds it still (the end predicate's "held above the table").
 
-A pitch (``pitch``) turns the whole cube -90 degrees about world y (the face at +x comes on top): the
-hand pinches the cube across both layers at its centre height, lifts it 35 mm (its corners then clear
+A pitch (``pitch``) turns the whole cube -90 degrees about world y (the face at +x comes on top) or x
+(the face at -y comes on top): the hand pinches the two faces normal to that axis across both layers at
+the cube's centre height, lifts it 35 mm (its corners then clear
 the stand while it turns), turns its wrist about the finger axis in 5-degree steps, sets it back on the
 stand, opens and rises.
 
@@ -67,17 +68,21 @@ def quarter_turn(right: CartesianHelper, home_quat: np.ndarray, sense: float) ->
     right.move_to(grasp + [0, 0, ABOVE], home_quat, tol_pos=0.01, max_steps=100)
 
 
-def pitch(right: CartesianHelper, home_quat: np.ndarray) -> None:
-    """Turn the whole cube -90 deg about world y (+x face to the top); ends open above the cube."""
+def pitch(right: CartesianHelper, home_quat: np.ndarray, axis: str = "y") -> None:
+    """Turn the whole cube -90 deg about world ``axis`` ("y": the +x face to the top; "x": the -y face
+    to the top); ends open above the cube. The hand pinches the faces normal to ``axis`` (for "x" it
+    first yaws 90 deg), so the cube turns about the pinch axis."""
     centre = np.array([0.0, 0.0, CENTRE_Z])
-    right.move_to(centre + [0, 0, ABOVE], home_quat, tol_pos=0.01, max_steps=200)
-    right.move_to(centre, home_quat, tol_pos=0.004, max_steps=200)
+    grip = grip_quat(home_quat, axis)
+    about = (0.0, 1.0, 0.0) if axis == "y" else (1.0, 0.0, 0.0)
+    right.move_to(centre + [0, 0, ABOVE], grip, tol_pos=0.01, max_steps=200)
+    right.move_to(centre, grip, tol_pos=0.004, max_steps=200)
     right.grasp()
-    right.move_to(centre + [0, 0, PITCH_LIFT], home_quat, speed=0.3, tol_pos=0.004, max_steps=200)
+    right.move_to(centre + [0, 0, PITCH_LIFT], grip, speed=0.3, tol_pos=0.004, max_steps=200)
     for k in range(1, int(round(90.0 / STEP_DEG)) + 1):
-        quat = _about(home_quat, (0.0, 1.0, 0.0), -math.radians(k * STEP_DEG))
+        quat = _about(grip, about, -math.radians(k * STEP_DEG))
         right.move_to(centre + [0, 0, PITCH_LIFT], quat, tol_pos=0.01, tol_rot=0.05, max_steps=6)
-    quat = _about(home_quat, (0.0, 1.0, 0.0), -math.pi / 2)
+    quat = _about(grip, about, -math.pi / 2)
     right.move_to(centre + [0, 0, PITCH_LIFT], quat, tol_pos=0.004, tol_rot=0.02, max_steps=60)
     # set it down pressing 1 mm into the stand: released from 2 mm above, it is pushed sideways and the
     # rising fingers drag it off the stand (measured on the fourth pitch of a plan)
@@ -87,13 +92,26 @@ def pitch(right: CartesianHelper, home_quat: np.ndarray) -> None:
     right.move_to(centre + [0, 0, ABOVE + 0.02], home_quat, tol_pos=0.01, max_steps=200)
 
 
-def hold_up(right: CartesianHelper, home_quat: np.ndarray) -> None:
-    """Pinch the cube across both layers, lift it ``LIFT`` off its stand and hold it still."""
+def grip_quat(home_quat: np.ndarray, axis: str) -> np.ndarray:
+    """Hand orientation that pinches the faces normal to world ``axis`` ("y": home; "x": yawed 90 deg)."""
+    return home_quat if axis == "y" else _about(home_quat, (0.0, 0.0, 1.0), math.pi / 2)
+
+
+def hold_up(right: CartesianHelper, home_quat: np.ndarray, axis: str = "y") -> None:
+    """Pinch the cube across both layers (the faces normal to ``axis``), lift it ``LIFT`` off its stand
+    and hold it still.
+
+    Pinch the faces the last pitch released: the bottom layer rests where that hand orientation left it
+    (within its yaw error), and pads closing at another yaw turn the top layer against the bottom one,
+    which the stand's friction holds (measured: 9.6 deg off the lattice after an ``x`` pitch pinched
+    along y).
+    """
     grasp = np.array([0.0, 0.0, CENTRE_Z])
-    right.move_to(grasp + [0, 0, ABOVE], home_quat, tol_pos=0.01, max_steps=200)
-    right.move_to(grasp, home_quat, tol_pos=0.004, max_steps=200)
+    quat = grip_quat(home_quat, axis)
+    right.move_to(grasp + [0, 0, ABOVE], quat, tol_pos=0.01, max_steps=200)
+    right.move_to(grasp, quat, tol_pos=0.004, max_steps=200)
     right.grasp()
-    right.move_to(grasp + [0, 0, LIFT], home_quat, speed=0.3, tol_pos=0.003, max_steps=200)
+    right.move_to(grasp + [0, 0, LIFT], quat, speed=0.3, tol_pos=0.003, max_steps=200)
     right.wait(30)
 
 
