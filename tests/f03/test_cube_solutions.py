@@ -1,4 +1,4 @@
-"""03-pocket-cube: shipped solutions verify to their golden scores, each for its stated reason.
+"""03-pocket-cube: the shipped reference verifies to its golden score (baselines: test_cube_baselines.py).
 
 The committed public-key ledgers (recorded by ``python -m rle_tasks.f03_physical_reasoning.solutions.
 pocket_cube``) are verified through the solutions mechanism; the reference's replay takes ~35 s. The
@@ -38,14 +38,7 @@ def test_the_reference_plan_is_optimal_in_quarter_turns():
 @pytest.mark.physics
 @pytest.mark.parametrize(
     "name",
-    [
-        "reference",
-        "baseline/idle",
-        "baseline/dropped",
-        "baseline/reset",
-        "baseline/forced_twist",
-        "baseline/unsealed",
-    ],
+    ["reference", "baseline/unsealed"],
 )
 def test_shipped_solution_scores_its_golden_score_for_its_reason(name):
     task = get_task("03-pocket-cube")
@@ -58,15 +51,6 @@ def test_shipped_solution_scores_its_golden_score_for_its_reason(name):
         )
         assert check.measured["moves"] == ["U", "R", "U'", "R'"] and check.measured["rescues"] == 0
         assert check.measured["lowest_corner_above_stand_top"] > 0.005
-    elif name == "baseline/idle":
-        assert "faces are not uniform" in check.message and "rests on or beside its stand" in check.message
-    elif name == "baseline/dropped":
-        assert "rests on the table" in check.message and check.measured["turns"] == 0
-    elif name == "baseline/reset":
-        assert check.message == "attempt abandoned: 1 reset(s) after the start"
-    elif name == "baseline/forced_twist":
-        assert check.measured["unclassified"] == 1 and report.cap == 0.5
-        assert check.message.startswith("cube not solved")
     else:
         assert not report.valid and report.errors[0].code == "ledger.unsealed"
 
