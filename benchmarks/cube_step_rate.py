@@ -5,7 +5,10 @@ configuration:
 
 - ``mj_step only``: the free cube resting on a floor, MuJoCo alone (no detent: the mechanism's floor);
 - ``resting, detent``: the same with the detent applied every step (``scripted.step``);
-- ``turning, detent``: scripted quarter turns (core fixed, gravity on), the detent and the turn driver.
+- ``turning, detent``: scripted quarter turns (core fixed, gravity on), the detent and the turn driver;
+- ``two arms``: the ``03-pocket-cube`` environment (``cube.env.CubeEnv``, both Pandas under their
+  operational-space controllers, the cube on its stand, detent every step), stepped by 14-D actions
+  (arms holding, no rendering), with and without the detent (``TabletopEnv.substep`` bypassed).
 
 Exit status 1 when the cube with its detent runs below 1000 steps/s (a 50,000-step budget would then
 take over 50 s of physics alone). Measured numbers go in ``rle_tasks/f03_physical_reasoning/cube/README.md``.
@@ -59,10 +62,32 @@ def turning(turns: int) -> tuple[float, float]:
     return total / (time.perf_counter() - t0), worst
 
 
+def two_arms(actions: int, *, detent: bool) -> float:
+    """Physics steps/s of the two-arm cube environment stepped by holding 14-D actions."""
+    from rle_design.control import TabletopEnv
+    from rle_tasks.f03_physical_reasoning.cube.env import make_env
+    from rle_tasks.f03_physical_reasoning.cube.scene import PUBLIC_SCRAMBLES, CubeInstance
+
+    env = make_env(CubeInstance.from_moves(PUBLIC_SCRAMBLES[0]), image_size=None)
+    model = env.build()
+    env.prepare(model)
+    data = mujoco.MjData(model)
+    env.reset(model, data)
+    hold = np.zeros(14)
+    hold[[6, 13]] = -1.0
+    if not detent:  # same controller loop, the cube's mechanism left out
+        object.__setattr__(env, "substep", lambda model, data, k: TabletopEnv.substep(env, model, data, k))
+    t0 = time.perf_counter()
+    for _ in range(actions):
+        env.step(model, data, hold)
+    return actions * env.n_substeps / (time.perf_counter() - t0)
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--steps", type=int, default=5000)
     p.add_argument("--turns", type=int, default=20)
+    p.add_argument("--actions", type=int, default=200, help="actions of the two-arm runs (25 steps each)")
     args = p.parse_args()
     bare = resting(args.steps, detent=False)
     rest = resting(args.steps, detent=True)
@@ -72,6 +97,10 @@ def main() -> int:
     print(
         f"turning, detent          {turn:8.0f} steps/s  ({args.turns} quarter turns, worst {worst:.2f} deg)"
     )
+    arms_bare = two_arms(args.actions, detent=False)
+    arms = two_arms(args.actions, detent=True)
+    print(f"two arms, no detent       {arms_bare:8.0f} steps/s  ({args.actions} actions of 25 steps)")
+    print(f"two arms, detent          {arms:8.0f} steps/s  ({arms / 25:.0f} actions/s)")
     return 0 if min(rest, turn) >= TARGET else 1
 
 

@@ -6,11 +6,13 @@ and the verifier can replay a ledger's actions on the same definition (``replay`
 controller keeps between actions (the target poses) lives in ``MjData`` (mocap bodies), so a reset
 or a replay restores it exactly.
 
-One action (``layout``): per arm 12 numbers in [-1, 1]; each action moves the arm's target by the
-scaled delta (the target is kept within ``LEASH`` of the tool site so contact cannot wind it up),
+One action (``layout``): per arm ``arm_action_size`` numbers in [-1, 1] (12, the kitchen layout; 7 keeps
+only the pose delta and the gripper, e.g. the 14-D two-arm cube task); each action moves the arm's target
+by the scaled delta (the target is kept within ``LEASH`` of the tool site so contact cannot wind it up),
 sets the gripper, then ``n_substeps`` physics steps run, the torques recomputed every step
 (``OperationalSpaceController``, its matrices refreshed every ``OSC_REFRESH`` steps; ``mj_step1``/
-``mj_step2`` so they use the current state).
+``mj_step2`` so they use the current state). A subclass adds internal forces of its scene (e.g. a
+mechanism's couples) in ``substep``, called every physics step between the controller and ``mj_step2``.
 
 Observation (free): ``time`` [s]; ``arms``: one dict per arm with ``q``, ``dq`` (7) [rad, rad/s],
 ``ee_pos`` [m] / ``ee_quat`` (w, x, y, z) of the tool site, ``target_pos`` / ``target_quat``,
@@ -75,6 +77,8 @@ class TabletopEnv(MeteredEnv):
         image_size: (height, width) of the RGB images [px]; None renders none.
         camera_every: Render every this many actions (and after every reset).
         privileged: Add the free bodies' poses to the observation (reference programs, tests).
+        arm_action_size: Numbers per arm in an action: 12 (``layout``) or 7 (pose delta and gripper
+            only; indices 0-6 keep their meaning).
     """
 
     arms: tuple[str, ...] = ("panda/",)
@@ -84,6 +88,14 @@ class TabletopEnv(MeteredEnv):
     image_size: tuple[int, int] | None = (120, 160)
     camera_every: int = 10
     privileged: bool = False
+    arm_action_size: int = ACTION_SIZE
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.arm_action_size not in (GRIPPER + 1, ACTION_SIZE):
+            raise ValueError(
+                f"TabletopEnv.arm_action_size must be {GRIPPER + 1} or {ACTION_SIZE}, got {self.arm_action_size}"
+            )
 
     def fingerprint(self) -> str:
         """Digest of the scene that does not depend on where the mesh files are installed [hex].
@@ -106,13 +118,14 @@ class TabletopEnv(MeteredEnv):
         self._arm_ctl(model)
 
     def action_size(self, model: mujoco.MjModel) -> int:
-        return ACTION_SIZE * len(self.arms)
+        return self.arm_action_size * len(self.arms)
 
     def step(self, model: mujoco.MjModel, data: mujoco.MjData, ctrl: np.ndarray) -> None:
         act = np.clip(np.nan_to_num(np.asarray(ctrl, dtype=float)), -1.0, 1.0)
         arms = self._arm_ctl(model)
+        n = self.arm_action_size
         for i, arm in enumerate(arms):
-            a = act[ACTION_SIZE * i : ACTION_SIZE * (i + 1)]
+            a = act[n * i : n * (i + 1)]
             rot = data.xmat[arm.base].reshape(3, 3)
             d_pos = rot @ (a[ARM][:3] * POS_STEP)
             d_rot = rot @ (a[ARM][3:] * ROT_STEP)
@@ -133,8 +146,13 @@ class TabletopEnv(MeteredEnv):
                 arm.osc.apply(
                     data, data.mocap_pos[arm.mocap], data.mocap_quat[arm.mocap], k % OSC_REFRESH == 0
                 )
+            self.substep(model, data, k)
             mujoco.mj_step2(model, data)
         mujoco.mj_forward(model, data)
+
+    def substep(self, model: mujoco.MjModel, data: mujoco.MjData, k: int) -> None:
+        """Hook of physics step ``k`` of an action, after ``mj_step1`` and the controller, before
+        ``mj_step2`` (positions current): add the scene's internal forces here. Nothing by default."""
 
     observation_doc = (
         "time, arms (per arm: q, dq, ee_pos, ee_quat, target_pos, target_quat, gripper, base_pos, "

@@ -50,15 +50,21 @@ class CartesianHelper:
     Args:
         step: Sends one action, returns the observation (``LedgerClient.step`` or a session's).
         obs: The current observation (e.g. from ``reset`` or ``observe``).
-        arm: Index of the arm moved; the other arms get holding actions.
-        n_arms: Arms in the scene.
+        arm: Index of the arm moved; the other arms get holding actions (their grippers at
+            ``grips[i]``, open by default: set it to keep another arm's grasp).
+        n_arms: Arms in the action.
+        arm_size: Numbers per arm in the action (12, or 7 for the pose-and-gripper layout).
     """
 
-    def __init__(self, step: StepFn, obs: dict[str, Any], arm: int = 0, n_arms: int = 1) -> None:
+    def __init__(
+        self, step: StepFn, obs: dict[str, Any], arm: int = 0, n_arms: int = 1, arm_size: int = ACTION_SIZE
+    ) -> None:
         self._step = step
         self.obs = obs
         self.arm = arm
         self.n_arms = n_arms
+        self.arm_size = arm_size
+        self.grips = [-1.0] * n_arms
         self.grip = -1.0
         self.steps = 0
         self.issued: list[np.ndarray] = []
@@ -72,9 +78,9 @@ class CartesianHelper:
         """Send one action: ``arm_action`` (6, in [-1, 1]) for this arm, holding actions for the others."""
         if grip is not None:
             self.grip = float(grip)
-        action = np.zeros(ACTION_SIZE * self.n_arms)
-        action[GRIPPER::ACTION_SIZE] = -1.0
-        base = ACTION_SIZE * self.arm
+        action = np.zeros(self.arm_size * self.n_arms)
+        action[GRIPPER :: self.arm_size] = self.grips
+        base = self.arm_size * self.arm
         if arm_action is not None:
             action[base : base + 6] = np.clip(arm_action, -1.0, 1.0)
         action[base + GRIPPER] = self.grip

@@ -10,9 +10,9 @@ from importlib import import_module
 
 from rle_tasks.core.task import TaskSpec
 
-TASK_MODULES: tuple[str, ...] = ("tower", "cantilever", "balance", "hidden_com")
-"""Modules of the implemented tasks, relative to this package (``balance``, ``hidden_com``, ``cube``
-join here)."""
+TASK_MODULES: tuple[str, ...] = ("tower", "cantilever", "balance", "cube", "hidden_com")
+"""Modules of the implemented tasks, relative to this package (``cube`` is the ``03-pocket-cube``
+subpackage)."""
 
 
 def tasks() -> list[TaskSpec]:

@@ -1,7 +1,6 @@
-"""The physical pocket cube of task 03-pocket-cube: model, move model, state reading, distances, score.
-
-The task itself (two-arm scene, metered session, verifier, solutions) is not registered yet; this
-subpackage holds everything that does not need the scene. See README.md.
+"""Task ``03-pocket-cube``: the physical pocket cube (model, move model, state reading, distances,
+score), the two-arm scene and metered environment, the verifier and the TaskSpec (``task_spec``).
+See README.md.
 """
 
 from rle_tasks.f03_physical_reasoning.cube.detent import CubeDetent
@@ -38,5 +37,13 @@ __all__ = [
     "optimal_turns",
     "poses_from_data",
     "read",
+    "task_spec",
     "transitions",
 ]
+
+
+def task_spec():
+    """The TaskSpec of ``03-pocket-cube`` (``task.task_spec``; imported lazily)."""
+    from rle_tasks.f03_physical_reasoning.cube.task import task_spec as spec
+
+    return spec()

@@ -22,10 +22,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import mujoco
+import numpy as np
 
 from rle_design.errors import ConfigError
 from rle_design.scene.config import SpecEdit, check_positive, check_vector
-from rle_tasks.f03_physical_reasoning.cube.lattice import COLOURS, CUBIES, FACE_NORMALS, SLOTS
+from rle_tasks.f03_physical_reasoning.cube.group import IDENTITY, QUATS, ROTATIONS
+from rle_tasks.f03_physical_reasoning.cube.lattice import COLOURS, CUBIES, FACE_NORMALS, SLOTS, LatticeState
 
 __all__ = ["CubeConfig", "cube_spec"]
 
@@ -58,6 +60,10 @@ class CubeConfig(SpecEdit):
     """Ball-joint damping of each cubie [N m s/rad] (about critical for the detent and cubie inertia)."""
     free: bool = True
     """True: the core has a free joint; False: the core is fixed (mechanism tests)."""
+    orient: tuple[int, ...] = ()
+    """Initial lattice orientation of each cubie relative to the core (``group.ROTATIONS`` indices,
+    ``CUBIES`` order; a ``LatticeState.orient``); empty: solved. Each cubie body is built already turned
+    (its ball joint's zero is that orientation), so a scrambled cube is the model's default state."""
 
     def validate(self) -> None:
         if not self.name:
@@ -71,6 +77,13 @@ class CubeConfig(SpecEdit):
         if self.gap >= self.edge / 4:
             raise ConfigError(f"CubeConfig.gap must be < edge/4 = {self.edge / 4}, got {self.gap}")
         check_vector(self, "friction", self.friction, 3)
+        if self.orient:
+            try:
+                valid = LatticeState(tuple(self.orient)).is_valid()
+            except ValueError as exc:
+                raise ConfigError(f"CubeConfig.orient: {exc}") from None
+            if not valid:
+                raise ConfigError(f"CubeConfig.orient puts two cubies in one slot: {self.orient}")
 
     @property
     def cubie_half(self) -> float:
@@ -100,9 +113,14 @@ class CubeConfig(SpecEdit):
         )
         offset = self.edge / 4
         half = self.cubie_half
-        for cubie, slot in zip(CUBIES, SLOTS):
+        orient = self.orient or (IDENTITY,) * len(CUBIES)
+        for cubie, slot, rot in zip(CUBIES, SLOTS, orient):
             centre = [float(s) * offset for s in slot]
-            cb = core.add_body(name=self.cubie_body(cubie), pos=centre)
+            cb = core.add_body(
+                name=self.cubie_body(cubie),
+                pos=(ROTATIONS[rot] @ np.asarray(centre)).tolist(),
+                quat=QUATS[rot].tolist(),
+            )
             cb.add_joint(
                 name=self.cubie_body(cubie) + "_ball",
                 type=mujoco.mjtJoint.mjJNT_BALL,

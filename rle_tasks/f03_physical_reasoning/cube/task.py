@@ -1,0 +1,58 @@
+"""TaskSpec of ``03-pocket-cube``: solve a physical 2x2x2 cube with two fixed Pandas."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+from rle_tasks.f03_physical_reasoning.cube.scene import TASK_ID
+
+HERE = Path(__file__).resolve().parent
+BUDGET_STEPS = 50_000
+"""Charged steps of the one continuous attempt (card)."""
+
+
+def instruction() -> str:
+    """The agent instruction with the rubric's table appended."""
+    from .verifier import RUBRIC
+
+    text = (HERE.parent / "instructions" / "pocket_cube.md").read_text()
+    return text + "\n" + RUBRIC.markdown_table() + "\n"
+
+
+def make_dev_env(workspace: Path):
+    """The metered environment of the scramble of the current secret (the public one without a secret)."""
+    from rle_tasks.core.secrets import load_secret
+
+    from .env import make_env
+    from .scene import instance
+
+    return make_env(instance(load_secret()))
+
+
+def task_spec() -> TaskSpec:
+    from .verifier import verify
+
+    return TaskSpec(
+        id=TASK_ID,
+        family=3,
+        title="Tabletop physical reasoning: solve a physical 2x2x2 cube with two arms",
+        instruction=instruction(),
+        budget=Budget(wall_time_s=9 * 3600.0, cpus=4, gpus=1, steps=BUDGET_STEPS, verifier_timeout_s=1800.0),
+        contract=ArtifactContract(
+            required=("ledger.jsonl",),
+            description="ledger.jsonl: the sealed ledger of the metered attempt (written by the ledger server "
+            "outside the workspace; copy it into the submission).",
+        ),
+        make_dev_env=make_dev_env,
+        verify=verify,
+        solutions=(
+            "reference",
+            "baseline/idle",
+            "baseline/dropped",
+            "baseline/reset",
+            "baseline/forced_twist",
+            "baseline/unsealed",
+        ),
+        solutions_module="rle_tasks.f03_physical_reasoning.solutions.pocket_cube",
+    )
