@@ -15,7 +15,8 @@ _SENSORS: dict[tuple[int, str, tuple[int, int]], tuple[mujoco.MjModel, RgbdSenso
 def render_rgb(
     model: mujoco.MjModel, data: mujoco.MjData, cameras: tuple[str, ...], size: tuple[int, int]
 ) -> dict[str, np.ndarray]:
-    """Camera name -> (H, W, 3) uint8 image of the current state (``size`` = (H, W) [px])."""
+    """Camera name -> (H, W, 3) uint8 image of the current state (``size`` = (H, W) [px]); geoms only,
+    as a real camera sees them (no site markers)."""
     out = {}
     for name in cameras:
         key = (id(model), name, tuple(size))
@@ -23,7 +24,7 @@ def render_rgb(
         if entry is None or entry[0] is not model:
             entry = _SENSORS[key] = (
                 model,
-                RgbdSensor(model, name, size[1], size[0], fast=True, segmentation=False),
+                RgbdSensor(model, name, size[1], size[0], fast=True, segmentation=False, sites=False),
             )
         out[name] = entry[1].render(data).rgb
     return out

@@ -64,6 +64,8 @@ class RgbdSensor:
         fast: Shadows, reflections and skybox off, no multisampling.
         segmentation: Also render per-pixel object ids (a second draw).
         max_geom: Scene capacity.
+        sites: Draw sites (markers such as a gripper's grip-site line); a physical camera sees
+            geoms only, so cameras that stand for real ones pass False.
     """
 
     def __init__(
@@ -76,6 +78,7 @@ class RgbdSensor:
         fast: bool = True,
         segmentation: bool = True,
         max_geom: int = 10000,
+        sites: bool = True,
     ) -> None:
         self._ctx = None
         self._con: mujoco.MjrContext | None = None
@@ -108,6 +111,8 @@ class RgbdSensor:
             model.vis.quality.offsamples = samples
         self._scene = mujoco.MjvScene(model, maxgeom=max_geom)
         self._option = mujoco.MjvOption()
+        if not sites:
+            self._option.sitegroup[:] = 0
         self._cam = mujoco.MjvCamera()
         self._cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
         self._cam.fixedcamid = self.camera_id
