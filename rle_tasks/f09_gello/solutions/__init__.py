@@ -81,8 +81,8 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="da78b0b4bd845abbbb68bc9db6bcfa6ab7e294e8ea99184f8256e5e275ec073d",
-            quick_score=0.866241033954,
+            sha256="525e174ecff354ef9a6aad589245a357b836b2a186ff5d9a05664a6d8c744992",
+            quick_score=0.941093439310,
             files=_per_robot("lead.xml", "solutions/reference/{robot}/lead.xml")
             + _per_robot("meshes", "assets/{robot}/meshes")
             + _per_robot("trim.py", "assets/trim_templates/regressor_trim.py"),
@@ -105,15 +105,15 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/over_mass",
-            sha256="2560def4b153226a1872aacadc9af2f5e870cfca459ea8f973cf5876d1a969f8",
+            sha256="1a435e5be55a56fd3e0e8ea3259c06fc67d9edc6c8bed336c944d81942d959d4",
             quick_score=0.2,
             base="reference",
             transforms=(steel_ballast,),
         ),
         Solution(
             "baseline/hanging_trim",
-            sha256="0fa43371660ff31bd0ab6f9d25cd788a4b20a54db19dd4f1867c615e22b16bcd",
-            quick_score=0.398181164838,
+            sha256="e16eb12236ea889e47af51f528373ffca3b8051e2fd5845acb300e01697ece6f",
+            quick_score=0.464847832361,
             base="reference",
             files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
         ),

@@ -130,15 +130,21 @@ def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterwei
         )
 
     posts = design.posts or (None,) * len(design.counterweights)
+    holders = {}  # counterweight -> (its L-bracket's post body, the post's top in the link frame)
     for k, ((link, *_), post) in enumerate(zip(design.counterweights, posts, strict=True), 1):
         if post is not None:  # the L-bracket's post is structure of the link: written even without weights
             start, top = post
             holder = etree.SubElement(body(link), "body", name=f"counterweight{k}_post", pos=_fmt(top))
             rod(holder, f"counterweight{k}_post_pla", np.asarray(start) - top, np.zeros(3), ARM_RADIUS)
+            holders[k] = (holder, np.asarray(top))
     if with_counterweights:
         for k, (link, centre, mass, start) in enumerate(design.counterweights, 1):
             radius = (3 * mass / (4 * np.pi * STEEL_DENSITY)) ** (1 / 3)
-            cw = etree.SubElement(body(link), "body", name=f"counterweight{k}", pos=_fmt(centre))
+            # on an L-bracket the weight's rod hangs from the post's top: the post is its parent body
+            parent, origin = holders.get(k, (body(link), np.zeros(3)))
+            cw = etree.SubElement(
+                parent, "body", name=f"counterweight{k}", pos=_fmt(np.asarray(centre) - origin)
+            )
             etree.SubElement(
                 cw,
                 "geom",
@@ -280,10 +286,12 @@ def _loss(collisions: float, worst_residual: float) -> float:
 def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: bool = False) -> Fastened:
     """The fastened, re-balanced reference of ``robot``, with placements chosen for clearance.
 
-    Greedy passes from the tip, as ``build.clear_design``, but each candidate is scored with its rods
-    and posts in place: the fraction of public-grid poses where an added part collides with the arm,
-    the base or the table, or the spring's path passes through a part (ties: lighter device; devices
-    over ``build.MASS_CAP`` lose). The chosen placement is then re-balanced by ``optimise``.
+    Greedy passes from the tip (joint n down to 3): each joint's placement (``build.PLACEMENTS``) and
+    mount (shell or servo housing, straight rod or L-bracket) is chosen with the others fixed, each
+    candidate scored with its rods and posts in place: the fraction of public-grid poses where an
+    added part collides with the arm, the base or the table, or the spring's path passes through a
+    part (ties: lighter device; devices over ``build.MASS_CAP`` lose). The chosen placement is then
+    re-balanced by ``optimise``.
     """
     import tempfile
 

@@ -182,43 +182,9 @@ def apply_design(robot: str, design: Design, out_dir: Path) -> Path:
 
 
 PLACEMENTS = ((0.05, 0.0), (0.08, 0.0)) + tuple(
-    (r, s * a) for r in (0.05, 0.08, 0.10, 0.12) for a in (0.035, CW_AXIAL) for s in (1, -1)
+    (r, s * a) for r in (0.05, 0.08, 0.10, 0.12) for a in (0.035, CW_AXIAL, 0.08, 0.105) for s in (1, -1)
 )
-
-
-def clear_design(robot: str, n_poses: int = 256, passes: int = 2, verbose: bool = False) -> Design:
-    """``exact_design`` with each counterweight's radius and side chosen to clear the workspace.
-
-    Greedy passes from the tip: for joint k = n..3 keep the placement (``PLACEMENTS``) of least
-    collision fraction over the public grid (ties: lighter device; devices over ``MASS_CAP`` lose),
-    the others fixed.
-    """
-
-    from rle_tasks.f09_gello.clearance import collision_fraction
-    from rle_tasks.f09_gello.device import load_submission
-    from rle_tasks.f09_gello.public.gello_helpers import workspace_grid
-
-    m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
-    grid = workspace_grid(m.jnt_range, n_poses)
-    placement: dict[int, tuple[float, float]] = {}
-
-    def cost(pl) -> tuple[float, float]:
-        des = exact_design(robot, pl)
-        with tempfile.TemporaryDirectory() as tmp:
-            sub = load_submission(robot, apply_design(robot, des, Path(tmp) / robot).parent)
-            names = [mujoco.mj_id2name(sub.model, mujoco.mjtObj.mjOBJ_BODY, b) for b in sub.added_bodies]
-            frac = collision_fraction(sub.design, names, grid)[0]
-            return frac + (1.0 if sub.mass > MASS_CAP else 0.0), sub.mass
-
-    for _ in range(passes):
-        for k in range(m.nv, 2, -1):
-            best = min(PLACEMENTS, key=lambda opt, k=k: cost({**placement, k: opt}))
-            placement[k] = best
-            if verbose:
-                print(
-                    f"  {robot} joint {k}: r_c {best[0]:.2f} m, axial {best[1]:+.3f} m -> {cost(placement)}"
-                )
-    return exact_design(robot, placement)
+"""Counterweight (radius from the joint axis, axial shift) options of the greedy placement [m]."""
 
 
 def build_all(target: Path = PKG / "solutions" / "reference") -> None:
