@@ -81,7 +81,12 @@ def test_fixed_base_holds_the_default_pose_for_one_second_with_the_pd_steady_sta
     mujoco.mj_forward(m, d)
     assert np.abs(d.qvel).max() < 1e-3
     err = np.asarray(G1.default_pose) - d.qpos
-    for joint in ("left_elbow_joint", "right_shoulder_pitch_joint", "left_knee_joint", "right_ankle_pitch_joint"):
+    for joint in (
+        "left_elbow_joint",
+        "right_shoulder_pitch_joint",
+        "left_knee_joint",
+        "right_ankle_pitch_joint",
+    ):
         i = G1.joints.index(joint)
         expected = -_gravity_torque(m, d, joint) / G1.kp[i]
         assert abs(expected) > 1e-3, joint  # a loaded joint: the check can fail
