@@ -145,6 +145,6 @@ def forward_kinematics(
         mujoco.mj_comVel(model, data)
         pos[t], quat[t] = data.xpos[ids], data.xquat[ids]
         for j, b in enumerate(ids):
-            mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, b, v6, 0)
+            mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_XBODY, b, v6, 0)
             ang[t, j], lin[t, j] = v6[:3], v6[3:]
     return pos, quat, lin, ang
