@@ -79,7 +79,7 @@ def sample_perturbation(
     """A random perturbation (``strength`` 1: the hidden-evaluation ranges; 0: nominal).
 
     Ranges at strength 1: masses x U(0.9, 1.1), COM offsets U(-2.5, 2.5) cm on pelvis and torso,
-    joint friction U(0, 0.3) N m, kp and kd x U(0.85, 1.15), foot friction U(0.4, 1.0), encoder
+    joint friction U(0, 0.3) N m, kp and kd x U(0.85, 1.15), foot friction U(0.3, 1.2), encoder
     bias U(-0.01, 0.01) rad, noise std 0.01 rad, 0.1 rad/s, 0.05 m/s, 0.05 rad/s, latency 1 or 2
     steps, one push of U(0.2, 0.5) m/s in a random direction every U(4, 6) s.
     """
@@ -99,7 +99,7 @@ def sample_perturbation(
         joint_friction=tuple(a * rng.uniform(0.0, 0.3, n)),
         kp_scale=tuple(1.0 + a * rng.uniform(-0.15, 0.15, n)),
         kd_scale=tuple(1.0 + a * rng.uniform(-0.15, 0.15, n)),
-        foot_friction=float(0.7 + a * rng.uniform(-0.3, 0.3)),
+        foot_friction=float(0.75 + a * rng.uniform(-0.45, 0.45)),
         encoder_bias=tuple(a * rng.uniform(-0.01, 0.01, n)),
         noise_std={"joint_pos": 0.01 * a, "joint_vel": 0.1 * a, "lin_vel": 0.05 * a, "ang_vel": 0.05 * a},
         latency=int(rng.integers(1, 3)) if a > 0 else 0,

@@ -1,0 +1,38 @@
+"""Shipped solutions of the family-04 tasks, materialised by ``rle_tasks.core.solutions``.
+
+- ``reference``: a PPO policy trained on the dance clip with ``public/ppo.py`` (command, seed and curve
+  in the README), exported with ``public/export.py``.
+- ``baseline/open_loop``: replays the reference joint angles of the observation as PD targets.
+- ``baseline/zero_action``: PD targets at the default pose.
+- ``baseline/nan_output``: every output NaN: smoke failure, cap 0.1.
+- ``baseline/non_deterministic``: open loop plus fresh noise per call: smoke failure, cap 0.1.
+- ``baseline/twelve_million``: 12.1 M parameters: invalid, 0.
+
+The baselines are ONNX graphs generated at materialisation (``baselines.py``). Golden scores: quick
+mode (two hidden seeds), public development key.
+"""
+
+from __future__ import annotations
+
+from rle_tasks.core.solutions import Solution, SolutionSet
+
+from . import baselines
+
+SOLUTIONS = SolutionSet(
+    package="rle_tasks.f04_motion_tracking",
+    solutions=(
+        Solution("reference", sha256="", quick_score=0.0, files=((".", "solutions/reference"),)),
+        Solution("baseline/open_loop", sha256="", quick_score=0.0, transforms=(baselines.open_loop,)),
+        Solution("baseline/zero_action", sha256="", quick_score=0.0, transforms=(baselines.zero_action,)),
+        Solution("baseline/nan_output", sha256="", quick_score=0.0, transforms=(baselines.nan_output,)),
+        Solution(
+            "baseline/non_deterministic",
+            sha256="",
+            quick_score=0.0,
+            transforms=(baselines.non_deterministic,),
+        ),
+        Solution(
+            "baseline/twelve_million", sha256="", quick_score=0.0, transforms=(baselines.twelve_million,)
+        ),
+    ),
+)
