@@ -27,10 +27,13 @@ from .tracking import (
     SOFT_LIMIT_FACTOR,
     TERMINATION,
     _conj,
+    _mul,
     _rotate,
     kernel,
     observation,
     quat_angle,
+    quat_angles,
+    quat_mul,
     relative_reference,
 )
 
@@ -152,18 +155,12 @@ class TrackingEnv:
         anchor_pos, anchor_quat = d.xpos[self.anchor], d.xquat[self.anchor]
         rel_pos, rel_quat = relative_reference(ref_pos, ref_quat, self.ref_anchor, anchor_pos, anchor_quat)
         pos, quat = d.xpos[self.bodies], d.xquat[self.bodies]
-        v6 = np.zeros(6)
-        lin, ang = np.zeros((len(self.bodies), 3)), np.zeros((len(self.bodies), 3))
-        for j, b in enumerate(self.bodies):
-            mujoco.mj_objectVelocity(self.model, d, mujoco.mjtObj.mjOBJ_XBODY, int(b), v6, 0)
-            ang[j], lin[j] = v6[:3], v6[3:]
-        dq = np.zeros(4)
-        ori = np.zeros(len(self.bodies))
-        for j in range(len(self.bodies)):
-            mujoco.mju_mulQuat(dq, rel_quat[j], _conj(quat[j]))
-            ori[j] = quat_angle(dq)
-        mujoco.mju_mulQuat(dq, ref_quat[self.ref_anchor], _conj(anchor_quat))
-        anchor_ori = quat_angle(dq)
+        # velocities of the body frame origins: cvel is (angular, linear) about the subtree COM of the root
+        cvel = d.cvel[self.bodies]
+        ang = cvel[:, :3]
+        lin = cvel[:, 3:] + np.cross(ang, pos - d.subtree_com[self.model.body_rootid[self.bodies]])
+        ori = quat_angles(quat_mul(rel_quat, quat * np.array([1.0, -1.0, -1.0, -1.0])))
+        anchor_ori = quat_angle(_mul(ref_quat[self.ref_anchor], _conj(anchor_quat)))
         pos_err = np.linalg.norm(rel_pos - pos, axis=1)
         anchor_err = float(np.linalg.norm(ref_pos[self.ref_anchor] - anchor_pos))
         err_sq = {
@@ -198,6 +195,10 @@ class TrackingEnv:
             self.data.qvel[:2] += self._pushes.pop(0).dv
         for _ in range(self.substeps):
             mujoco.mj_step(self.model, self.data)
+        # mj_step leaves the kinematics of the state before its last integration: refresh them
+        mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_comPos(self.model, self.data)
+        mujoco.mj_comVel(self.model, self.data)
         self.frame += 1
         info = self.tracking()
         reward = sum(t.weight * info.terms[t.name] for t in REWARD_TERMS)

@@ -103,6 +103,26 @@ def quat_angle(q: np.ndarray) -> float:
     return float(2.0 * np.arctan2(np.linalg.norm(q[1:]), abs(q[0])))
 
 
+def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of (..., 4) quaternions (w x y z), broadcast."""
+    aw, ax, ay, az = np.moveaxis(a, -1, 0)
+    bw, bx, by, bz = np.moveaxis(b, -1, 0)
+    return np.stack(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ],
+        axis=-1,
+    )
+
+
+def quat_angles(q: np.ndarray) -> np.ndarray:
+    """Rotation angles [rad] in [0, pi] of (..., 4) unit quaternions."""
+    return 2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0]))
+
+
 def relative_reference(
     ref_pos: np.ndarray,
     ref_quat: np.ndarray,
@@ -111,12 +131,11 @@ def relative_reference(
     robot_anchor_quat: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Reference body poses (B, 3), (B, 4) moved onto the robot's anchor (x, y and yaw; z kept)."""
-    delta_pos = robot_anchor_pos.copy()
+    delta_pos = np.array(robot_anchor_pos, dtype=float)
     delta_pos[2] = ref_pos[ref_anchor, 2]
     delta = yaw_only(_mul(robot_anchor_quat, _conj(ref_quat[ref_anchor])))
-    pos = np.array([delta_pos + _rotate(delta, p - ref_pos[ref_anchor]) for p in ref_pos])
-    quat = np.array([_mul(delta, q) for q in ref_quat])
-    return pos, quat
+    pos = delta_pos + (ref_pos - ref_pos[ref_anchor]) @ _mat(delta).T
+    return pos, quat_mul(delta, ref_quat)
 
 
 def observation(
