@@ -8,7 +8,7 @@ import math
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_tasks.core.onnx_policy import OnnxSignature, TensorSpec, load_onnx_policy
+from rle_tasks.core.onnx_policy import OnnxSignature, TensorSpec, _tensors, load_onnx_policy
 from rle_tasks.core.policy import PolicyFault
 
 from .public.clip import Clip
@@ -33,12 +33,12 @@ def signature(meta: PolicyMeta) -> OnnxSignature:
 
 
 def count_parameters(root: Path) -> int:
-    """Number of stored tensor elements of the (already validated) ``policy.onnx``."""
+    """Number of stored tensor elements of the (already validated) ``policy.onnx``: initializers and
+    constant tensors, in subgraphs and functions too (the core loader's traversal)."""
     import onnx
 
     model = onnx.load_model_from_string((Path(root) / ONNX).read_bytes())
-    tensors = list(model.graph.initializer) + [s.values for s in model.graph.sparse_initializer]
-    return sum(math.prod(t.dims) if len(t.dims) else 1 for t in tensors)
+    return sum(math.prod(t.dims) if len(t.dims) else 1 for t in _tensors(model))
 
 
 def load_policy(root: Path):

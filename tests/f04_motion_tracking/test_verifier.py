@@ -89,3 +89,26 @@ def test_open_loop_beats_zero_action_natively_and_both_fall_within_the_first_sec
     t = [np.mean([s["T"] for s in r.native_metrics["seeds"].values()]) for r in (ol, zero)]
     assert t[0] > t[1]
     assert ol.native_metrics == again.native_metrics  # deterministic: same artifact, seed, secret
+
+
+def test_parameters_hidden_in_a_constant_node_count(tmp_path):
+    """10.5 M zeros in a Constant node (not an initializer) still count: 10,500,000 + the open-loop
+    graph's 160 x 29 + 29 = 10,504,669 > 10 M."""
+    import onnx
+    from onnx import helper, numpy_helper
+
+    baselines.open_loop(tmp_path)
+    model = onnx.load(tmp_path / "policy.onnx")
+    big = numpy_helper.from_array(np.zeros(10_500_000, np.float32), "big")
+    out = model.graph.output[0].name
+    model.graph.node[-1].output[0] = "pre"
+    model.graph.node.extend(
+        [
+            helper.make_node("Constant", [], ["big"], value=big),
+            helper.make_node("ReduceSum", ["big"], ["zero"], keepdims=0),
+            helper.make_node("Add", ["pre", "zero"], [out]),
+        ]
+    )
+    (tmp_path / "policy.onnx").write_bytes(model.SerializeToString())
+    r = verify_task("04-dance", "dance", tmp_path, CTX)
+    assert not r.valid and "f04.params" in _codes(r) and "10,504,669 parameters" in r.errors[0].message
