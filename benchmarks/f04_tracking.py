@@ -19,7 +19,7 @@ import numpy as np
 from rle_tasks.f04_motion_tracking.public.clip import Clip
 from rle_tasks.f04_motion_tracking.public.env import TrackingEnv, VecTrackingEnv
 from rle_tasks.f04_motion_tracking.public.g1 import g1_model
-from rle_tasks.f04_motion_tracking.task import CLIPS
+from rle_tasks.f04_motion_tracking.task import clip_path
 
 TARGET_VERIFY_S = 60.0
 
@@ -99,7 +99,7 @@ def main() -> int:
     p.add_argument("--envs", type=int, default=16)
     p.add_argument("--no-verify", action="store_true")
     a = p.parse_args()
-    clip = Clip.load(CLIPS / "dance.npz")
+    clip = Clip.load(clip_path("dance"))
     for dt in (0.005, 0.002):
         print(f"mj_step, G1 29 PD, dt {dt * 1e3:g} ms: {raw_steps(a.steps, dt):,.0f} steps/s")
     print(f"TrackingEnv (5 ms, 50 Hz): {env_steps(clip, a.steps // 4, 1):,.0f} policy steps/s")

@@ -16,9 +16,8 @@ from .public.contract import MAX_PARAMS, ONNX, PolicyMeta, read_meta
 from .public.evaluate import PolicyError, rollout
 from .public.g1_constants import G1
 
-__all__ = ["CLIPS", "SMOKE_STEPS", "count_parameters", "load_policy", "run_seed"]
+__all__ = ["SMOKE_STEPS", "count_parameters", "load_policy", "run_seed"]
 
-CLIPS = Path(__file__).resolve().parent / "assets" / "clips"
 SMOKE_STEPS = 50
 """Policy steps of the first second, where an explosion is a smoke failure."""
 
@@ -66,4 +65,6 @@ def run_seed(item: tuple[str, str, int]) -> dict:
         except PolicyFault as exc:
             raise PolicyError(exc.code) from None
 
-    return rollout(act, meta, Clip.load(CLIPS / f"{style}.npz"), seed)
+    from .task import clip_path
+
+    return rollout(act, meta, Clip.load(clip_path(style)), seed)

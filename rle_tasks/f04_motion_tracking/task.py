@@ -9,7 +9,18 @@ from pathlib import Path
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 HERE = Path(__file__).resolve().parent
-CLIPS = HERE / "assets" / "clips"
+SHIPPED_CLIPS = HERE / "assets" / "clips"
+CLIPS_ENV = "RLE_F04_CLIPS"
+"""Environment variable naming a directory of ``<style>.npz`` clips that replace the shipped ones (e.g.
+the card's LAFAN1 clips converted with ``rle import-motion``); used by the workspace and the verifier."""
+
+
+def clip_path(style: str) -> Path:
+    """The clip of a style: ``$RLE_F04_CLIPS/<style>.npz`` when that variable is set, else the shipped one."""
+    import os
+
+    root = os.environ.get(CLIPS_ENV)
+    return (Path(root) if root else SHIPPED_CLIPS) / f"{style}.npz"
 PUBLIC_PACKAGE = "motion_tracking"
 """Name of the public modules' package in the workspace."""
 STYLES = {
@@ -49,7 +60,7 @@ def make_dev_env(workspace: Path, style: str):
         shutil.rmtree(dest)
     shutil.copytree(HERE / "public", dest, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
     (ws / "clips").mkdir(parents=True, exist_ok=True)
-    shutil.copyfile(CLIPS / f"{style}.npz", ws / "clips" / f"{style}.npz")
+    shutil.copyfile(clip_path(style), ws / "clips" / f"{style}.npz")
     return None
 
 
