@@ -5,9 +5,10 @@ fall indicator:
 
     s = 0.7 T + 0.3 U - 0.15 min(J / J_max, 1) - 0.05 F, clipped to [0, 1].
 
-T is the mean over the clip's policy steps of ``0.5 exp(-e_p / S_POS) + 0.5 exp(-e_o / S_ORI)`` with
-e_p the mean position error of the 14 tracked bodies to the re-anchored reference [m] and e_o their
-mean orientation error [rad]; steps after a fall count 0. J is the root mean square over steps and
+T is the mean over the clip's policy steps of ``(exp(-e_p / S_POS) + exp(-e_o / S_ORI) + exp(-e_w /
+S_WORLD)) / 3`` with e_p the mean position error of the 14 tracked bodies to the re-anchored reference
+[m], e_o their mean orientation error [rad] and e_w the world-frame torso position error [m]; steps
+after a fall count 0. J is the root mean square over steps and
 joints of the second difference of the PD targets [rad]. The derivations of S_POS, S_ORI and J_MAX are
 in the README.
 """
@@ -18,9 +19,20 @@ from dataclasses import replace
 
 from rle_tasks.core.scoring import Cap, CheckpointSpec, Deduction, Fraction, Rubric
 
-from .public.evaluate import J_MAX, S_ORI, S_POS, seed_score
+from .public.evaluate import J_MAX, S_ORI, S_POS, S_WORLD, seed_score
 
-__all__ = ["J_MAX", "N_SEEDS", "QUICK_SEEDS", "RUBRIC", "S_ORI", "S_POS", "TASK_IDS", "rubric", "seed_score"]
+__all__ = [
+    "J_MAX",
+    "N_SEEDS",
+    "QUICK_SEEDS",
+    "RUBRIC",
+    "S_ORI",
+    "S_POS",
+    "S_WORLD",
+    "TASK_IDS",
+    "rubric",
+    "seed_score",
+]
 
 TASK_IDS = ("04-dance", "04-fight", "04-fall-getup", "04-run", "04-sprint")
 N_SEEDS = 8
@@ -38,7 +50,7 @@ RUBRIC = Rubric(
         CheckpointSpec(
             "tracking",
             0.7,
-            "whole-body tracking T: mean over steps of 0.5 exp(-e_p/0.1 m) + 0.5 exp(-e_o/0.3 rad)",
+            "whole-body tracking T: mean over steps of [exp(-e_p/0.1 m) + exp(-e_o/0.3 rad) + exp(-e_w/0.5 m)]/3",
             Fraction("T per seed"),
             combine="mean",
         ),

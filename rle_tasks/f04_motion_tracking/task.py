@@ -21,6 +21,8 @@ def clip_path(style: str) -> Path:
 
     root = os.environ.get(CLIPS_ENV)
     return (Path(root) if root else SHIPPED_CLIPS) / f"{style}.npz"
+
+
 PUBLIC_PACKAGE = "motion_tracking"
 """Name of the public modules' package in the workspace."""
 STYLES = {
@@ -77,7 +79,7 @@ def task_spec(task_id: str) -> TaskSpec:
         family=4,
         title=f"Whole-body motion tracking: {title}",
         instruction=instruction(task_id),
-        budget=Budget(wall_time_s=8 * 3600.0, cpus=2, verifier_timeout_s=600.0),
+        budget=Budget(wall_time_s=4 * 3600.0, cpus=4, gpus=1, verifier_timeout_s=600.0),
         contract=ArtifactContract(
             required=("policy.onnx", "policy_meta.json"),
             description="policy.onnx: obs (1, 160 H) float32 -> actions (1, 29), at most 10 M parameters; "

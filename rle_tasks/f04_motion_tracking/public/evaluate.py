@@ -24,7 +24,7 @@ from .env import TrackingEnv
 from .g1 import g1_model
 from .perturb import sample_perturbation
 
-__all__ = ["EVAL_TIMESTEP", "J_MAX", "S_ORI", "S_POS", "rollout", "seed_score"]
+__all__ = ["EVAL_TIMESTEP", "J_MAX", "S_ORI", "S_POS", "S_WORLD", "rollout", "seed_score", "tracking_step"]
 
 EVAL_TIMESTEP = 0.002
 """Physics step of the evaluation [s]."""
@@ -32,6 +32,8 @@ S_POS = 0.1
 """Body position error scale of T [m]."""
 S_ORI = 0.3
 """Body orientation error scale of T [rad]."""
+S_WORLD = 0.5
+"""World-frame anchor (torso) position error scale of T [m]."""
 J_MAX = 0.05
 """Action jerk at which the jerk deduction is full [rad] (RMS second difference of the PD targets)."""
 EXPLOSION_QVEL = 200.0
@@ -47,6 +49,16 @@ class PolicyError(Exception):
     def __init__(self, code: str) -> None:
         super().__init__(code)
         self.code = code
+
+
+def tracking_step(body_pos_err: float, body_ori_err: float, anchor_world_err: float) -> float:
+    """Whole-body tracking of one step: the mean of exp(-e_p / S_POS), exp(-e_o / S_ORI) and
+    exp(-e_w / S_WORLD) (relative body positions [m] and orientations [rad], world anchor position [m])."""
+    return (
+        math.exp(-body_pos_err / S_POS)
+        + math.exp(-body_ori_err / S_ORI)
+        + math.exp(-anchor_world_err / S_WORLD)
+    ) / 3.0
 
 
 def seed_score(t: float, u: float, j: float, fell: bool) -> float:
@@ -98,7 +110,7 @@ def rollout(policy: Callable[[np.ndarray], np.ndarray], meta: PolicyMeta, clip: 
             explosion, fell, survived = k, True, k
             break
         hist.append(obs)
-        t_sum += 0.5 * math.exp(-info.body_pos_err / S_POS) + 0.5 * math.exp(-info.body_ori_err / S_ORI)
+        t_sum += tracking_step(info.body_pos_err, info.body_ori_err, info.anchor_pos_err)
         err_sum += info.body_pos_err
         if term:
             fell, survived = True, k + 1

@@ -82,7 +82,7 @@ def train(
     out: Path,
     *,
     seed: int = 0,
-    minutes: float = 30.0,
+    minutes: float = 60.0,
     num_envs: int = 16,
     horizon: int = 32,
     epochs: int = 5,
@@ -190,7 +190,7 @@ def main() -> None:
     p.add_argument("clip", type=Path)
     p.add_argument("out", type=Path)
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--minutes", type=float, default=30.0)
+    p.add_argument("--minutes", type=float, default=60.0)
     p.add_argument("--envs", type=int, default=16)
     a = p.parse_args()
     train(a.clip, a.out, seed=a.seed, minutes=a.minutes, num_envs=a.envs)
