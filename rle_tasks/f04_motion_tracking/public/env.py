@@ -215,13 +215,14 @@ class TrackingEnv:
 
 class VecTrackingEnv:
     """N ``TrackingEnv``s stepped together; an environment that ends is reset at once (its returned
-    observation is the new episode's first)."""
+    observation is the new episode's first; ``final_obs[i]`` keeps the last one, for bootstrapping)."""
 
     def __init__(self, clip: Clip, n: int, *, seed: int = 0, perturbations=None, **kwargs) -> None:
         perts = perturbations or [NOMINAL] * n
         self.envs = [TrackingEnv(clip, seed=seed + i, perturbation=perts[i], **kwargs) for i in range(n)]
         self.num_envs = n
         self.observation_dim, self.action_dim = OBS_DIM, G1.dof
+        self.final_obs: list[np.ndarray | None] = [None] * n
 
     def reset(self) -> np.ndarray:
         return np.stack([e.reset() for e in self.envs])
@@ -230,9 +231,11 @@ class VecTrackingEnv:
         self, actions: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[StepInfo]]:
         obs, rew, term, trunc, infos = [], [], [], [], []
-        for env, a in zip(self.envs, actions):
+        self.final_obs = [None] * self.num_envs
+        for i, (env, a) in enumerate(zip(self.envs, actions)):
             o, r, te, tr, info = env.step(a)
             if te or tr:
+                self.final_obs[i] = o
                 o = env.reset()
             obs.append(o)
             rew.append(r)

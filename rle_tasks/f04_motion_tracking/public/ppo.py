@@ -125,8 +125,10 @@ def train(
                 nobs_t = torch.as_tensor(nobs, dtype=torch.float32)
                 boot = torch.zeros(num_envs)
                 if trunc.any():  # time limit: bootstrap with the value of the state it reached
+                    last_obs = np.stack([env.final_obs[i] if t else nobs[i] for i, t in enumerate(trunc)])
                     with torch.no_grad():
-                        boot = torch.as_tensor(trunc, dtype=torch.float32) * gamma * net.value(nobs_t)
+                        v_end = net.value(torch.as_tensor(last_obs, dtype=torch.float32))
+                    boot = torch.as_tensor(trunc, dtype=torch.float32) * gamma * v_end
                 for k, v in zip(buf, (obs, act, logp, torch.as_tensor(rew, dtype=torch.float32), val)):
                     buf[k].append(v)
                 buf["done"].append(torch.as_tensor(term | trunc, dtype=torch.float32))
