@@ -131,3 +131,27 @@ def test_vector_env_steps_and_resets():
         assert np.isfinite(obs).all() and np.isfinite(rew).all()
         done += int(term.sum() + trunc.sum())
     assert done >= 2  # zero action falls within 100 steps (2 s); both environments were reset
+
+
+def _floor_height(model, data, x, y):
+    geom = np.array([-1], dtype=np.int32)
+    return 1.0 - mujoco.mj_ray(
+        model, data, np.array([x, y, 1.0]), np.array([0.0, 0.0, -1.0]), None, 1, -1, geom
+    )
+
+
+def test_terrain_roughness_stays_within_its_amplitude_and_is_flat_at_zero():
+    from rle_tasks.f04_motion_tracking.public.g1 import g1_model
+    from rle_tasks.f04_motion_tracking.public.perturb import Perturbation
+
+    model = g1_model(terrain=True)
+    Perturbation(terrain=0.02, terrain_seed=3).apply(model)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    h = np.array(
+        [_floor_height(model, data, x, y) for x in np.linspace(1, 58, 30) for y in (-1, 0, 1)]
+    )  # away from the robot
+    assert h.min() >= -0.01 - 1e-9 and h.max() <= 0.01 + 1e-9 and h.std() > 0.002
+    Perturbation().apply(model)
+    mujoco.mj_forward(model, data)
+    assert _floor_height(model, data, 5.0, 0.2) == pytest.approx(0.0, abs=1e-9)

@@ -86,7 +86,7 @@ def rollout(policy: Callable[[np.ndarray], np.ndarray], meta: PolicyMeta, clip: 
         ``T``, ``U``, ``J``, ``fell``, ``mpjpe_mm``, ``steps``, ``survived``, ``fault`` (code or ''),
         ``explosion_step`` (-1 if none).
     """
-    model = g1_model(timestep=EVAL_TIMESTEP)
+    model = g1_model(timestep=EVAL_TIMESTEP, terrain=True)
     pert = sample_perturbation(np.random.default_rng(seed), model, 1.0)
     env = TrackingEnv(clip, timestep=EVAL_TIMESTEP, perturbation=pert, seed=seed, model=model)
     obs = env.reset(0)

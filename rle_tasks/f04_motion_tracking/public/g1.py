@@ -26,6 +26,12 @@ G1_PACKAGE = "mjlab"
 _REL = ("asset_zoo", "robots", "unitree_g1", "xmls", "g1.xml")
 FOOT_FRICTION = 0.6
 """Foot-capsule sliding friction coefficient [1] (mjlab's G1 collision config)."""
+TERRAIN_X = (-3.0, 60.0)
+"""Extent of the terrain height field along x [m] (the sprint clip covers 55 m)."""
+TERRAIN_HALF_WIDTH = 3.0
+"""Half width of the terrain along y [m]."""
+TERRAIN_CELL = 0.05
+"""Terrain grid spacing [m]."""
 
 
 def g1_model_path() -> Path:
@@ -56,13 +62,17 @@ def standing_qpos() -> np.ndarray:
     return q
 
 
-def load_g1(*, timestep: float = 0.005, floor: bool = True, fixed_base: bool = False) -> mujoco.MjSpec:
+def load_g1(
+    *, timestep: float = 0.005, floor: bool = True, fixed_base: bool = False, terrain: bool = False
+) -> mujoco.MjSpec:
     """Fresh ``MjSpec`` of the actuated G1.
 
     Args:
         timestep: Physics step [s] (training 0.005, evaluation 0.002).
         floor: Add a ground plane at z = 0.
         fixed_base: Remove the free joint (the pelvis is welded to the world at its model pose).
+        terrain: Make the floor a height field named ``terrain`` (flat until a ``Perturbation`` with
+            ``terrain`` roughness fills it) instead of a plane.
     """
     spec = mujoco.MjSpec.from_file(str(g1_model_path()))
     spec.option.timestep = timestep
@@ -85,7 +95,25 @@ def load_g1(*, timestep: float = 0.005, floor: bool = True, fixed_base: bool = F
         spec.delete(spec.joint("floating_base_joint"))
     else:
         spec.add_key(name="default", qpos=standing_qpos().tolist())
-    if floor:
+    if floor and terrain:
+        length = TERRAIN_X[1] - TERRAIN_X[0]
+        nrow, ncol = (
+            int(round(2 * TERRAIN_HALF_WIDTH / TERRAIN_CELL)) + 1,
+            int(round(length / TERRAIN_CELL)) + 1,
+        )
+        field = spec.add_hfield(
+            name="terrain", size=[length / 2, TERRAIN_HALF_WIDTH, 0.01, 0.1], nrow=nrow, ncol=ncol
+        )
+        field.userdata = [0.0] * (nrow * ncol)
+        spec.worldbody.add_geom(
+            name="floor",
+            type=mujoco.mjtGeom.mjGEOM_HFIELD,
+            hfieldname="terrain",
+            pos=[(TERRAIN_X[0] + TERRAIN_X[1]) / 2, 0.0, 0.0],
+            contype=1,
+            conaffinity=1,
+        )
+    elif floor:
         spec.worldbody.add_geom(
             name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05], contype=1, conaffinity=1
         )

@@ -21,7 +21,12 @@ from . import baselines
 SOLUTIONS = SolutionSet(
     package="rle_tasks.f04_motion_tracking",
     solutions=(
-        Solution("reference", sha256="f4bbd9d4ca99639a549ec81e2a6bbeb7d65dbb63cd1fcd8d69aaa6a65ca20967", quick_score=0.0, files=((".", "solutions/reference"),)),
+        Solution(
+            "reference",
+            sha256="f4bbd9d4ca99639a549ec81e2a6bbeb7d65dbb63cd1fcd8d69aaa6a65ca20967",
+            quick_score=0.0,
+            files=((".", "solutions/reference"),),
+        ),
         Solution(
             "baseline/open_loop",
             sha256="74e430affe734cd4ed60567d323f8663d74e64a3e421cfcbd2a223e665ecdba0",
