@@ -40,3 +40,17 @@ def test_ppo_runs_and_its_export_meets_the_contract(tmp_path):
     with torch.no_grad():
         expected = net(torch.as_tensor(x)).numpy()[0]
     assert policy.run({"obs": x})["actions"][0] == pytest.approx(expected, abs=1e-4)
+
+
+def test_smoothing_is_a_first_order_filter_on_the_previous_action(tmp_path):
+    """alpha = 0.3: a = 0.3 net(obs) + 0.7 obs[131:160] (the previous action of the observation)."""
+    import torch
+
+    torch.manual_seed(1)
+    net = ActorCritic()
+    export_policy(net, tmp_path, smoothing=0.3)
+    _, policy = load_policy(tmp_path)
+    x = np.random.default_rng(2).normal(size=(1, 160)).astype(np.float32)
+    with torch.no_grad():
+        expected = 0.3 * net(torch.as_tensor(x)).numpy()[0] + 0.7 * x[0, 131:160]
+    assert policy.run({"obs": x})["actions"][0] == pytest.approx(expected, abs=1e-4)

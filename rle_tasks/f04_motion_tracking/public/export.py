@@ -25,14 +25,26 @@ def default_meta(history: int = 1) -> PolicyMeta:
     return PolicyMeta(history, tuple(G1.action_scale), tuple(G1.default_pose))
 
 
-def export_policy(module, out: Path | str, meta: PolicyMeta | None = None) -> Path:
-    """Write ``module`` (torch, ``forward(obs) -> actions``) and its meta into ``out``."""
+LAST_ACTION = slice(OBS_DIM - 29, OBS_DIM)
+"""Where the previous action sits in one observation."""
+
+
+def export_policy(module, out: Path | str, meta: PolicyMeta | None = None, smoothing: float = 1.0) -> Path:
+    """Write ``module`` (torch, ``forward(obs) -> actions``) and its meta into ``out``.
+
+    Args:
+        smoothing: alpha of a first-order low-pass built into the graph, ``a = alpha module(obs) +
+            (1 - alpha) a_prev`` with ``a_prev`` the previous action of the newest observation (the graph
+            stays stateless); 1 exports ``module`` unchanged.
+    """
     import torch
 
     meta = meta or default_meta()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     module = module.eval()
+    if smoothing != 1.0:
+        module = _smoothed(module, float(smoothing), OBS_DIM * (meta.history - 1))
     dummy = torch.zeros(1, meta.obs_dim)
     torch.onnx.export(
         module,
@@ -45,6 +57,26 @@ def export_policy(module, out: Path | str, meta: PolicyMeta | None = None) -> Pa
     )
     (out / META).write_text(meta.to_json())
     return out
+
+
+def _smoothed_class():
+    import torch
+
+    class Smoothed(torch.nn.Module):
+        def __init__(self, inner, alpha: float, newest: int) -> None:
+            super().__init__()
+            self.inner, self.alpha = inner, alpha
+            self.lo, self.hi = newest + LAST_ACTION.start, newest + LAST_ACTION.stop
+
+        def forward(self, obs):
+            return self.alpha * self.inner(obs) + (1.0 - self.alpha) * obs[:, self.lo : self.hi]
+
+    return Smoothed
+
+
+def _smoothed(inner, alpha: float, newest: int):
+    """The smoothing wrapper (its class is built on first use: torch is imported lazily)."""
+    return _smoothed_class()(inner, alpha, newest)
 
 
 def open_loop_weights(meta: PolicyMeta) -> tuple[np.ndarray, np.ndarray]:
