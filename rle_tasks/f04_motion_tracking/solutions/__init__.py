@@ -23,7 +23,7 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="f4bbd9d4ca99639a549ec81e2a6bbeb7d65dbb63cd1fcd8d69aaa6a65ca20967",
+            sha256="ec0852d92d798af9cd28a81221b65aaaf547a25e81075730165a8129fe728d59",
             quick_score=0.0,
             files=((".", "solutions/reference"),),
         ),
