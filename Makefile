@@ -13,6 +13,7 @@ HARBOR_VENV := .venv-harbor
 TOOLS := .venv-tools
 UV := uv==0.13.9
 ROBOSUITE := robosuite==1.5.2
+MJLAB := mjlab==1.6.0
 # Where the CPU build of torch (torch==2.13.0+cpu in the lock file) comes from when resolving: the
 # local wheel directory pip is configured with, else PyTorch's CPU index.
 TORCH_INDEX ?= https://download.pytorch.org/whl/cpu
@@ -33,6 +34,8 @@ $(STAMP): pyproject.toml $(LOCK) Makefile
 	@# robosuite is an asset source only (arm MJCF and meshes). Its runtime pins an old MuJoCo and
 	@# numpy<2 through mink, so it is installed without dependencies and never imported.
 	$(PY) -m pip install --quiet --no-deps $(ROBOSUITE)
+	@# mjlab is the asset source of the Unitree G1 (family 04); it pins mujoco~=3.11, so likewise.
+	$(PY) -m pip install --quiet --no-deps $(MJLAB)
 	$(PY) scripts/check_system.py
 	@touch $(STAMP)
 

@@ -197,7 +197,19 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--filter", default=None, help="only cases whose name contains this")
     s.add_argument("--json", default=None)
     s.set_defaults(fn=_cmd_audit)
+    _add_family_commands(sub)
     return p
+
+
+def _add_family_commands(sub) -> None:
+    """Subcommands a family package offers through ``commands()`` (each adds itself to ``sub``)."""
+    import importlib
+
+    from rle_tasks.core.registry import family_packages
+
+    for package in family_packages().values():
+        for add in getattr(importlib.import_module(package), "commands", lambda: ())():
+            add(sub)
 
 
 def main(argv: list[str] | None = None) -> int:

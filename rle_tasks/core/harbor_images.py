@@ -25,6 +25,8 @@ from rle_tasks.core.task import TaskSpec
 BASE_IMAGE = "python:3.11-slim-bookworm"
 APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6"
 ROBOSUITE = "robosuite==1.5.2"
+MJLAB = "mjlab==1.6.0"
+"""Asset source of the Unitree G1 (family 04): installed without its dependencies (it pins mujoco~=3.11)."""
 TORCH_INDEX = "https://download.pytorch.org/whl/cpu"
 """Where the CPU build of torch pinned in the lock file (``torch==2.13.0+cpu``) is served."""
 """Asset source only (arm MJCF and meshes): installed without its dependencies (they pin old MuJoCo)."""
@@ -78,9 +80,9 @@ RUN apt-get update \\
  && apt-get install -y --no-install-recommends {APT_PACKAGES} \\
  && rm -rf /var/lib/apt/lists/*
 COPY {LOCK_FILE} {lock}
-# Exact versions of the lock file; robosuite is an asset source, without dependencies.
+# Exact versions of the lock file; robosuite and mjlab are asset sources, without dependencies.
 RUN pip install --no-deps -r {lock} --extra-index-url {TORCH_INDEX} \\
- && pip install --no-deps {ROBOSUITE}
+ && pip install --no-deps {ROBOSUITE} {MJLAB}
 """
 
 

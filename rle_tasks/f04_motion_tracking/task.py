@@ -1,0 +1,96 @@
+"""TaskSpecs of family 04: one task per clip style, the same contract, verifier and workspace."""
+
+from __future__ import annotations
+
+import shutil
+from functools import partial
+from pathlib import Path
+
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+
+HERE = Path(__file__).resolve().parent
+SHIPPED_CLIPS = HERE / "assets" / "clips"
+CLIPS_ENV = "RLE_F04_CLIPS"
+"""Environment variable naming a directory of ``<style>.npz`` clips that replace the shipped ones (e.g.
+the card's LAFAN1 clips converted with ``rle import-motion``); used by the workspace and the verifier."""
+
+
+def clip_path(style: str) -> Path:
+    """The clip of a style: ``$RLE_F04_CLIPS/<style>.npz`` when that variable is set, else the shipped one."""
+    import os
+
+    root = os.environ.get(CLIPS_ENV)
+    return (Path(root) if root else SHIPPED_CLIPS) / f"{style}.npz"
+
+
+PUBLIC_PACKAGE = "motion_tracking"
+"""Name of the public modules' package in the workspace."""
+STYLES = {
+    "04-dance": ("dance", "G1 dance clip"),
+    "04-fight": ("fight", "G1 fight clip"),
+    "04-fall-getup": ("fall-getup", "G1 fall and getup clip"),
+    "04-run": ("run", "G1 run clip"),
+    "04-sprint": ("sprint", "G1 sprint clip"),
+}
+"""Task id -> (clip style, title suffix)."""
+REGISTERED: tuple[str, ...] = ()
+"""Tasks registered with a verifier: those with a shipped reference policy (the others stay placeholders)."""
+SOLUTION_NAMES = (
+    "reference",
+    "baseline/open_loop",
+    "baseline/zero_action",
+    "baseline/nan_output",
+    "baseline/non_deterministic",
+    "baseline/twelve_million",
+)
+
+
+def instruction(task_id: str) -> str:
+    from rle_tasks.f04_motion_tracking.scoring import rubric
+
+    style = STYLES[task_id][0]
+    text = (HERE / "instruction.md").read_text().replace("{clip}", style)
+    return text + "\n" + rubric(task_id).markdown_table() + "\n"
+
+
+def make_dev_env(workspace: Path, style: str):
+    """Lay out the public modules (``motion_tracking/``) and the clip (``clips/<style>.npz``); no
+    metered environment (training runs locally)."""
+    ws = Path(workspace)
+    dest = ws / PUBLIC_PACKAGE
+    if dest.exists():
+        shutil.rmtree(dest)
+    shutil.copytree(HERE / "public", dest, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    (ws / "clips").mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(clip_path(style), ws / "clips" / f"{style}.npz")
+    return None
+
+
+def verify(root: Path, ctx, *, task_id: str):
+    from rle_tasks.f04_motion_tracking.verifier import verify_task
+
+    return verify_task(task_id, STYLES[task_id][0], Path(root), ctx)
+
+
+def task_spec(task_id: str) -> TaskSpec:
+    style, title = STYLES[task_id]
+    return TaskSpec(
+        id=task_id,
+        family=4,
+        title=f"Whole-body motion tracking: {title}",
+        instruction=instruction(task_id),
+        budget=Budget(wall_time_s=4 * 3600.0, cpus=4, gpus=1, verifier_timeout_s=600.0),
+        contract=ArtifactContract(
+            required=("policy.onnx", "policy_meta.json"),
+            description="policy.onnx: obs (1, 160 H) float32 -> actions (1, 29), at most 10 M parameters; "
+            "policy_meta.json: history H (1-16), action_scale and default_pose (29 each, rad).",
+        ),
+        make_dev_env=partial(make_dev_env, style=style),
+        verify=partial(verify, task_id=task_id),
+        solutions=SOLUTION_NAMES,
+        solutions_module="rle_tasks.f04_motion_tracking.solutions",
+    )
+
+
+def task_specs() -> list[TaskSpec]:
+    return [task_spec(t) for t in REGISTERED]

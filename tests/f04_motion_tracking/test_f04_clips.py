@@ -1,0 +1,129 @@
+"""Shipped clips: joint limits, planted stance feet, body poses = forward kinematics; CSV import."""
+
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from rle_design.errors import RleError
+from rle_tasks.f04_motion_tracking.public.clip import Clip, clip_qpos, forward_kinematics
+from rle_tasks.f04_motion_tracking.public.clipgen import GRAVITY
+from rle_tasks.f04_motion_tracking.public.g1 import g1_model
+from rle_tasks.f04_motion_tracking.public.g1_constants import G1
+from rle_tasks.f04_motion_tracking.public.motion_import import import_motion, read_csv
+from rle_tasks.f04_motion_tracking.public.styles import STYLES
+
+CLIPS = Path(__file__).resolve().parents[2] / "rle_tasks" / "f04_motion_tracking" / "assets" / "clips"
+
+
+@pytest.fixture(scope="module")
+def model():
+    return g1_model()
+
+
+def _load(style):
+    return Clip.load(CLIPS / f"{style}.npz")
+
+
+@pytest.mark.parametrize("style", list(STYLES))
+def test_clip_is_20_s_at_50_hz_within_joint_limits(model, style):
+    clip = _load(style)
+    assert clip.fps == 50.0 and clip.frames == 1001 and clip.duration == pytest.approx(20.0)
+    lo, hi = model.jnt_range[1:, 0], model.jnt_range[1:, 1]
+    assert (clip.joint_pos >= lo - 1e-6).all() and (clip.joint_pos <= hi + 1e-6).all()
+
+
+def _sole_heights(model, qpos):
+    data = mujoco.MjData(model)
+    feet = [model.body(f).id for f in G1.feet]
+    soles = [
+        [g for g in range(model.ngeom) if model.geom_bodyid[g] == b and "foot" in model.geom(g).name]
+        for b in feet
+    ]
+    out = np.zeros((len(qpos), 2))
+    for i, q in enumerate(qpos):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        out[i] = [min(data.geom_xpos[g][2] - model.geom_size[g][0] for g in s) for s in soles]
+    return out
+
+
+@pytest.mark.parametrize("style", list(STYLES))
+def test_stance_feet_on_the_ground_without_sliding(model, style):
+    clip = _load(style)
+    sole = _sole_heights(model, clip_qpos(clip))
+    assert np.abs(sole[clip.contacts]).max() < 0.005  # lowest sole point within 5 mm of the floor
+    for foot in (0, 1):
+        xy = clip.body_pos_w[:, G1.tracked_bodies.index(G1.feet[foot]), :2]
+        c = clip.contacts[:, foot].astype(int)
+        starts = np.flatnonzero(np.diff(np.r_[0, c]) == 1)
+        ends = np.flatnonzero(np.diff(np.r_[c, 0]) == -1)
+        assert len(starts) >= 1
+        for a, b in zip(starts, ends):
+            drift = np.linalg.norm(xy[a : b + 1] - xy[a], axis=1).max()
+            assert drift < 0.01, f"foot {foot} slides {drift * 1e3:.1f} mm in frames {a}-{b}"
+
+
+@pytest.mark.parametrize("style", list(STYLES))
+def test_stored_bodies_are_forward_kinematics(model, style):
+    clip = _load(style)
+    pos, quat, _, _ = forward_kinematics(model, clip_qpos(clip))
+    assert np.abs(pos - clip.body_pos_w).max() < 1e-3
+    dots = np.abs(np.sum(quat * clip.body_quat_w, axis=-1))
+    assert dots.min() > np.cos(1e-3 / 2)  # orientations within 1 mrad
+
+
+@pytest.mark.parametrize("style", ["run", "sprint"])
+def test_flight_phases_are_ballistic(style):
+    """Both feet off the ground: z'' = -g and constant horizontal velocity (second differences at 50 Hz)."""
+    clip = _load(style)
+    flight = ~clip.contacts.any(axis=1)
+    inner = flight[:-2] & flight[1:-1] & flight[2:]
+    assert inner.sum() > 50  # the gait has flight phases
+    acc = (clip.root_pos[2:] - 2 * clip.root_pos[1:-1] + clip.root_pos[:-2]) * clip.fps**2
+    assert acc[inner, 2] == pytest.approx(-GRAVITY, abs=0.05)
+    assert np.abs(acc[inner, 0]).max() < 0.05
+
+
+def _write_csv(path, frames=16):
+    t = np.arange(frames) / 30.0
+    rows = np.zeros((frames, 36))
+    rows[:, 0] = 0.5 * t  # walking forward at 0.5 m/s
+    rows[:, 2] = 0.76
+    yaw = 0.3 * t
+    rows[:, 5], rows[:, 6] = np.sin(yaw / 2), np.cos(yaw / 2)  # qz, qw
+    rows[:, 7:] = G1.default_pose
+    rows[:, 7 + G1.joints.index("left_elbow_joint")] = 0.6 + 0.9 * t
+    np.savetxt(path, rows, delimiter=",")
+    return rows
+
+
+def test_import_motion_resamples_a_30_fps_csv_to_50_hz(tmp_path):
+    rows = _write_csv(tmp_path / "m.csv")
+    clip = import_motion(tmp_path / "m.csv", tmp_path / "m.npz")
+    again = Clip.load(tmp_path / "m.npz")
+    assert clip.frames == again.frames == 26  # 15 intervals of 1/30 s = 0.5 s -> 25 intervals at 50 Hz
+    t = np.arange(26) / 50.0
+    assert again.root_pos[:, 0] == pytest.approx(0.5 * t, abs=1e-6)
+    assert again.root_quat[:, 3] == pytest.approx(np.sin(0.15 * t), abs=1e-6)  # slerp of a constant rate
+    e = G1.joints.index("left_elbow_joint")
+    assert again.joint_pos[:, e] == pytest.approx(0.6 + 0.9 * t, abs=1e-6)
+    assert again.joint_vel[5:-5, e] == pytest.approx(0.9, abs=1e-4)
+    assert rows.shape == (16, 36)
+
+
+def test_import_motion_rejects_a_bad_csv(tmp_path):
+    (tmp_path / "short.csv").write_text("0,0,0.76,0,0,0,1\n")
+    with pytest.raises(RleError) as err:
+        read_csv(tmp_path / "short.csv")
+    assert err.value.code == "motion.csv" and "7 columns; expected 36" in str(err.value)
+
+
+def test_rle_import_motion_command(tmp_path, capsys):
+    from rle_tasks.cli import main
+
+    _write_csv(tmp_path / "m.csv", frames=31)
+    assert main(["import-motion", str(tmp_path / "m.csv"), str(tmp_path / "m.npz")]) == 0
+    assert "51 frames at 50 Hz (1.00 s)" in capsys.readouterr().out
+    assert Clip.load(tmp_path / "m.npz").frames == 51
