@@ -7,7 +7,7 @@ import numpy as np
 
 from rle_design.sensors import RgbdSensor
 
-__all__ = ["close_renderers", "render_rgb"]
+__all__ = ["close_renderers", "render_rgb", "render_rgbd"]
 
 _SENSORS: dict[tuple[int, str, tuple[int, int]], tuple[mujoco.MjModel, RgbdSensor]] = {}
 
@@ -17,17 +17,32 @@ def render_rgb(
 ) -> dict[str, np.ndarray]:
     """Camera name -> (H, W, 3) uint8 image of the current state (``size`` = (H, W) [px]); geoms only,
     as a real camera sees them (no site markers)."""
-    out = {}
+    return {name: _sensor(model, name, size).render(data).rgb for name in cameras}
+
+
+def render_rgbd(
+    model: mujoco.MjModel, data: mujoco.MjData, cameras: tuple[str, ...], size: tuple[int, int]
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """(camera -> (H, W, 3) uint8 colour, camera -> (H, W) float32 metric depth [m]) of the current
+    state, from one draw per camera (geoms only)."""
+    rgb, depth = {}, {}
     for name in cameras:
-        key = (id(model), name, tuple(size))
-        entry = _SENSORS.get(key)
-        if entry is None or entry[0] is not model:
-            entry = _SENSORS[key] = (
-                model,
-                RgbdSensor(model, name, size[1], size[0], fast=True, segmentation=False, sites=False),
-            )
-        out[name] = entry[1].render(data).rgb
-    return out
+        frame = _sensor(model, name, size).render(data)
+        rgb[name], depth[name] = frame.rgb, frame.depth
+    return rgb, depth
+
+
+def _sensor(model: mujoco.MjModel, name: str, size: tuple[int, int]) -> RgbdSensor:
+    key = (id(model), name, tuple(size))
+    entry = _SENSORS.get(key)
+    if entry is None or entry[0] is not model:
+        if len(_SENSORS) > 48:
+            close_renderers()
+        entry = _SENSORS[key] = (
+            model,
+            RgbdSensor(model, name, size[1], size[0], fast=True, segmentation=False, sites=False),
+        )
+    return entry[1]
 
 
 def close_renderers() -> None:

@@ -40,7 +40,7 @@ from rle_design.ledger import MeteredEnv
 from rle_design.scene.robots import PANDA
 from rle_design.scene.tabletop import INITIAL_KEY, ArmNames
 
-__all__ = ["LEASH", "TabletopEnv"]
+__all__ = ["LEASH", "TabletopEnv", "portable_digest"]
 
 LEASH = 0.08
 """Largest distance between an arm's target and its tool site [m]."""
@@ -103,7 +103,7 @@ class TabletopEnv(MeteredEnv):
         Each mesh file reference is replaced by the SHA-256 of the file's bytes before hashing the
         MJCF, so the same scene recorded on one checkout replays on another.
         """
-        return _portable_digest(self.xml)
+        return portable_digest(self.xml)
 
     def _arm_ctl(self, model: mujoco.MjModel) -> tuple[_Arm, ...]:
         entry = _ARMS.get(id(model))
@@ -195,7 +195,9 @@ class TabletopEnv(MeteredEnv):
 
 
 @functools.lru_cache(maxsize=32)
-def _portable_digest(xml: str) -> str:
+def portable_digest(xml: str) -> str:
+    """SHA-256 of an MJCF string with every mesh, texture, height-field and skin file reference replaced
+    by the SHA-256 of the file's bytes, so a scene digests alike wherever its assets are installed [hex]."""
     from lxml import etree
 
     root = etree.fromstring(xml.encode())

@@ -11,16 +11,33 @@ Trust: the key lives only in the server process (and in whoever derives it, e.g.
 verifier secret). An agent that can read the server's memory or the secret can forge a ledger, so in
 evaluation the server runs outside the agent's container or user; with the public development key
 the ledger proves nothing and is only a rehearsal.
+
+A ``SceneSet`` serves many scenes in one session (a development phase, then a terminal evaluation
+phase of trials, ``scenes``); ``replay_trials`` re-executes its trials for a verifier.
 """
 
 from rle_design.ledger.client import LedgerClient
 from rle_design.ledger.records import LedgerError, LedgerWriter
+from rle_design.ledger.scenes import (
+    EvaluationPhase,
+    SceneSession,
+    SceneSet,
+    TrialReplay,
+    development_steps,
+    replay_trials,
+)
 from rle_design.ledger.server import LedgerServer, serve
 from rle_design.ledger.session import MeteredEnv, MeteredSession
 from rle_design.ledger.verify import VERDICT_CODES, LedgerVerdict, verify_ledger
 
 __all__ = [
     "VERDICT_CODES",
+    "EvaluationPhase",
+    "SceneSession",
+    "SceneSet",
+    "TrialReplay",
+    "development_steps",
+    "replay_trials",
     "LedgerClient",
     "LedgerError",
     "LedgerServer",

@@ -44,9 +44,10 @@ class LedgerClient:
         self.steps_used = meta.get("steps_used", self.steps_used)
         return meta, result
 
-    def reset(self) -> dict[str, Any]:
-        """Reset the simulation (costs one step); returns the observation."""
-        return self._request("reset")[1]
+    def reset(self, **options: Any) -> dict[str, Any]:
+        """Reset the simulation (costs one step); returns the observation. Sessions over several scenes
+        take options (e.g. ``evaluation=True``); others take none."""
+        return self._request("reset", options or None)[1]
 
     def step(self, action: Any) -> dict[str, Any]:
         """Apply ``action`` (the actuators' ctrl) for one control period (costs one step)."""
@@ -55,6 +56,10 @@ class LedgerClient:
     def observe(self) -> dict[str, Any]:
         """Current observation (free)."""
         return self._request("observe")[1]
+
+    def query(self, name: str, **args: Any) -> Any:
+        """A free, read-only question to the environment (what it answers is its own, e.g. a segmentation)."""
+        return self._request("query", {"name": name, "args": args})[1]
 
     def info(self) -> dict[str, Any]:
         """Budget (``steps_used``, ``budget``) and model dimensions (free)."""

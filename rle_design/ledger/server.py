@@ -51,16 +51,26 @@ def _handle(session: MeteredSession, meta: dict[str, Any], value: Any) -> tuple[
     if op == "step":
         obs = session.step(value, defer_record=True)  # recorded right after the reply is sent
     elif op == "reset":
-        obs = session.reset()
+        if value is not None and not isinstance(value, dict):
+            raise LedgerError("reset options must be a dict", code="ledger.bad_request")
+        obs = session.reset(value)
     elif op == "observe":
         obs = session.observe()
     elif op == "info":
         return {"ok": True}, session.info()
+    elif op == "query":
+        if not (
+            isinstance(value, dict)
+            and isinstance(value.get("name"), str)
+            and isinstance(value.get("args", {}), dict)
+        ):
+            raise LedgerError("a query is {'name': str, 'args': dict}", code="ledger.bad_request")
+        return {"ok": True}, session.query(value["name"], value.get("args", {}))
     elif op == "seal":
         return {"ok": True, "steps_used": session.steps_used}, session.seal()
     else:
         raise LedgerError(
-            f"unknown operation {op!r}. Operations: reset, step, observe, info, seal",
+            f"unknown operation {op!r}. Operations: reset, step, observe, info, query, seal",
             code="ledger.bad_request",
         )
     return {"ok": True, "steps_used": session.steps_used}, obs
@@ -104,13 +114,16 @@ def serve(
     wall_time_s: float | None = None,
     ready: Connection | None = None,
 ) -> None:
-    """Serve one metered session until sealed or signalled (runs in the server process)."""
+    """Serve one metered session until sealed or signalled (runs in the server process).
+
+    ``env`` is a ``MeteredEnv``, or any definition with ``open_session(**kwargs)`` (a
+    ``rle_design.ledger.SceneSet``) that returns its own session."""
     signal.signal(signal.SIGTERM, _on_signal)
     signal.signal(signal.SIGINT, _on_signal)
     session = None
+    opener = getattr(env, "open_session", None) or (lambda **kw: MeteredSession(env, **kw))
     try:
-        session = MeteredSession(
-            env,
+        session = opener(
             task_id=task_id,
             budget=budget,
             key=key,
@@ -146,7 +159,7 @@ class LedgerServer:
     """Starts ``serve`` in its own (spawned) process; the caller never keeps the key afterwards.
 
     Args:
-        env: The metered environment.
+        env: The metered environment (or a ``SceneSet``).
         key: Ledger HMAC key [bytes]; handed to the server process at start. None serves the same
             environment unmetered, without a ledger (only to measure the metering overhead).
         ledger_path: New ledger file written by the server (None when unmetered).
@@ -159,7 +172,7 @@ class LedgerServer:
 
     def __init__(
         self,
-        env: MeteredEnv,
+        env: MeteredEnv | Any,
         *,
         key: bytes | None,
         ledger_path: Path | None,

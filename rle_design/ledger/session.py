@@ -96,6 +96,8 @@ class MeteredSession:
         wall_time_s: Wall-clock time the session may charge steps for, counted from its start [s];
             None for unlimited. The open record states it and the seal records the time used, so a
             verifier can require a time-limited session.
+        model: ``env.build()`` when the caller compiled it already (``env.prepare`` done).
+        meta: Extra fields of the open record.
     """
 
     def __init__(
@@ -108,6 +110,8 @@ class MeteredSession:
         ledger_path: Path | None = None,
         actions_per_record: int = 16,
         wall_time_s: float | None = None,
+        model: mujoco.MjModel | None = None,
+        meta: dict[str, Any] | None = None,
     ) -> None:
         if actions_per_record < 1:
             raise ValueError(f"actions_per_record must be >= 1, got {actions_per_record}")
@@ -115,8 +119,10 @@ class MeteredSession:
             raise ValueError(f"wall_time_s must be positive and finite, got {wall_time_s}")
         self._t0 = time.monotonic()
         self.wall_time_s = wall_time_s
-        self.model = env.build()
-        env.prepare(self.model)
+        if model is None:
+            model = env.build()
+            env.prepare(model)
+        self.model = model
         self.data = mujoco.MjData(self.model)
         self.env = env
         self.task_id = task_id
@@ -127,6 +133,7 @@ class MeteredSession:
             if ledger_path is None:
                 raise LedgerError("a metered session needs a ledger path", code="ledger.no_path")
             meta = {
+                **(meta or {}),
                 "budget": budget,
                 "model_sha256": env.fingerprint(),
                 "n_substeps": env.n_substeps,
@@ -167,8 +174,16 @@ class MeteredSession:
             )
         self.steps_used += 1
 
-    def reset(self) -> dict[str, Any]:
-        """Reset the simulation (one charged step); returns the observation."""
+    def reset(self, options: dict[str, Any] | None = None) -> dict[str, Any]:
+        """Reset the simulation (one charged step); returns the observation.
+
+        Raises:
+            LedgerError: ``ledger.bad_request`` for options (a single-scene session takes none).
+        """
+        if options:
+            raise LedgerError(
+                f"reset takes no options in this session, got {sorted(options)}", code="ledger.bad_request"
+            )
         self.commit()
         self._charge()
         self.env.reset(self.model, self.data)
@@ -220,6 +235,17 @@ class MeteredSession:
     def observe(self) -> dict[str, Any]:
         """The environment's observation (free)."""
         return self.env.observe(self.model, self.data)
+
+    def query(self, name: str, args: dict[str, Any]) -> Any:
+        """A free, read-only question to the environment (``env.query``), e.g. a segmentation.
+
+        Raises:
+            LedgerError: ``ledger.bad_request`` when the environment has no such query.
+        """
+        fn = getattr(self.env, "query", None)
+        if fn is None:
+            raise LedgerError("this environment answers no queries", code="ledger.bad_request")
+        return fn(self.model, self.data, name, args)
 
     def info(self) -> dict[str, Any]:
         """Budget and model dimensions (free)."""

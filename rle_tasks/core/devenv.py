@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_design.ledger import LedgerServer, MeteredEnv
+from rle_design.ledger import LedgerServer, MeteredEnv, SceneSet
 from rle_tasks.core.secrets import Secret, load_secret
 from rle_tasks.core.task import TaskSpec
 
@@ -43,7 +43,7 @@ _CLIENT = '''"""Metered development environment of task {task_id} (written by `r
         env.info()                 # free: steps_used, budget and model dimensions
 
 Budget: {budget}. Resets and executed actions are recorded in a sealed ledger kept by the server
-outside this workspace; call env.seal() only when you are done (it ends the session).
+outside this workspace; call env.seal() only when you are done (it ends the session).{sessions}
 """
 
 ADDRESS = {address!r}
@@ -127,10 +127,15 @@ def layout_workspace(
     (workspace / "instruction.md").write_text(spec.instruction.rstrip() + "\n")
     env = spec.make_dev_env(workspace) if spec.make_dev_env is not None else None
     ws = DevWorkspace(spec.id, workspace, ())
-    if isinstance(env, MeteredEnv):
-        from mujoco import MjModel
+    if isinstance(env, (MeteredEnv, SceneSet)):
+        if isinstance(env, SceneSet):
+            nu = env.action_size()
+            sessions = "\n\n" + env.session_doc()
+        else:
+            from mujoco import MjModel
 
-        model = MjModel.from_xml_string(env.xml)
+            nu = env.action_size(MjModel.from_xml_string(env.xml))
+            sessions = ""
         socket_path = _socket_path(workspace)
         extra = "".join(f", {name}" for name, _ in env.observers)
         budget = (
@@ -139,12 +144,13 @@ def layout_workspace(
         (workspace / "client.py").write_text(
             _CLIENT.format(
                 task_id=spec.id,
-                nu=env.action_size(model),
+                nu=nu,
                 n_substeps=env.n_substeps,
                 observation=env.observation_doc,
                 extra=extra,
                 budget=budget,
                 address=str(socket_path),
+                sessions=sessions,
             )
         )
         if serve:

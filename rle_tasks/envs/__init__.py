@@ -1,0 +1,1 @@
+"""Environments shared by two or more families (content, not mechanism: that lives in ``rle_design``)."""

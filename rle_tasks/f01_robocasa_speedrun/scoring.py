@@ -1,0 +1,44 @@
+"""Rubric of the family's tasks (card): R = s [0.80 + 0.20 (1 - d / 50,000)].
+
+``s`` is the number of successful evaluation trials over five (a missing trial counts as a failure),
+``d`` the charged development steps. The two checkpoints are the card's two terms: ``success``
+(weight 0.80, score s) and ``efficiency`` (weight 0.20, score s (1 - d / 50,000)), so their credits sum
+to R. A missing, unsealed or unverifiable ledger makes the report invalid with score 0.
+"""
+
+from __future__ import annotations
+
+import functools
+
+from rle_tasks.core.scoring import CheckpointSpec, Fraction, Rubric
+
+STEP_BUDGET = 50_000
+
+
+@functools.cache
+def rubric(task_id: str) -> Rubric:
+    """The rubric of one family-01 task (all fifteen share it)."""
+    return Rubric(
+        task_id=task_id,
+        family="01",
+        workflow="interactive_control",
+        variants=("trials",),
+        checkpoints=(
+            CheckpointSpec(
+                "success",
+                0.80,
+                "s: evaluation trials whose success predicate held after some action, out of 5 target kitchens",
+                Fraction("s, the fraction of the five trials that succeeded (missing trials fail)"),
+            ),
+            CheckpointSpec(
+                "efficiency",
+                0.20,
+                "s (1 - d / 50,000): success scaled by the unused share of the development budget (d charged steps)",
+                Fraction("s (1 - d / 50,000)"),
+            ),
+        ),
+    )
+
+
+RUBRIC = rubric("01-open-fridge-l1")
+"""The family's rubric as the family-shape test reads it (every task's has the same table)."""
