@@ -24,7 +24,13 @@ def segment(client: Any, prompt: str, camera: str = "robot/agentview_left") -> d
     return client.query("segment", prompt=prompt, camera=camera)
 
 
-def object_points(client: Any, obs: dict[str, Any], prompt: str, camera: str = "robot/agentview_left", min_score: float = 0.5) -> list[np.ndarray]:
+def object_points(
+    client: Any,
+    obs: dict[str, Any],
+    prompt: str,
+    camera: str = "robot/agentview_left",
+    min_score: float = 0.5,
+) -> list[np.ndarray]:
     """World points [m] of each instance of ``prompt`` seen by ``camera`` (one (N, 3) array per mask,
     largest first), from the segmentation and the depth image of ``obs``."""
     seg = segment(client, prompt, camera)
