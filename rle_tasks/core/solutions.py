@@ -1,7 +1,7 @@
 """Shipped solutions, declared once per family and materialised on demand.
 
 A family declares its solutions in ``rle_tasks/<family>/solutions/__init__.py`` as ``SOLUTIONS``, a
-``SolutionSet``: the reference is a list of committed files, and each baseline names the solution it
+``SolutionSet`` (or a dict task id -> ``SolutionSet`` when one module serves several tasks): the reference is a list of committed files, and each baseline names the solution it
 starts from and only what differs: an overlay of files (replaced or added) and named transforms
 (module-level functions that edit the materialised copy, e.g. an lxml edit of one MJCF attribute).
 Every solution pins the ``artifact_sha256`` of its materialised directory and its golden score.
@@ -138,6 +138,8 @@ def declaration(task: TaskSpec) -> SolutionSet:
             code="solutions.missing",
         ) from None
     sset = getattr(module, DECLARATION, None)
+    if isinstance(sset, dict):  # one module declaring the sets of several tasks, by task id
+        sset = sset.get(task.id)
     if not isinstance(sset, SolutionSet):
         raise RleError(
             f"{task.solutions_module} has no SolutionSet '{DECLARATION}'", code="solutions.invalid"

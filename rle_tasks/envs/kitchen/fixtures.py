@@ -227,10 +227,14 @@ def _hinged_door(
     handle_len: float = 0.16,
     handle_z: float | None = None,
 ) -> tuple[mujoco.MjsBody, str, str]:
-    """A door panel of width ``w`` hinged on its left (-x) or right edge; returns (body, joint, handle site)."""
+    """A door panel of width ``w`` hinged on its left (-x) or right edge; returns (body, joint, handle site).
+
+    The hinge axis runs along the panel's outer front edge (as a cabinet's offset hinge does), so the
+    open door's thickness lies over its own cabinet and never reaches into a neighbour's.
+    """
     s = 1.0 if hinge_left else -1.0
     hinge_x = -s * w / 2
-    door = parent.add_body(name=f"{name}_door", pos=[hinge_x, front_y - PANEL / 2 - GAP, z0 + GAP])
+    door = parent.add_body(name=f"{name}_door", pos=[hinge_x, front_y - PANEL - GAP, z0 + GAP])
     joint = door.add_joint(
         name=f"{name}_hinge",
         type=mujoco.mjtJoint.mjJNT_HINGE,
@@ -244,13 +248,13 @@ def _hinged_door(
     _box(
         door,
         f"{name}_door_panel",
-        (s * (w / 2), 0, h / 2 - GAP),
+        (s * (w / 2), PANEL / 2, h / 2 - GAP),
         ((w - 2 * GAP) / 2, PANEL / 2, h / 2 - GAP),
         rgba,
         mass=mass,
     )
     hz = h * 0.5 if handle_z is None else handle_z
-    site = _bar_handle(door, f"{name}_handle", (s * (w - 0.06), -PANEL / 2, hz), handle_len, True, style)
+    site = _bar_handle(door, f"{name}_handle", (s * (w - 0.06), 0.0, hz), handle_len, True, style)
     return door, joint.name, site
 
 

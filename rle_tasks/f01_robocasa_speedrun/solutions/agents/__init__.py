@@ -16,7 +16,7 @@ from typing import Any
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
 
-__all__ = ["PROGRAMS", "Direct", "play", "solver"]
+__all__ = ["PROGRAMS", "Direct", "available", "play", "solver"]
 
 PROGRAMS: dict[str, str] = {
     "OpenFridge": "open_fridge",
@@ -28,9 +28,23 @@ PROGRAMS: dict[str, str] = {
 """Kitchen task -> module of its program in this package."""
 
 
-def solver(task: str) -> Callable[[Robot, Motion], bool]:
-    """The ``solve(robot, motion) -> bool`` of a kitchen task."""
-    return import_module(f"{__name__}.{PROGRAMS[task]}").solve
+def solver(task: str, level: int = 3) -> Callable[[Robot, Motion], bool]:
+    """The ``solve(robot, motion) -> bool`` of a kitchen task at a harness level: module
+    ``<program>_l<level>`` for levels 1 and 2, ``<program>`` (the L3 program) for level 3.
+
+    Raises:
+        ModuleNotFoundError: No program for that level.
+    """
+    name = PROGRAMS[task] if level == 3 else f"{PROGRAMS[task]}_l{level}"
+    return import_module(f"{__name__}.{name}").solve
+
+
+def available(task: str, level: int) -> bool:
+    """Whether a program exists for ``task`` at ``level``."""
+    from importlib.util import find_spec
+
+    name = PROGRAMS[task] if level == 3 else f"{PROGRAMS[task]}_l{level}"
+    return find_spec(f"{__name__}.{name}") is not None
 
 
 class Direct:
@@ -55,10 +69,10 @@ class Direct:
         return self.session.info()
 
 
-def play(client: Any, task: str, *, dev_episodes: int = 1, trials: int = 5) -> list[bool]:
+def play(client: Any, task: str, level: int = 3, *, dev_episodes: int = 1, trials: int = 5) -> list[bool]:
     """A session: ``dev_episodes`` pretrain episodes, then every evaluation trial; returns the trials'
     success as the program saw it."""
-    solve = solver(task)
+    solve = solver(task, level)
     robot = Robot(client)
     motion = Motion(robot)
     for k in range(dev_episodes):

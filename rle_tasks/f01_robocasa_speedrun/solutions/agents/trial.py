@@ -29,7 +29,7 @@ def main() -> None:
     session = sc.open_session(task_id=kitchen.task_id(args.level), budget=None)
     robot = Robot(Direct(session))
     motion = Motion(robot)
-    solve = solver(args.task)
+    solve = solver(args.task, args.level)
     wins = 0
     for k in range(args.pretrain):
         t = time.time()
