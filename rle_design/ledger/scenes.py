@@ -22,7 +22,7 @@ import hashlib
 import json
 import time
 from collections import OrderedDict
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -309,6 +309,8 @@ class TrialReplay:
         actions: Actions replayed.
         success_at: First action (1-based) after which ``SceneSet.success`` held, or None.
         recorded_success: What the seal says of the trial (None when the seal does not list it).
+        model: The trial's model (for renders of its final state).
+        data: The trial's final state.
     """
 
     trial: int
@@ -316,6 +318,8 @@ class TrialReplay:
     actions: int
     success_at: int | None
     recorded_success: bool | None = None
+    model: mujoco.MjModel | None = field(default=None, compare=False, repr=False)
+    data: mujoco.MjData | None = field(default=None, compare=False, repr=False)
 
     @property
     def success(self) -> bool:

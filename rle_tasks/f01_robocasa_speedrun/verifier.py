@@ -65,6 +65,42 @@ def _session_problem(opened: dict, expected_set: str) -> str | None:
     return None
 
 
+def _render_trials(trials, scene_set, path: Path) -> None:
+    """One PNG: the final state of every replayed trial, seen from behind the robot, with its outcome."""
+    import numpy as np
+    from PIL import Image, ImageDraw
+
+    from rle_design.viz.render import render_image
+
+    tiles = []
+    for t in trials:
+        env = scene_set.scene(t.scene)
+        fixture = env.scene.fixtures[env.scene.episode.target["fixture"]]
+        look = np.array([fixture.pos[0], fixture.front_y - 0.3, 1.0])
+        img = Image.fromarray(
+            render_image(
+                t.model,
+                t.data,
+                width=360,
+                height=270,
+                lookat=look,
+                distance=2.6,
+                azimuth=90.0,
+                elevation=-25.0,
+            )
+        )
+        label = f"trial {t.trial}: " + (
+            f"success after {t.success_at} actions" if t.success else f"failed ({t.actions} actions)"
+        )
+        ImageDraw.Draw(img).text((8, 6), label, fill=(0, 120, 0) if t.success else (180, 0, 0))
+        tiles.append(img)
+    sheet = Image.new("RGB", (360 * len(tiles), 270), "white")
+    for i, tile in enumerate(tiles):
+        sheet.paste(tile, (360 * i, 0))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    sheet.save(path)
+
+
 def verifier(kitchen: KitchenTaskId, level: int):
     """The verify function of one task (``kitchen`` at harness ``level``)."""
     task_id = kitchen.task_id(level)
@@ -95,6 +131,8 @@ def verifier(kitchen: KitchenTaskId, level: int):
                     f"trial {t.trial}: the session recorded success={t.recorded_success}, the replay finds {t.success}",
                     LEDGER_FILE,
                 )
+        if ctx.out_dir is not None and trials:
+            _render_trials(trials, scene_set, Path(ctx.out_dir) / "trials.png")
         wins = sum(t.success for t in trials)
         s = wins / TRIALS
         eff = s * max(0.0, 1.0 - d / STEP_BUDGET)

@@ -166,3 +166,32 @@ def test_default_backend_prefers_egl_and_falls_back_to_osmesa():
     assert rle_design._default_gl_backend(libs.get) == "egl"
     assert rle_design._default_gl_backend({"OSMesa": "libOSMesa.so.8"}.get) == "osmesa"
     assert rle_design._default_gl_backend({}.get) == "egl"
+
+
+def test_frustum_culling_leaves_the_image_unchanged():
+    """Geoms behind the camera or beside its view are left out of the scene; what it sees is identical."""
+    xml = """
+    <mujoco>
+      <visual><global offwidth="64" offheight="48"/></visual>
+      <worldbody>
+        <light pos="0 0 3" dir="0 0 -1"/>
+        <geom type="plane" size="5 5 0.1" rgba="0.5 0.5 0.5 1"/>
+        <geom name="seen" type="box" size="0.1 0.1 0.1" pos="1 0 0.1" rgba="0.8 0.2 0.2 1"/>
+        <geom name="edge" type="sphere" size="0.3" pos="1 0.75 0.3" rgba="0.2 0.8 0.2 1"/>
+        <geom name="behind" type="box" size="0.1 0.1 0.1" pos="-1 0 0.1"/>
+        <geom name="aside" type="box" size="0.1 0.1 0.1" pos="0 3 0.1"/>
+        <camera name="cam" pos="0 0 0.5" xyaxes="0 -1 0 0.3 0 1" fovy="60"/>
+      </worldbody>
+    </mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    with (
+        RgbdSensor(model, "cam", 64, 48, cull=False) as full,
+        RgbdSensor(model, "cam", 64, 48, cull=True) as culled,
+    ):
+        names = {model.geom(g).name for g in culled._outside(data)}
+        assert names == {"behind", "aside"}
+        a, b = full.render(data), culled.render(data)
+    assert np.array_equal(a.rgb, b.rgb) and np.array_equal(a.depth, b.depth)
+    assert np.array_equal(a.segmentation, b.segmentation)
