@@ -137,7 +137,7 @@ def layout_workspace(
             nu = env.action_size(MjModel.from_xml_string(env.xml))
             sessions = ""
         socket_path = _socket_path(workspace)
-        extra = "".join(f", {name}" for name, _ in env.observers)
+        extra = "".join(f", {name}" for name, _ in getattr(env, "observers", ()))
         budget = (
             f"{spec.budget.steps} charged steps" if spec.budget.steps is not None else "unmetered (unlimited)"
         )
