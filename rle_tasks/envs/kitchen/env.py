@@ -40,7 +40,7 @@ from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.fixtures import Fixture
 from rle_tasks.envs.kitchen.objects import extent
 from rle_tasks.envs.kitchen.scene import ROBOT, KitchenScene, build_scene
-from rle_tasks.envs.kitchen.tasks import TASKS, Condition
+from rle_tasks.envs.kitchen.tasks import Condition, kitchen_task
 
 __all__ = ["KitchenEnv", "KitchenScenes", "LEVELS", "PRETRAIN_KITCHENS", "SEGMENT_NOISE", "pretrain_seed"]
 
@@ -170,7 +170,7 @@ class KitchenEnv(MobileManipulatorEnv):
     @functools.cached_property
     def _conditions(self) -> tuple[Condition, ...]:
         ep = self.scene.episode
-        return TASKS[ep.task].conditions(ep, self.scene.fixtures, ROBOT)
+        return kitchen_task(ep.task).conditions(ep, self.scene.fixtures, ROBOT)
 
     def conditions(self, model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, bool]:
         """Each success condition of the task, by name."""
@@ -342,8 +342,7 @@ class KitchenScenes(SceneSet):
     observation_doc: str = KitchenEnv.observation_doc
 
     def __post_init__(self) -> None:
-        if self.task not in TASKS:
-            raise ValueError(f"unknown kitchen task '{self.task}'. Tasks: {', '.join(TASKS)}")
+        kitchen_task(self.task)  # KeyError listing the tasks when unknown
         if self.level not in LEVELS:
             raise ValueError(f"harness level must be one of {LEVELS}, got {self.level}")
         if self.evaluation is not None and len(self.targets) < self.evaluation.trials:

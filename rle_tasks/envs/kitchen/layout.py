@@ -135,7 +135,15 @@ def sample_layout(rng: np.random.Generator) -> Layout:
         for i in (sink - 1, sink + 1)
         if 0 <= i < len(units) and units[i].kind not in ("fridge", "stove") and i != microwave_on
     ]
-    dish_rack_on = int(rng.choice(beside)) if beside else -1
+    if beside:
+        dish_rack_on = int(rng.choice(beside))
+    else:  # no free flat unit beside the sink: the nearest one
+        free = [
+            i
+            for i, u in enumerate(units)
+            if u.kind in ("counter", "drawer_cabinet", "hinge_cabinet") and i != microwave_on
+        ]
+        dish_rack_on = min(free, key=lambda i: (abs(i - sink), i))
     style = fx.Style(
         cabinet=_pick(rng, _CABINET_COLOURS),
         counter=_pick(rng, _COUNTER_COLOURS),

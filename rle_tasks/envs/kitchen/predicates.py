@@ -41,6 +41,7 @@ __all__ = [
     "is_open",
     "joint_fraction",
     "knob_on",
+    "on_site",
     "wrapped",
 ]
 
@@ -139,3 +140,14 @@ def in_receptacle(
     c = data.xpos[rb] + data.xmat[rb].reshape(3, 3) @ np.asarray(center)
     d = float(np.linalg.norm(data.xpos[model.body(obj).id][:2] - c[:2]))
     return d < RECEPTACLE_RADIUS * max(half[0], half[1])
+
+
+def on_site(
+    model: mujoco.MjModel, data: mujoco.MjData, obj: str, geom: str, site: str, radius: float
+) -> bool:
+    """``obj`` touches ``geom`` and its centre lies within ``radius`` [m] of ``site`` horizontally (an
+    object standing on a burner)."""
+    if not bodies_touch(model, data, obj, {model.geom(geom).id}):
+        return False
+    d = data.xpos[model.body(obj).id][:2] - data.site_xpos[model.site(site).id][:2]
+    return float(np.linalg.norm(d)) <= radius

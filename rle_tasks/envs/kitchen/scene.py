@@ -23,8 +23,8 @@ from rle_design.scene.mobile_panda import MobilePandaConfig, MobilePandaNames
 from rle_design.scene.robots import PANDA
 from rle_tasks.envs.kitchen.fixtures import Fixture
 from rle_tasks.envs.kitchen.layout import Layout, build_layout, sample_layout
-from rle_tasks.envs.kitchen.objects import add_object
-from rle_tasks.envs.kitchen.tasks import TASKS, Episode
+from rle_tasks.envs.kitchen.objects import add_object, extent
+from rle_tasks.envs.kitchen.tasks import Episode, kitchen_task
 
 __all__ = ["KitchenScene", "ROBOT", "TORSO_START", "build_scene"]
 
@@ -75,6 +75,29 @@ def _settle(model: mujoco.MjModel, data: mujoco.MjData, robot_dofs: np.ndarray, 
     mujoco.mj_forward(model, data)
 
 
+def _place(
+    model: mujoco.MjModel, data: mujoco.MjData, p, fixtures: dict[str, Fixture], categories: dict[str, str]
+) -> None:
+    """Put object ``p`` inside its fixture's interior or on its container (free joint qpos), 5 mm above."""
+    center, half = extent(p.category)
+    lift = half[2] - center[2] + 0.005
+    if p.inside is not None:
+        box = fixtures[p.inside].interior
+        b = model.body(box.body).id
+        rot = data.xmat[b].reshape(3, 3)
+        margin = np.maximum(np.asarray(box.half[:2]) - max(half[0], half[1]) - 0.01, 0.0)
+        local = np.array([2 * p.pos[0] * margin[0], 2 * p.pos[1] * margin[1], box.center[2] - box.half[2]])
+        local[:2] += box.center[:2]
+        pos = data.xpos[b] + rot @ local
+    else:
+        host = model.body(p.on).id
+        _, hh = extent(categories[p.on])
+        pos = data.xpos[host] + np.array([p.pos[0] * hh[0], p.pos[1] * hh[1], 2 * hh[2] - 0.01])
+    adr = model.jnt_qposadr[model.joint(p.name).id]
+    data.qpos[adr : adr + 3] = pos + np.array([0.0, 0.0, lift])
+    data.qpos[adr + 3 : adr + 7] = (math.cos(p.yaw / 2), 0.0, 0.0, math.sin(p.yaw / 2))
+
+
 @functools.lru_cache(maxsize=8)
 def build_scene(layout_seed: int, task: str, episode_seed: int) -> KitchenScene:
     """The scene of ``task`` in the kitchen of ``layout_seed`` with the episode of ``episode_seed``.
@@ -82,8 +105,7 @@ def build_scene(layout_seed: int, task: str, episode_seed: int) -> KitchenScene:
     Raises:
         KeyError: ``task`` is not one of ``TASKS`` (the message lists them).
     """
-    if task not in TASKS:
-        raise KeyError(f"unknown kitchen task '{task}'. Tasks: {', '.join(TASKS)}")
+    definition = kitchen_task(task)
     layout = sample_layout(np.random.default_rng(layout_seed))
     spec = mujoco.MjSpec()
     spec.modelname = "kitchen"
@@ -96,14 +118,15 @@ def build_scene(layout_seed: int, task: str, episode_seed: int) -> KitchenScene:
     spec.visual.quality.numslices = 12  # round primitives in 12 slices: cameras render in 5-6 ms per view
     spec.visual.quality.numstacks = 6
     fixtures = build_layout(spec, layout)
-    episode = TASKS[task].sample(fixtures, np.random.default_rng(episode_seed))
+    episode = definition.sample(fixtures, np.random.default_rng(episode_seed))
     x, y, yaw = episode.robot
     spec.worldbody.add_site(
         name="robot_mount", pos=[x, y, 0.0], quat=[math.cos(yaw / 2), 0, 0, math.sin(yaw / 2)], group=5
     )
     MobilePandaConfig(site="robot_mount", prefix=ROBOT.prefix).edit_spec(spec)
     for p in episode.objects:
-        add_object(spec, p.name, p.category, p.pos, p.yaw)
+        placed_later = p.inside is not None or p.on is not None
+        add_object(spec, p.name, p.category, (0.0, 0.0, -5.0) if placed_later else p.pos, p.yaw)
     model = spec.compile()
     data = mujoco.MjData(model)
     mujoco.mj_resetData(model, data)
@@ -121,6 +144,10 @@ def build_scene(layout_seed: int, task: str, episode_seed: int) -> KitchenScene:
         low, high = model.jnt_range[j]
         data.qpos[model.jnt_qposadr[j]] = low + frac * (high - low)
     mujoco.mj_forward(model, data)
+    for p in episode.objects:
+        if p.inside is not None or p.on is not None:
+            _place(model, data, p, fixtures, {q.name: q.category for q in episode.objects})
+            mujoco.mj_forward(model, data)
     robot_joints = [model.joint(j).id for j in (*ROBOT.base_joints, ROBOT.torso_joint, *ROBOT.joints)]
     fingers = [model.actuator_trnid[model.actuator(f).id, 0] for f in ROBOT.fingers]
     robot_joints += fingers

@@ -29,7 +29,7 @@ from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.fixtures import BURNERS, Fixture
 from rle_tasks.envs.kitchen.objects import extent, graspable
 
-__all__ = ["TASKS", "Condition", "Episode", "KitchenTask", "Placement"]
+__all__ = ["TASKS", "Condition", "Episode", "KitchenTask", "Placement", "kitchen_task"]
 
 STANDOFF = 0.55
 """Distance from the robot's arm root to the target fixture's front at spawn [m]."""
@@ -39,12 +39,25 @@ SPAWN_NOISE = (0.04, 0.03, 0.05)
 
 @dataclass(frozen=True)
 class Placement:
-    """An object of the episode: name, category, position of its lowest point [m], heading [rad]."""
+    """An object of the episode.
+
+    Attributes:
+        name: Body name.
+        category: Object category.
+        pos: World position of its lowest point [m]; with ``inside``, (u, v, 0): fractions in
+            [-0.5, 0.5] of the fixture interior's width and depth; with ``on``, (u, v, 0): fractions of
+            the container's radius.
+        yaw: Heading about the world z [rad].
+        inside: Fixture whose interior floor holds the object (placed after the joints are set).
+        on: Object (placed earlier) the object rests in or on.
+    """
 
     name: str
     category: str
     pos: tuple[float, float, float]
     yaw: float = 0.0
+    inside: str | None = None
+    on: str | None = None
 
 
 @dataclass(frozen=True)
@@ -94,14 +107,54 @@ def _tops(fixtures: dict[str, Fixture]) -> tuple[str, ...]:
     )
 
 
+def _footprints(fixtures: dict[str, Fixture] | None) -> list[tuple[float, float, float, float]]:
+    """(x0, x1, y0, y1) of what stands on counter tops (microwave, dish rack) [m]."""
+    out = []
+    for f in (fixtures or {}).values():
+        if f.kind in ("microwave", "dish_rack"):
+            out.append(
+                (
+                    f.pos[0] - f.size[0] / 2,
+                    f.pos[0] + f.size[0] / 2,
+                    f.pos[1] - f.size[1] / 2,
+                    f.pos[1] + f.size[1] / 2,
+                )
+            )
+    return out
+
+
 def _on_top(
-    fixture: Fixture, rng: np.random.Generator, category: str, y_range=(0.12, 0.28)
+    fixture: Fixture,
+    rng: np.random.Generator,
+    category: str,
+    y_range=(0.12, 0.28),
+    fixtures: dict[str, Fixture] | None = None,
+    taken: tuple[tuple[float, float, float], ...] = (),
 ) -> tuple[float, float, float]:
+    """A spot on ``fixture``'s counter top, clear (by 2 cm) of the microwave and the dish rack and of the
+    objects at ``taken`` (x, y, radius). The first draw is kept when it is clear; otherwise up to 200
+    more draws, with the depth range widened to the whole top.
+
+    Raises:
+        ValueError: No clear spot on this top.
+    """
     _, half = extent(category)
-    margin = max(half[0], half[1]) + 0.03
-    x = fixture.pos[0] + rng.uniform(-fixture.size[0] / 2 + margin, fixture.size[0] / 2 - margin)
-    y = fixture.front_y + rng.uniform(*y_range)
-    return (float(x), float(y), float(fixture.top))
+    r = max(half[0], half[1])
+    margin = r + 0.03
+    blocks = _footprints(fixtures)
+    lo, hi = -fixture.size[0] / 2 + margin, fixture.size[0] / 2 - margin
+    for k in range(201):
+        yr = y_range if k == 0 else (r + 0.03, fixture.size[1] - r - 0.03)
+        x = fixture.pos[0] + rng.uniform(lo, hi)
+        y = fixture.front_y + rng.uniform(*yr)
+        clear = all(
+            x + r + 0.02 < x0 or x - r - 0.02 > x1 or y + r + 0.02 < y0 or y - r - 0.02 > y1
+            for x0, x1, y0, y1 in blocks
+        )
+        clear = clear and all(np.hypot(x - tx, y - ty) > r + tr + 0.02 for tx, ty, tr in taken)
+        if clear:
+            return (float(x), float(y), float(fixture.top))
+    raise ValueError(f"no clear spot for a {category} on {fixture.name}")
 
 
 class KitchenTask:
@@ -189,7 +242,7 @@ class PickPlaceCounterToDrawer(KitchenTask):
         f = fixtures[drawers[int(rng.integers(len(drawers)))]]
         cats = [c for c in graspable() if extent(c)[1][2] <= 0.05]
         cat = cats[int(rng.integers(len(cats)))]
-        pos = _on_top(f, rng, cat)
+        pos = _on_top(f, rng, cat, fixtures=fixtures)
         return Episode(
             self.name,
             f"Pick the {cat} from the counter and place it in the drawer.",
@@ -232,7 +285,7 @@ class PickPlaceMicrowaveToCounter(KitchenTask):
             if f.top is not None and f.kind in ("counter", "drawer_cabinet", "hinge_cabinet")
         ]
         dest = spots[int(rng.integers(len(spots)))] if spots else host
-        plate = _on_top(dest, rng, "plate", y_range=(0.16, 0.2))
+        plate = _on_top(dest, rng, "plate", y_range=(0.16, 0.2), fixtures=fixtures)
         if dest is host:
             plate = (float(mw.pos[0] + rng.choice([-1, 1]) * 0.3), plate[1], plate[2])
         return Episode(
@@ -290,3 +343,20 @@ TASKS: dict[str, KitchenTask] = {
     )
 }
 """The atomic tasks by name."""
+
+
+def kitchen_task(name: str) -> KitchenTask:
+    """An atomic task (``TASKS``) or a composite one (``rle_tasks.envs.kitchen.composites``) by name.
+
+    Raises:
+        KeyError: Unknown name (the message lists the atomic tasks).
+    """
+    if name in TASKS:
+        return TASKS[name]
+    from rle_tasks.envs.kitchen.composites import COMPOSITES
+
+    if name in COMPOSITES:
+        return COMPOSITES[name]
+    raise KeyError(
+        f"unknown kitchen task '{name}'. Atomic tasks: {', '.join(TASKS)}; composite: {', '.join(COMPOSITES)}"
+    )

@@ -1,0 +1,431 @@
+"""Composite kitchen tasks as data: roles, an initial-state sampler, and a conjunction of predicates.
+
+A ``CompositeTask`` names **roles** and binds them when an episode is sampled:
+
+- fixture roles (``Fx``): a fixture of one of the given kinds, optionally the one nearest another role;
+- object roles (``Obj``): an object of one of the given categories, placed ``On`` a flat counter top next to
+  a fixture role, ``In`` a fixture role's interior (drawer tray, cabinet, microwave plate, sink basin,
+  dish rack, fridge shelf) or ``Into`` another object role (a container);
+- burner roles (``Burner``): one burner of the stove role, on or off at the start;
+- initial door and drawer states (``Joint``: fraction of the range), and the fixture the robot faces.
+
+Its success is the conjunction of its predicates (``Inside``, ``NotInside``, ``InReceptacle``,
+``NotInReceptacle``, ``IsOpen``, ``IsClosed``, ``BurnerOn``, ``BurnerOff``, ``OnCounter``, ``OnBurner``,
+``GripperFar``), each a ``Condition`` of the scene, so the stage report (family 02) evaluates each one.
+A composite task is a ``KitchenTask`` (``sample``/``conditions``), so the scene builder, the environment
+and the metered sessions serve it as they serve the atomic tasks.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rle_tasks.envs.kitchen import predicates as pr
+from rle_tasks.envs.kitchen.fixtures import BURNERS, Fixture
+from rle_tasks.envs.kitchen.objects import extent
+from rle_tasks.envs.kitchen.tasks import STANDOFF, Condition, Episode, KitchenTask, Placement, _on_top, _spawn
+
+__all__ = [
+    "Burner",
+    "BurnerOff",
+    "BurnerOn",
+    "CompositeTask",
+    "Fx",
+    "GripperFar",
+    "In",
+    "InReceptacle",
+    "Inside",
+    "Into",
+    "IsClosed",
+    "IsOpen",
+    "Joint",
+    "NotInReceptacle",
+    "NotInside",
+    "Obj",
+    "On",
+    "OnBurner",
+    "OnCounter",
+]
+
+FLAT = ("counter", "drawer_cabinet", "hinge_cabinet")
+"""Kinds of fixture whose counter top objects stand on."""
+
+
+@dataclass(frozen=True)
+class Fx:
+    """A fixture role: a fixture of one of ``kinds``, the one nearest to role ``near`` when given."""
+
+    role: str
+    kinds: tuple[str, ...]
+    near: str | None = None
+
+
+@dataclass(frozen=True)
+class On:
+    """On the flat counter top nearest to fixture role ``fixture`` (its own top when it has one)."""
+
+    fixture: str
+
+
+@dataclass(frozen=True)
+class In:
+    """Inside fixture role ``fixture``'s interior, on its floor."""
+
+    fixture: str
+
+
+@dataclass(frozen=True)
+class Into:
+    """Resting in (on) container object role ``container``."""
+
+    container: str
+
+
+@dataclass(frozen=True)
+class Obj:
+    """An object role of one of ``categories`` placed at ``at``."""
+
+    role: str
+    categories: tuple[str, ...]
+    at: On | In | Into
+
+
+@dataclass(frozen=True)
+class Burner:
+    """A burner role of the stove role ``stove``, on or off at the start."""
+
+    role: str
+    stove: str = "stove"
+    on: bool = False
+    other_than: str | None = None
+
+
+@dataclass(frozen=True)
+class Joint:
+    """Initial state of fixture role ``fixture``'s doors or drawer, a fraction of the range."""
+
+    fixture: str
+    fraction: float
+
+
+# -- predicates over roles ----------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Ctx:
+    fixtures: dict[str, Fixture]
+    bind: dict[str, str]
+    objects: dict[str, str]
+    names: object
+
+    def fx(self, role: str) -> Fixture:
+        return self.fixtures[self.bind[role]]
+
+
+@dataclass(frozen=True)
+class Inside:
+    obj: str
+    fixture: str
+
+    def words(self, ep: Episode) -> str:
+        return f"{_cat(ep, self.obj)} inside the {_fix_word(ep, self.fixture)}"
+
+    def condition(self, c: _Ctx) -> Condition:
+        f, name, cat = c.fx(self.fixture), c.bind[self.obj], c.objects[self.obj]
+        return Condition("", lambda m, d: pr.inside(m, d, name, cat, f.interior))
+
+
+@dataclass(frozen=True)
+class NotInside(Inside):
+    def words(self, ep: Episode) -> str:
+        return f"{_cat(ep, self.obj)} out of the {_fix_word(ep, self.fixture)}"
+
+    def condition(self, c: _Ctx) -> Condition:
+        inner = super().condition(c).fn
+        return Condition("", lambda m, d: not inner(m, d))
+
+
+@dataclass(frozen=True)
+class InReceptacle:
+    obj: str
+    container: str
+
+    def words(self, ep: Episode) -> str:
+        return f"{_cat(ep, self.obj)} in the {_cat(ep, self.container)}"
+
+    def condition(self, c: _Ctx) -> Condition:
+        o, r, cat = c.bind[self.obj], c.bind[self.container], c.objects[self.container]
+        return Condition("", lambda m, d: pr.in_receptacle(m, d, o, r, cat))
+
+
+@dataclass(frozen=True)
+class NotInReceptacle(InReceptacle):
+    def words(self, ep: Episode) -> str:
+        return f"{_cat(ep, self.obj)} out of the {_cat(ep, self.container)}"
+
+    def condition(self, c: _Ctx) -> Condition:
+        o, r, cat = c.bind[self.obj], c.bind[self.container], c.objects[self.container]
+        return Condition("", lambda m, d: not pr.in_receptacle(m, d, o, r, cat))
+
+
+@dataclass(frozen=True)
+class IsOpen:
+    fixture: str
+
+    def words(self, ep: Episode) -> str:
+        return f"{_fix_word(ep, self.fixture)} open"
+
+    def condition(self, c: _Ctx) -> Condition:
+        f = c.fx(self.fixture)
+        return Condition("", lambda m, d: pr.is_open(m, d, f))
+
+
+@dataclass(frozen=True)
+class IsClosed:
+    fixture: str
+
+    def words(self, ep: Episode) -> str:
+        return f"{_fix_word(ep, self.fixture)} closed"
+
+    def condition(self, c: _Ctx) -> Condition:
+        f = c.fx(self.fixture)
+        return Condition("", lambda m, d: pr.is_closed(m, d, f))
+
+
+@dataclass(frozen=True)
+class BurnerOn:
+    burner: str
+
+    def words(self, ep: Episode) -> str:
+        return f"{ep.target[self.burner].replace('_', ' ')} burner on"
+
+    def condition(self, c: _Ctx) -> Condition:
+        knob = c.fixtures[c.bind["stove"]].burners[c.bind[self.burner]][0]
+        return Condition("", lambda m, d: pr.knob_on(m, d, knob))
+
+
+@dataclass(frozen=True)
+class BurnerOff(BurnerOn):
+    def words(self, ep: Episode) -> str:
+        return f"{ep.target[self.burner].replace('_', ' ')} burner off"
+
+    def condition(self, c: _Ctx) -> Condition:
+        on = super().condition(c).fn
+        return Condition("", lambda m, d: not on(m, d))
+
+
+@dataclass(frozen=True)
+class OnCounter:
+    obj: str
+
+    def words(self, ep: Episode) -> str:
+        return f"{_cat(ep, self.obj)} on a counter"
+
+    def condition(self, c: _Ctx) -> Condition:
+        o = c.bind[self.obj]
+        tops = tuple(g for f in c.fixtures.values() if f.kind in FLAT for g in f.top_geoms[:1])
+        return Condition("", lambda m, d: pr.bodies_touch(m, d, o, {m.geom(g).id for g in tops}))
+
+
+@dataclass(frozen=True)
+class OnBurner:
+    obj: str
+    burner: str
+
+    def words(self, ep: Episode) -> str:
+        return f"{_cat(ep, self.obj)} on the {ep.target[self.burner].replace('_', ' ')} burner"
+
+    def condition(self, c: _Ctx) -> Condition:
+        o, stove, burner = c.bind[self.obj], c.fixtures[c.bind["stove"]], c.bind[self.burner]
+        site = stove.sites[f"{burner}_burner"]
+        cook = stove.top_geoms[0]
+        return Condition("", lambda m, d: pr.on_site(m, d, o, cook, site, 0.09))
+
+
+@dataclass(frozen=True)
+class GripperFar:
+    obj: str
+
+    def words(self, ep: Episode) -> str:
+        return f"gripper away from the {_cat(ep, self.obj)}"
+
+    def condition(self, c: _Ctx) -> Condition:
+        o, names = c.bind[self.obj], c.names
+        return Condition("", lambda m, d: pr.gripper_far(m, d, o, names.finger_pads))
+
+
+Predicate = (
+    Inside
+    | NotInside
+    | InReceptacle
+    | NotInReceptacle
+    | IsOpen
+    | IsClosed
+    | BurnerOn
+    | BurnerOff
+    | OnCounter
+    | OnBurner
+    | GripperFar
+)
+_WORDS = {
+    "drawer_cabinet": "drawer",
+    "hinge_cabinet": "cabinet",
+    "dish_rack": "dish rack",
+    "wall_cabinet": "wall cabinet",
+}
+
+
+def _cat(ep: Episode, role: str) -> str:
+    for p in ep.objects:
+        if p.name == ep.target.get(role, role):
+            return p.category
+    return role
+
+
+def _fix_word(ep: Episode, role: str) -> str:
+    kind = ep.target.get(f"{role}.kind", role)
+    return _WORDS.get(kind, kind)
+
+
+@dataclass(frozen=True)
+class CompositeTask(KitchenTask):
+    """A composite task (see the module docstring).
+
+    Attributes:
+        name: Task name.
+        instruction: Template; ``{role}`` becomes the role's category (objects) or words (fixtures,
+            burners).
+        fixtures: Fixture roles, sampled in order (a ``near`` role must come earlier).
+        objects: Object roles, placed in order (a container before what goes into it).
+        conjuncts: The predicates whose conjunction is success.
+        joints: Initial door and drawer states.
+        burners: Burner roles.
+        focus: Fixture role the robot faces at the start; ``between`` a second role it stands between.
+        between: See ``focus``.
+    """
+
+    name: str = ""
+    instruction: str = ""
+    fixtures: tuple[Fx, ...] = ()
+    objects: tuple[Obj, ...] = ()
+    conjuncts: tuple[Predicate, ...] = ()
+    joints: tuple[Joint, ...] = ()
+    burners: tuple[Burner, ...] = ()
+    focus: str = ""
+    between: str | None = None
+    description: str = field(default="", compare=False)
+
+    def _bind_fixtures(self, fixtures: dict[str, Fixture], rng: np.random.Generator) -> dict[str, str]:
+        bind: dict[str, str] = {}
+        for role in self.fixtures:
+            pool = sorted(n for n, f in fixtures.items() if f.kind in role.kinds and n not in bind.values())
+            if not pool:
+                raise ValueError(
+                    f"{self.name}: the kitchen has no free fixture of kinds {role.kinds} for role '{role.role}'"
+                )
+            if role.near is not None:
+                x = fixtures[bind[role.near]].pos[0]
+                pool = sorted(pool, key=lambda n: (abs(fixtures[n].pos[0] - x), n))[:1]
+            bind[role.role] = pool[int(rng.integers(len(pool)))]
+        return bind
+
+    def sample(self, fixtures: dict[str, Fixture], rng: np.random.Generator) -> Episode:
+        bind = self._bind_fixtures(fixtures, rng)
+        target: dict[str, str] = dict(bind)
+        target.update({f"{r.role}.kind": fixtures[bind[r.role]].kind for r in self.fixtures})
+        for b in self.burners:
+            choices = [x for x in BURNERS if x != target.get(b.other_than or "", "")]
+            target[b.role] = choices[int(rng.integers(len(choices)))]
+        placements: list[Placement] = []
+        cats: dict[str, str] = {}
+        for o in self.objects:
+            cat = o.categories[int(rng.integers(len(o.categories)))]
+            cats[o.role] = cat
+            name = o.role
+            target[o.role] = name
+            if isinstance(o.at, On):
+                pos = _spot_near(fixtures, fixtures[bind[o.at.fixture]], rng, cat, placements)
+                placements.append(Placement(name, cat, pos, float(rng.uniform(-math.pi, math.pi))))
+            elif isinstance(o.at, In):
+                f = fixtures[bind[o.at.fixture]]
+                u, v = rng.uniform(-0.5, 0.5, size=2)
+                placements.append(
+                    Placement(
+                        name,
+                        cat,
+                        (float(u), float(v), 0.0),
+                        float(rng.uniform(-math.pi, math.pi)),
+                        inside=f.name,
+                    )
+                )
+            else:
+                host = next(p for p in placements if p.name == o.at.container)
+                k = sum(p.on == host.name for p in placements)  # side by side: -0.45 r, +0.45 r, ...
+                u = (-0.45, 0.45, 0.0)[k % 3]
+                placements.append(
+                    Placement(
+                        name,
+                        cat,
+                        (u, float(rng.uniform(-0.1, 0.1)), 0.0),
+                        float(rng.uniform(-math.pi, math.pi)),
+                        on=host.name,
+                    )
+                )
+        joints = []
+        for j in self.joints:
+            f = fixtures[bind[j.fixture]]
+            joints += [(name, j.fraction) for name in f.joints]
+        for b in self.burners:
+            if b.on:
+                joints.append((fixtures[bind[b.stove]].burners[target[b.role]][0], 0.5 + 0.9 / (2 * math.pi)))
+        focus = fixtures[bind[self.focus]]
+        dx = 0.0 if self.between is None else 0.5 * (fixtures[bind[self.between]].pos[0] - focus.pos[0])
+        robot = _spawn(rng, focus, dx=float(np.clip(dx, -0.6, 0.6)), standoff=STANDOFF + 0.1)
+        words = {r: cats.get(r) or target[r].replace("_", " ") for r in target if "." not in r}
+        words.update(
+            {
+                r.role: _WORDS.get(fixtures[bind[r.role]].kind, fixtures[bind[r.role]].kind)
+                for r in self.fixtures
+            }
+        )
+        ep = Episode(
+            self.name, self.instruction.format(**words), robot, tuple(joints), tuple(placements), target
+        )
+        return ep
+
+    def conditions(self, episode: Episode, fixtures: dict[str, Fixture], names) -> tuple[Condition, ...]:
+        bind = {k: v for k, v in episode.target.items() if "." not in k}
+        cats = {p.name: p.category for p in episode.objects}
+        ctx = _Ctx(fixtures, bind, {r: cats[bind[r]] for r in bind if bind[r] in cats}, names)
+        out = []
+        for p in self.conjuncts:
+            c = p.condition(ctx)
+            out.append(Condition(p.words(episode), c.fn))
+        return tuple(out)
+
+
+def _spot_near(
+    fixtures: dict[str, Fixture],
+    f: Fixture,
+    rng: np.random.Generator,
+    category: str,
+    placements: list[Placement],
+) -> tuple[float, float, float]:
+    """A clear spot on the flat counter top nearest to ``f`` (its own top when it has one), trying the next
+    nearest tops when one is full."""
+    flat = [g for g in fixtures.values() if g.kind in FLAT and g.top is not None]
+    flat.sort(key=lambda g: (g.name != f.name, abs(g.pos[0] - f.pos[0]), g.name))
+    taken = tuple(
+        (p.pos[0], p.pos[1], max(extent(p.category)[1][:2]))
+        for p in placements
+        if p.inside is None and p.on is None
+    )
+    for host in flat:
+        try:
+            return _on_top(host, rng, category, fixtures=fixtures, taken=taken)
+        except ValueError:
+            continue
+    raise ValueError(f"no clear counter spot for a {category} near {f.name}")
