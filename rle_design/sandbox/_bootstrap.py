@@ -128,6 +128,19 @@ def _other_process(path):
     return head.isdigit() and int(head) != os.getpid()
 
 
+def _allowed_socket(event, args):
+    """The one Unix-domain socket of ``unix_socket``: creating an AF_UNIX socket and connecting to it."""
+    path = _CONFIG.get("unix_socket")
+    if not path:
+        return False
+    if event == "socket.__new__":
+        return len(args) > 1 and args[1] == 1  # AF_UNIX
+    if event == "socket.connect":
+        address = args[1] if len(args) > 1 else None
+        return isinstance(address, (str, bytes)) and os.fsdecode(address) == path
+    return False
+
+
 def _audit(event, args):
     if event == "open":
         path, mode, flags = args
@@ -138,7 +151,7 @@ def _audit(event, args):
             _forbid(f"opening '{os.fsdecode(path)}' for writing (outside the working directory)")
         if not isinstance(path, int) and _other_process(path):
             _forbid(f"reading '{os.fsdecode(path)}' (another process's /proc entry)")
-    elif event.startswith("socket.") and not _CONFIG["network"]:
+    elif event.startswith("socket.") and not _CONFIG["network"] and not _allowed_socket(event, args):
         _forbid(f"network access ({event})")
     elif event in _PROCESS_EVENTS:
         _forbid(f"creating processes ({_PROCESS_EVENTS[event]})")

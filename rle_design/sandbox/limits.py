@@ -29,6 +29,9 @@ class SandboxLimits:
         max_output_total_bytes: Total stdout and stderr a child may write over its life; a child
             flooding past it is killed with ``sandbox.output_flood`` (log flooding is a denial of
             service on the verifier) [B].
+        unix_socket: Absolute path of the one Unix-domain socket the child may create a socket for and
+            connect to (e.g. a metered session's server); every other socket operation stays refused.
+            The caller makes the socket connectable by the child's uid.
         reply_spin_s: How long the parent polls for a reply before it sleeps in ``select`` [s]. A
             reply that arrives while the parent polls needs no wake-up, which on a virtual machine
             costs more than a short call itself; 0 always sleeps (use it when verifier workers
@@ -46,6 +49,7 @@ class SandboxLimits:
     max_reply_bytes: int = 256 << 20
     max_output_total_bytes: int = 32 << 20
     reply_spin_s: float = 200e-6
+    unix_socket: str | None = None
 
     def __post_init__(self) -> None:
         for name in ("cpu_seconds", "call_timeout_s", "startup_timeout_s"):

@@ -154,6 +154,7 @@ class Sandbox:
             "wfd": rep_w,
             "unshare_net": ids is not None and not lim.network,
             "network": lim.network,
+            "unix_socket": lim.unix_socket,
             "uid": ids[0] if ids else None,
             "gid": ids[1] if ids else None,
             "cpu_seconds": lim.cpu_seconds,
