@@ -11,6 +11,7 @@ Verify the ledger first (``rle_design.ledger.verify_ledger``): replay trusts its
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 import mujoco
@@ -29,7 +30,10 @@ class ReplayError(RleError):
 
 
 def replay(
-    env: EnvDefinition, ledger_path: str | Path, model: mujoco.MjModel | None = None
+    env: EnvDefinition,
+    ledger_path: str | Path,
+    model: mujoco.MjModel | None = None,
+    on_step: Callable[[mujoco.MjModel, mujoco.MjData, str], None] | None = None,
 ) -> tuple[mujoco.MjModel, mujoco.MjData, int]:
     """Replay the session of ``ledger_path`` on ``env``.
 
@@ -37,6 +41,8 @@ def replay(
         env: The environment definition the session served.
         ledger_path: A verified, sealed ledger.
         model: ``env.build()`` when already compiled.
+        on_step: Called with ``(model, data, kind)`` after every replayed reset (``kind="reset"``) and
+            every executed action (``"steps"``), e.g. to evaluate a task's stages along the session.
 
     Returns:
         (model, data at the end of the session, executed actions replayed).
@@ -70,6 +76,8 @@ def replay(
         kind, payload = rec.get("kind"), rec.get("payload", {})
         if kind == "reset":
             env.reset(model, data)
+            if on_step is not None:
+                on_step(model, data, "reset")
         elif kind == "steps":
             for h in payload.get("actions", []):
                 try:
@@ -85,6 +93,8 @@ def replay(
                     )
                 env.step(model, data, action.copy())
                 n_actions += 1
+                if on_step is not None:
+                    on_step(model, data, "steps")
         else:
             continue
         if abs(float(payload.get("time", data.time)) - data.time) > 1e-9:

@@ -42,7 +42,15 @@ from rle_tasks.envs.kitchen.objects import extent
 from rle_tasks.envs.kitchen.scene import ROBOT, KitchenScene, build_scene
 from rle_tasks.envs.kitchen.tasks import Condition, kitchen_task
 
-__all__ = ["KitchenEnv", "KitchenScenes", "LEVELS", "PRETRAIN_KITCHENS", "SEGMENT_NOISE", "pretrain_seed"]
+__all__ = [
+    "GroupScenes",
+    "KitchenEnv",
+    "KitchenScenes",
+    "LEVELS",
+    "PRETRAIN_KITCHENS",
+    "SEGMENT_NOISE",
+    "pretrain_seed",
+]
 
 LEVELS = (1, 2, 3)
 PRETRAIN_KITCHENS = 50
@@ -171,6 +179,10 @@ class KitchenEnv(MobileManipulatorEnv):
     def _conditions(self) -> tuple[Condition, ...]:
         ep = self.scene.episode
         return kitchen_task(ep.task).conditions(ep, self.scene.fixtures, ROBOT)
+
+    def conditions_names(self) -> tuple[str, ...]:
+        """Names of the task's success conditions, in order."""
+        return tuple(c.name for c in self._conditions)
 
     def conditions(self, model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, bool]:
         """Each success condition of the task, by name."""
@@ -406,3 +418,55 @@ class KitchenScenes(SceneSet):
 
 def _episode_seed(kitchen: int, seed: int) -> int:
     return int.from_bytes(hashlib.sha256(f"pretrain|{kitchen}|{seed}".encode()).digest()[:8], "little") >> 1
+
+
+@dataclass(frozen=True)
+class GroupScenes(KitchenScenes):
+    """Development scenes of several kitchen tasks in one session (family 02): ``reset(task=...)`` picks
+    the task (by default the tasks take turns), ``kitchen`` and ``seed`` as for ``KitchenScenes``; there
+    is no evaluation phase.
+
+    Attributes:
+        tasks: The tasks a reset may pick (``task`` is the first).
+    """
+
+    tasks: tuple[str, ...] = ()
+    evaluation: EvaluationPhase | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        for t in self.tasks:
+            kitchen_task(t)
+        if self.task not in self.tasks:
+            raise ValueError(f"GroupScenes.task '{self.task}' must be one of its tasks {self.tasks}")
+
+    def describe(self) -> str:
+        return f"kitchen group {','.join(self.tasks)} L{self.level} pretrain {self.pretrain_kitchens}"
+
+    def session_doc(self) -> str:
+        return (
+            f"Development: env.reset() starts the next episode, the tasks {', '.join(self.tasks)} taking turns "
+            f"over {self.pretrain_kitchens} pretrain kitchens; env.reset(task=name, kitchen=k, seed=s) picks one. "
+            "Every reset and action is charged."
+        )
+
+    def scene(self, key: str) -> KitchenEnv:
+        parts = key.split("/")
+        if parts[0] == "pretrain" and len(parts) == 4 and parts[1] in self.tasks:
+            try:
+                k, s = int(parts[2]), int(parts[3])
+            except ValueError:
+                k, s = -1, -1
+            if 0 <= k < self.pretrain_kitchens and s >= 0:
+                return self._env(build_scene(pretrain_seed(k), parts[1], _episode_seed(k, s)))
+        raise LedgerError(f"unknown scene '{key}'", code="ledger.bad_scene")
+
+    def development_key(self, index: int, options: dict[str, Any]) -> str:
+        task = options.get("task", self.tasks[index % len(self.tasks)])
+        if task not in self.tasks:
+            raise LedgerError(
+                f"task must be one of {', '.join(self.tasks)}, got {task!r}", code="ledger.bad_request"
+            )
+        rest = {k: v for k, v in options.items() if k != "task"}
+        key = super().development_key(index, rest)
+        return key.replace("pretrain/", f"pretrain/{task}/", 1)

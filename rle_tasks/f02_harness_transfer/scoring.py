@@ -1,0 +1,38 @@
+"""Rubric of family 02 (card): the mean over five fresh agents of s_trial.
+
+Per fresh agent, with b the conjuncts of the held-out task satisfied at the start, m the most satisfied
+at once during its session and n their number: s_trial = 1 when the task's success predicate held,
+else clip((m - b) / (n - b), 0, 1), and 0 without stage records (no reset) or when n = b. Missing
+trials count 0. Binary success is reported beside (``native_metrics.successes``); development
+efficiency adds nothing.
+"""
+
+from __future__ import annotations
+
+import functools
+
+from rle_tasks.core.scoring import CheckpointSpec, Fraction, Rubric
+
+
+@functools.cache
+def rubric(task_id: str) -> Rubric:
+    """The rubric of one group (all fifteen share it)."""
+    return Rubric(
+        task_id=task_id,
+        family="02",
+        workflow="interactive_control",
+        variants=("agents",),
+        checkpoints=(
+            CheckpointSpec(
+                "transfer",
+                1.0,
+                "mean over five fresh agents of s_trial = 1 on success, else clip((m - b) / (n - b), 0, 1) "
+                "(b: conjuncts satisfied at the start, m: most satisfied at once, n: conjuncts)",
+                Fraction("mean s_trial of the five fresh agents (missing agents count 0)"),
+            ),
+        ),
+    )
+
+
+RUBRIC = rubric("02-group-01")
+"""The family's rubric as the family-shape test reads it (every group's has the same table)."""

@@ -1,0 +1,1 @@
+"""A harness whose manual points at a function that does not exist."""

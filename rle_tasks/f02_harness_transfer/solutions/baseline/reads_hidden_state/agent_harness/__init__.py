@@ -1,0 +1,1 @@
+"""A harness that reads the verifier's state outside its own directory."""

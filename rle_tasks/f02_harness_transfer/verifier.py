@@ -1,0 +1,102 @@
+"""Verifier of family 02: five fresh agents attempt the held-out task with the submitted harness.
+
+1. ``agent_harness/MANUAL.md`` must exist (the contract); otherwise score 0 with ``f02.no_manual``.
+2. Five ``TransferUnit``s (one per fresh agent: an unseen kitchen and episode from the secret, its own
+   ledger key) run through the core runner (``ctx.jobs`` workers, local pool or Ray); quick mode runs
+   the first two and marks the report ``partial`` (the others count 0).
+3. Score: the mean of the five s_trial (``transfer.stage_score``); a trial that could not be scored
+   (no stage records, harness unusable, unverifiable ledger) counts 0 and its reason is reported.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from rle_tasks.core.devenv import ledger_key
+from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runner import run_parallel
+from rle_tasks.core.scoring import Outcome
+from rle_tasks.core.task import VerifyContext
+
+from .groups import Group
+from .scoring import rubric
+from .task import AGENT_STEPS, AGENT_WALL_S, TRIALS, targets
+from .transfer import AGENT_ENV, HARNESS_DIR, TransferUnit, run_unit
+
+QUICK_TRIALS = 2
+"""Fresh agents run in quick mode (tests, the demo's baselines); the report says ``partial``."""
+
+
+def units(group: Group, root: Path, ctx: VerifyContext) -> list[TransferUnit]:
+    """The evaluation units of a submission (``QUICK_TRIALS`` in quick mode)."""
+    agent = os.environ.get(AGENT_ENV, "scripted") or "scripted"
+    n = QUICK_TRIALS if ctx.quick else TRIALS
+    return [
+        TransferUnit(
+            trial=k,
+            task=group.held_out,
+            layout_seed=layout,
+            episode_seed=episode,
+            harness=Path(root) / HARNESS_DIR,
+            key=ledger_key(ctx.secret, f"{group.task_id}/agent-{k}"),
+            ledger_task=f"{group.task_id}/agent-{k}",
+            agent=agent,
+            steps=AGENT_STEPS,
+            wall_time_s=AGENT_WALL_S,
+        )
+        for k, (layout, episode) in enumerate(targets(ctx.secret, group)[:n])
+    ]
+
+
+def verifier(group: Group):
+    """The verify function of one group."""
+    task_id = group.task_id
+
+    def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
+        findings = Findings()
+        manual = Path(root) / HARNESS_DIR / "MANUAL.md"
+        if manual.is_symlink() or not manual.is_file():
+            findings.add_error(
+                "f02.no_manual",
+                f"{HARNESS_DIR}/MANUAL.md is missing: a fresh agent has no manual",
+                f"{HARNESS_DIR}/MANUAL.md",
+            )
+            return rubric(task_id).report(
+                {"transfer": Outcome({"agents": 0.0}, "no harness manual")},
+                valid=False,
+                errors=findings.errors,
+                native_metrics={"trials": []},
+            )
+        todo = units(group, Path(root), ctx)
+        results = run_parallel(
+            run_unit, todo, jobs=ctx.jobs, executor=ctx.executor, ray_address=ctx.ray_address
+        )
+        for r in results:
+            if r.status != "scored" or r.agent != "ran":
+                findings.add_error(
+                    f"f02.agent_{r.trial}",
+                    f"fresh agent {r.trial}: {r.status}, {r.agent}: {r.message}"[:600],
+                    HARNESS_DIR,
+                )
+        total = sum(r.score for r in results) / TRIALS
+        wins = sum(r.success for r in results)
+        msg = f"mean s_trial {total:.3f} over {TRIALS} fresh agents ({wins} succeeded; " + ", ".join(
+            f"{r.score:.2f}" for r in results
+        )
+        msg += ")" if len(results) == TRIALS else f"; {TRIALS - len(results)} not run in quick mode)"
+        native = {
+            "held_out": group.held_out,
+            "successes": wins,
+            "success_rate": wins / TRIALS,
+            "trials": [r.record() for r in results],
+            "partial": len(results) < TRIALS,
+        }
+        return rubric(task_id).report(
+            {"transfer": Outcome({"agents": total}, msg, {"s_trial": [r.score for r in results]})},
+            valid=True,
+            errors=findings.errors,
+            native_metrics=native,
+        )
+
+    return verify
