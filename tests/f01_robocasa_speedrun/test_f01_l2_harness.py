@@ -7,6 +7,7 @@ import inspect
 
 import numpy as np
 
+from rle_tasks.envs.kitchen.harness.geometry import world_points
 from rle_tasks.envs.kitchen.harness.perception import TIP_DEPTH, grasp_proposals, tool_pose
 
 F = 110.85
@@ -54,6 +55,9 @@ def test_grasp_proposals_fuse_views_of_a_sphere() -> None:
     both = grasp_proposals(obs, "a", masks["a"], views=[("b", masks["b"])])
     again = grasp_proposals(obs, "a", masks["a"], views=[("b", masks["b"])])
     assert len(alone["scores"]) == 0 and len(both["scores"]) >= 5
+    earlier = world_points(obs, "b", masks["b"])  # view b handed over as world points (no obstacles)
+    fused = grasp_proposals(obs, "a", masks["a"], points_world=earlier)
+    assert len(fused["scores"]) >= 5 and np.allclose(fused["gripper_openings"], 2 * r, atol=0.006)
     assert np.array_equal(both["pred_grasps_cam"], again["pred_grasps_cam"])
     assert np.allclose(both["gripper_openings"], 2 * r, atol=0.006)
     for grasp in both["pred_grasps_cam"][:5]:

@@ -61,6 +61,7 @@ def grasp_proposals(
     mask: np.ndarray | None = None,
     *,
     views: Sequence[tuple[str, np.ndarray | None]] = (),
+    points_world: np.ndarray | None = None,
     rng: np.random.Generator | None = None,
     scene_radius: float = 0.15,
     **options: Any,
@@ -69,13 +70,16 @@ def grasp_proposals(
 
     Contacts are surface points seen by a camera, so one view of a convex object rarely holds both
     contacts of a grasp (its far side is hidden): add ``views`` of the object from other cameras (the
-    other agent view, the eye-in-hand camera) and their points join the cloud, in ``camera``'s frame.
+    other agent view, the eye-in-hand camera) or ``points_world`` seen earlier (the hand camera from
+    another pose), and they join the cloud, in ``camera``'s frame.
 
     Args:
         obs: An L2 observation (``depth`` and ``cameras``).
         camera: Camera name (the frame of the answer).
         mask: (H, W) bool pixels of the object (e.g. a ``segment`` mask); None uses every pixel.
-        views: Further (camera, mask) views of the same object.
+        views: Further (camera, mask) views of the same object in ``obs``.
+        points_world: Further (M, 3) world points [m] of the object (e.g. ``world_points`` of an
+            earlier observation).
         rng: Random source (default ``numpy.random.default_rng(0)``: the same answer for the same image).
         scene_radius: With a mask, the other points within this distance [m] of the object's points are
             obstacles the gripper must not enter (the counter under an object).
@@ -96,6 +100,9 @@ def grasp_proposals(
         objects.append(deproject(depth, K, m) @ t[:3, :3].T + t[:3, 3])
         if m is not None:
             rests.append(deproject(depth, K, ~np.asarray(m, bool)) @ t[:3, :3].T + t[:3, 3])
+    if points_world is not None:
+        extra = np.asarray(points_world, float).reshape(-1, 3)
+        objects.append(extra @ cam_from_world[:3, :3].T + cam_from_world[:3, 3])
     points = np.concatenate(objects)
     obstacles = None
     if rests and len(points):
