@@ -1,4 +1,5 @@
-"""Camera rendering (RGB, depth, segmentation) on CPU, pinhole calibration, noise models and F/T sensors."""
+"""Camera rendering (RGB, depth, segmentation) on CPU, pinhole calibration, noise models, F/T sensors and
+antipodal grasp proposals on point clouds."""
 
 from rle_design.sensors.camera import (
     MJ_TO_CV,
@@ -10,6 +11,7 @@ from rle_design.sensors.camera import (
 )
 from rle_design.sensors.force_torque import ft_reading
 from rle_design.sensors.gl import RenderError, create_context
+from rle_design.sensors.grasps import antipodal_grasps, estimate_normals
 from rle_design.sensors.noise import DepthNoise, RgbNoise, add_noise
 from rle_design.sensors.rgbd import BACKGROUND, Frame, RgbdSensor
 
@@ -24,9 +26,11 @@ __all__ = [
     "RgbNoise",
     "RgbdSensor",
     "add_noise",
+    "antipodal_grasps",
     "camera_id",
     "camera_intrinsics",
     "camera_spec",
     "create_context",
+    "estimate_normals",
     "ft_reading",
 ]

@@ -49,6 +49,7 @@ __all__ = [
     "LEVELS",
     "PRETRAIN_KITCHENS",
     "SEGMENT_NOISE",
+    "noisy_mask",
     "pretrain_seed",
 ]
 
@@ -59,8 +60,11 @@ PRETRAIN_BASE = 1_000_003
 """Layout seed of pretrain kitchen k is ``PRETRAIN_BASE + k`` (public)."""
 SEGMENT_NOISE = {"miss": 0.03, "miss_small": 0.3, "small_px": 30, "boundary_flip": 0.1, "score": (0.6, 0.98)}
 """Noise of the simulated segmenter: an instance is missed with probability ``miss`` (``miss_small``
-below ``small_px`` pixels); its mask is eroded or dilated by one pixel (each with probability 1/3)
-and a ``boundary_flip`` fraction of its boundary pixels flipped; scores are uniform in ``score``."""
+below ``small_px`` pixels); its mask is eroded (unless that erases it) or dilated by one pixel (each
+with probability 1/3) and a ``boundary_flip`` fraction of its boundary pixels (either side of the
+edge) flipped, so every mask lies between the exact mask eroded and dilated twice; scores are uniform
+in ``score``. The draws are seeded by the scene, the simulation time, the prompt's words and the
+camera: the same query on the same state gets the same answer (rewording does not redraw)."""
 _KIND_WORDS = {
     "fridge": "fridge",
     "hinge_cabinet": "cabinet",
@@ -141,11 +145,11 @@ def _words(text: str) -> list[str]:
     return [w[:-1] if len(w) > 3 and w.endswith("s") else w for w in re.findall(r"[a-z]+", text.lower())]
 
 
-_SEGMENTERS: dict[tuple[int, str], tuple[mujoco.MjModel, RgbdSensor]] = {}
+_SEGMENTERS: dict[tuple[int, str, tuple[int, int]], tuple[mujoco.MjModel, RgbdSensor]] = {}
 
 
 def _segmenter(model: mujoco.MjModel, camera: str, size: tuple[int, int]) -> RgbdSensor:
-    key = (id(model), camera)
+    key = (id(model), camera, tuple(size))
     entry = _SEGMENTERS.get(key)
     if entry is None or entry[0] is not model:
         if len(_SEGMENTERS) > 12:
@@ -166,6 +170,27 @@ def _shift_or(mask: np.ndarray) -> np.ndarray:
     out[:, 1:] |= mask[:, :-1]
     out[:, :-1] |= mask[:, 1:]
     return out
+
+
+def noisy_mask(mask: np.ndarray, rng: np.random.Generator) -> np.ndarray | None:
+    """The segmenter's answer for one exact instance mask (``SEGMENT_NOISE``); None when it is missed
+    or empty. The answer lies between the exact mask eroded and dilated twice by one pixel."""
+    area = int(mask.sum())
+    if area == 0:
+        return None
+    miss = SEGMENT_NOISE["miss_small"] if area < SEGMENT_NOISE["small_px"] else SEGMENT_NOISE["miss"]
+    if rng.random() < miss:
+        return None
+    op = rng.integers(3)
+    if op == 1:
+        eroded = ~_shift_or(~mask)
+        mask = eroded if eroded.any() else mask  # a thin instance is kept, not erased
+    elif op == 2:
+        mask = _shift_or(mask)
+    edge = _shift_or(mask) & _shift_or(~mask)
+    flip = edge & (rng.random(mask.shape) < SEGMENT_NOISE["boundary_flip"])
+    mask = mask ^ flip
+    return mask if mask.any() else None
 
 
 @dataclass(frozen=True)
@@ -257,10 +282,14 @@ class KitchenEnv(MobileManipulatorEnv):
             )
         return self.segment(model, data, prompt, camera)
 
-    def segment(
-        self, model: mujoco.MjModel, data: mujoco.MjData, prompt: str, camera: str
-    ) -> dict[str, np.ndarray]:
-        """Noisy instance masks of the instances whose label contains every word of ``prompt``."""
+    def instances(
+        self, model: mujoco.MjModel, data: mujoco.MjData, camera: str
+    ) -> tuple[np.ndarray, tuple[str, ...], tuple[str, ...]]:
+        """The simulator's exact instance segmentation of ``camera``'s current image.
+
+        Returns:
+            (H, W) int64 instance index per pixel (-1: no instance), instance names, instance labels.
+        """
         self._burner_glow(model, data)
         size = self.image_size or (128, 128)
         frame = _segmenter(model, camera, size).render(data)
@@ -268,10 +297,18 @@ class KitchenEnv(MobileManipulatorEnv):
         objects = tuple((p.name, p.category) for p in self.scene.episode.objects)
         inst, names, labels = _labels(model, fixtures_key, objects)
         geoms = frame.geom_ids()
-        pix = np.where(geoms >= 0, inst[np.clip(geoms, 0, None)], -1)
+        return np.where(geoms >= 0, inst[np.clip(geoms, 0, None)], -1), names, labels
+
+    def segment(
+        self, model: mujoco.MjModel, data: mujoco.MjData, prompt: str, camera: str
+    ) -> dict[str, np.ndarray]:
+        """Noisy instance masks of the instances whose label contains every word of ``prompt``
+        (``SEGMENT_NOISE``), in the order of ``instances``; the same state, prompt and camera give the
+        same answer."""
+        pix, _, labels = self.instances(model, data, camera)
         want = _words(prompt)
         seed = hashlib.sha256(
-            f"{self.scene.layout_seed}|{self.scene.episode_seed}|{data.time:.6f}|{prompt}|{camera}".encode()
+            f"{self.scene.layout_seed}|{self.scene.episode_seed}|{data.time:.6f}|{' '.join(want)}|{camera}".encode()
         ).digest()
         rng = np.random.default_rng(int.from_bytes(seed[:8], "little"))
         masks, boxes, scores = [], [], []
@@ -279,28 +316,14 @@ class KitchenEnv(MobileManipulatorEnv):
             words = _words(label)
             if not all(w in words for w in want):
                 continue
-            mask = pix == i
-            area = int(mask.sum())
-            if area == 0:
-                continue
-            miss = SEGMENT_NOISE["miss_small"] if area < SEGMENT_NOISE["small_px"] else SEGMENT_NOISE["miss"]
-            if rng.random() < miss:
-                continue
-            op = rng.integers(3)
-            if op == 1:
-                mask = ~_shift_or(~mask)
-            elif op == 2:
-                mask = _shift_or(mask)
-            edge = _shift_or(mask) & ~(~_shift_or(~mask))
-            flip = edge & (rng.random(mask.shape) < SEGMENT_NOISE["boundary_flip"])
-            mask = mask ^ flip
-            if not mask.any():
+            mask = noisy_mask(pix == i, rng)
+            if mask is None:
                 continue
             rows, cols = np.nonzero(mask)
             masks.append(mask)
             boxes.append([cols.min(), rows.min(), cols.max(), rows.max()])
             scores.append(rng.uniform(*SEGMENT_NOISE["score"]))
-        h, w = size
+        h, w = pix.shape
         return {
             "masks": np.array(masks, dtype=bool).reshape(len(masks), h, w),
             "boxes": np.array(boxes, dtype=np.float64).reshape(len(boxes), 4),

@@ -83,7 +83,7 @@ def programs(kitchen: KitchenTaskId, level: int) -> dict[str, Callable[[LedgerCl
     """The shipped programs of one task (name -> program)."""
     out: dict[str, Callable[[LedgerClient], Any]] = {}
     if agents.available(kitchen.task, level):
-        out["reference"] = lambda c: agents.play(c, kitchen.task, level)
+        out["reference"] = lambda c: agents.play(c, kitchen.task, level=level)
     out["baseline/idle"] = idle
     if kitchen.task_id(level) == BUDGET_TASK:
         out["baseline/budget_exhausted"] = budget_exhausted

@@ -3,8 +3,10 @@
 A program plays one episode from the observation after a reset and returns when the task's success
 predicate holds (``obs["success"]``) or it gives up. ``play`` is a whole session as an agent would run
 it: a short development phase on pretrain kitchens, then the evaluation phase, one episode per trial.
-The programs read the level-3 observation (world-frame poses) through the workspace harness
-(``rle_tasks.envs.kitchen.harness``), exactly the modules an L3 agent gets.
+The programs use the workspace harness (``rle_tasks.envs.kitchen.harness``), exactly the modules an
+agent of their level gets: the L3 programs read world-frame poses (``world``), the L2 programs only
+images, depth, camera geometry and the ``segment`` query. A program of a level also runs at the
+levels above it.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from typing import Any
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
 
-__all__ = ["PROGRAMS", "Direct", "available", "play", "solver"]
+__all__ = ["PROGRAMS", "PROGRAMS_BY_LEVEL", "Direct", "available", "play", "solver"]
 
 PROGRAMS: dict[str, str] = {
     "OpenFridge": "open_fridge",
@@ -25,26 +27,27 @@ PROGRAMS: dict[str, str] = {
     "PickPlaceCounterToDrawer": "pnp_counter_to_drawer",
     "PickPlaceMicrowaveToCounter": "pnp_microwave_to_counter",
 }
-"""Kitchen task -> module of its program in this package."""
+"""Kitchen task -> module of its L3 program in this package."""
+PROGRAMS_BY_LEVEL: dict[int, dict[str, str]] = {
+    3: PROGRAMS,
+    2: {"TurnOnStove": "turn_on_stove_l2"},
+    1: {},
+}
+"""Harness level -> kitchen task -> module of the program written for that level."""
 
 
 def solver(task: str, level: int = 3) -> Callable[[Robot, Motion], bool]:
-    """The ``solve(robot, motion) -> bool`` of a kitchen task at a harness level: module
-    ``<program>_l<level>`` for levels 1 and 2, ``<program>`` (the L3 program) for level 3.
+    """The ``solve(robot, motion) -> bool`` of a kitchen task at a harness level: the program of the
+    highest level <= ``level`` that has one.
 
     Raises:
-        ModuleNotFoundError: No program for that level.
+        KeyError: No program of the task runs at ``level``.
     """
-    name = PROGRAMS[task] if level == 3 else f"{PROGRAMS[task]}_l{level}"
-    return import_module(f"{__name__}.{name}").solve
-
-
-def available(task: str, level: int) -> bool:
-    """Whether a program exists for ``task`` at ``level``."""
-    from importlib.util import find_spec
-
-    name = PROGRAMS[task] if level == 3 else f"{PROGRAMS[task]}_l{level}"
-    return find_spec(f"{__name__}.{name}") is not None
+    for lv in range(level, 0, -1):
+        module = PROGRAMS_BY_LEVEL.get(lv, {}).get(task)
+        if module is not None:
+            return import_module(f"{__name__}.{module}").solve
+    raise KeyError(f"no program of {task} runs at harness level {level}")
 
 
 class Direct:
@@ -69,9 +72,9 @@ class Direct:
         return self.session.info()
 
 
-def play(client: Any, task: str, level: int = 3, *, dev_episodes: int = 1, trials: int = 5) -> list[bool]:
-    """A session: ``dev_episodes`` pretrain episodes, then every evaluation trial; returns the trials'
-    success as the program saw it."""
+def play(client: Any, task: str, *, level: int = 3, dev_episodes: int = 1, trials: int = 5) -> list[bool]:
+    """A session at harness ``level``: ``dev_episodes`` pretrain episodes, then every evaluation trial;
+    returns the trials' success as the program saw it."""
     solve = solver(task, level)
     robot = Robot(client)
     motion = Motion(robot)
@@ -86,3 +89,8 @@ def play(client: Any, task: str, level: int = 3, *, dev_episodes: int = 1, trial
             robot.reset()
         out.append(bool(solve(robot, motion)))
     return out
+
+
+def available(task: str, level: int) -> bool:
+    """Whether a program of ``task`` runs at harness ``level``."""
+    return any(task in PROGRAMS_BY_LEVEL.get(lv, {}) for lv in range(level, 0, -1))

@@ -1,7 +1,8 @@
-"""Try a program in process: ``python -m rle_tasks.f01_robocasa_speedrun.solutions.agents.trial TASK [--pretrain N]``.
+"""Try a program in process: ``python -m rle_tasks.f01_robocasa_speedrun.solutions.agents.trial TASK [--level L] [--pretrain N]``.
 
-Plays the program on the public key's five target kitchens (and ``N`` pretrain episodes) without a
-ledger server and prints each episode's outcome and action count.
+Plays the program of harness level ``L`` (default 3) on the public key's five target kitchens (and
+``N`` pretrain episodes) without a ledger server and prints each episode's outcome and action count.
+Levels below 3 render the camera images their programs read.
 """
 
 from __future__ import annotations
@@ -25,7 +26,8 @@ def main() -> None:
     ap.add_argument("--skip-targets", action="store_true")
     args = ap.parse_args()
     kitchen = next(k for k in KITCHEN_TASKS if k.task == args.task)
-    sc = scenes(kitchen, args.level, Secret(PUBLIC_KEY, public=True), image_size=None)
+    image_size = None if args.level >= 3 else (128, 128)  # L3 programs read no images
+    sc = scenes(kitchen, args.level, Secret(PUBLIC_KEY, public=True), image_size=image_size)
     session = sc.open_session(task_id=kitchen.task_id(args.level), budget=None)
     robot = Robot(Direct(session))
     motion = Motion(robot)
