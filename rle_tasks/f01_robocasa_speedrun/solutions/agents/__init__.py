@@ -92,5 +92,10 @@ def play(client: Any, task: str, *, level: int = 3, dev_episodes: int = 1, trial
 
 
 def available(task: str, level: int) -> bool:
-    """Whether a program of ``task`` runs at harness ``level``."""
-    return any(task in PROGRAMS_BY_LEVEL.get(lv, {}) for lv in range(level, 0, -1))
+    """Whether a program of ``task`` runs at harness ``level`` (and is installed)."""
+    from importlib.util import find_spec
+
+    return any(
+        task in PROGRAMS_BY_LEVEL.get(lv, {}) and find_spec(f"{__name__}.{PROGRAMS_BY_LEVEL[lv][task]}") is not None
+        for lv in range(level, 0, -1)
+    )
