@@ -226,11 +226,19 @@ def _hinged_door(
     mass: float = 2.0,
     handle_len: float = 0.16,
     handle_z: float | None = None,
+    front_pivot: bool = False,
 ) -> tuple[mujoco.MjsBody, str, str]:
-    """A door panel of width ``w`` hinged on its left (-x) or right edge; returns (body, joint, handle site)."""
+    """A door panel of width ``w`` hinged on its left (-x) or right edge; returns (body, joint, handle site).
+
+    The hinge axis runs through the panel's mid-plane, or with ``front_pivot`` through the edge of its
+    front face (an overlay hinge): a door flush with its neighbours' fronts needs the latter, else its
+    hinge-side edge swings into the neighbour's front and stops it short of 90 deg (base cabinets beside
+    a drawer were held at 0.1-0.3 of their range). The closed door is the same either way.
+    """
     s = 1.0 if hinge_left else -1.0
     hinge_x = -s * w / 2
-    door = parent.add_body(name=f"{name}_door", pos=[hinge_x, front_y - PANEL / 2 - GAP, z0 + GAP])
+    back = PANEL / 2 if front_pivot else 0.0  # panel centre behind the axis
+    door = parent.add_body(name=f"{name}_door", pos=[hinge_x, front_y - PANEL / 2 - GAP - back, z0 + GAP])
     joint = door.add_joint(
         name=f"{name}_hinge",
         type=mujoco.mjtJoint.mjJNT_HINGE,
@@ -244,13 +252,15 @@ def _hinged_door(
     _box(
         door,
         f"{name}_door_panel",
-        (s * (w / 2), 0, h / 2 - GAP),
+        (s * (w / 2), back, h / 2 - GAP),
         ((w - 2 * GAP) / 2, PANEL / 2, h / 2 - GAP),
         rgba,
         mass=mass,
     )
     hz = h * 0.5 if handle_z is None else handle_z
-    site = _bar_handle(door, f"{name}_handle", (s * (w - 0.06), -PANEL / 2, hz), handle_len, True, style)
+    site = _bar_handle(
+        door, f"{name}_handle", (s * (w - 0.06), back - PANEL / 2, hz), handle_len, True, style
+    )
     return door, joint.name, site
 
 
@@ -289,7 +299,17 @@ def add_hinge_cabinet(
     )
     top = _counter_top(body, name, w, d, style)
     door, joint, handle = _hinged_door(
-        body, name, hinge_left, w, h, -d / 2, TOE_KICK, style.cabinet, style, handle_z=h * 0.8
+        body,
+        name,
+        hinge_left,
+        w,
+        h,
+        -d / 2,
+        TOE_KICK,
+        style.cabinet,
+        style,
+        handle_z=h * 0.8,
+        front_pivot=True,
     )
     interior = Interior(name, (0, 0.0, TOE_KICK + h / 2), (w / 2 - PANEL, d / 2 - PANEL, h / 2 - PANEL))
     return Fixture(
@@ -685,7 +705,7 @@ def add_wall_cabinet(
         style.cabinet,
     )
     door, joint, handle = _hinged_door(
-        body, name, hinge_left, w, h, -d / 2, 0.0, style.cabinet, style, handle_z=0.12
+        body, name, hinge_left, w, h, -d / 2, 0.0, style.cabinet, style, handle_z=0.12, front_pivot=True
     )
     interior = Interior(name, (0, 0, h / 2), (w / 2 - PANEL, d / 2 - PANEL, h / 2 - PANEL))
     return Fixture(
