@@ -4,7 +4,8 @@ Frame of the counter run: world z up, the back wall is the plane ``y = 0`` and f
 front of it (``y < 0``), their fronts facing -y; x runs along the wall. Each builder adds one static
 body (named after the fixture) at the fixture's centre on the floor, with moving parts as children:
 
-- hinged doors: a hinge about the door's vertical edge, range 0..1.57 rad (0 closed), damping
+- hinged doors: a hinge about the door's vertical edge (cabinets: the edge of its front face, so a door
+  flush with its neighbours swings clear of them), range 0..1.57 rad (0 closed), damping
   ``DOOR_DAMPING``; the axis is chosen so a positive angle swings the free edge out (towards -y);
 - drawers: a slide along -y (out of the cabinet), range 0..``depth - 0.15`` m, damping
   ``DRAWER_DAMPING``;
