@@ -29,8 +29,9 @@ APPROACH = 0.1
 STANDOFF = 0.55
 """Horizontal distance from the arm's root to the contact point [m]."""
 MIN_SIDE = 0.42
-"""Least distance of the base's centre line from the cabinet front, keeping the base (0.25 m half
-width) clear of a deeper neighbour on the hinge side (a fridge stands 0.1 m proud, its handle 0.14 m) [m]."""
+"""Least distance of the base's centre line from the hinge along the open door (about the distance
+from the counter's front), keeping the base (0.25 m half width) clear of a deeper neighbour on the
+hinge side (a fridge's door stands 0.1 m proud of the cabinet's) [m]."""
 OVERTURN = 0.15
 """Turn past the door's measured angle, taking up the gap to the door and pressing it shut [rad]."""
 
@@ -57,8 +58,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
     motion.close_gripper(steps=1)
     motion.move_tool(contact + APPROACH * out, tool, max_steps=80, tol=0.02)
     motion.move_tool(contact, tool, max_steps=30, speed=0.5, tol=0.01)
-    sign = (
-        1.0 if f["hinge_left"] else -1.0
-    )  # closing turns counter-clockwise (seen from above) for a left hinge
+    # closing turns counter-clockwise (seen from above) for a left hinge
+    sign = 1.0 if f["hinge_left"] else -1.0
     motion.orbit(hinge, sign * (opened + OVERTURN), stop=lambda o: bool(o["success"]))
     return bool(robot.observe()["success"])
