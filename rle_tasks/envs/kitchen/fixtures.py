@@ -4,7 +4,8 @@ Frame of the counter run: world z up, the back wall is the plane ``y = 0`` and f
 front of it (``y < 0``), their fronts facing -y; x runs along the wall. Each builder adds one static
 body (named after the fixture) at the fixture's centre on the floor, with moving parts as children:
 
-- hinged doors: a hinge about the door's vertical edge, range 0..1.57 rad (0 closed), damping
+- hinged doors: a hinge about the door's vertical edge (cabinets: the edge of its front face, so a door
+  flush with its neighbours swings clear of them), range 0..1.57 rad (0 closed), damping
   ``DOOR_DAMPING``; the axis is chosen so a positive angle swings the free edge out (towards -y);
 - drawers: a slide along -y (out of the cabinet), range 0..``depth - 0.15`` m, damping
   ``DRAWER_DAMPING``;
@@ -226,15 +227,19 @@ def _hinged_door(
     mass: float = 2.0,
     handle_len: float = 0.16,
     handle_z: float | None = None,
+    front_pivot: bool = False,
 ) -> tuple[mujoco.MjsBody, str, str]:
     """A door panel of width ``w`` hinged on its left (-x) or right edge; returns (body, joint, handle site).
 
-    The hinge axis runs along the panel's outer front edge (as a cabinet's offset hinge does), so the
-    open door's thickness lies over its own cabinet and never reaches into a neighbour's.
+    The hinge axis runs through the panel's mid-plane, or with ``front_pivot`` through the edge of its
+    front face (an overlay hinge): a door flush with its neighbours' fronts needs the latter, else its
+    hinge-side edge swings into the neighbour's front and stops it short of 90 deg (base cabinets beside
+    a drawer were held at 0.1-0.3 of their range). The closed door is the same either way.
     """
     s = 1.0 if hinge_left else -1.0
     hinge_x = -s * w / 2
-    door = parent.add_body(name=f"{name}_door", pos=[hinge_x, front_y - PANEL - GAP, z0 + GAP])
+    back = PANEL / 2 if front_pivot else 0.0  # panel centre behind the axis
+    door = parent.add_body(name=f"{name}_door", pos=[hinge_x, front_y - PANEL / 2 - GAP - back, z0 + GAP])
     joint = door.add_joint(
         name=f"{name}_hinge",
         type=mujoco.mjtJoint.mjJNT_HINGE,
@@ -248,13 +253,15 @@ def _hinged_door(
     _box(
         door,
         f"{name}_door_panel",
-        (s * (w / 2), PANEL / 2, h / 2 - GAP),
+        (s * (w / 2), back, h / 2 - GAP),
         ((w - 2 * GAP) / 2, PANEL / 2, h / 2 - GAP),
         rgba,
         mass=mass,
     )
     hz = h * 0.5 if handle_z is None else handle_z
-    site = _bar_handle(door, f"{name}_handle", (s * (w - 0.06), 0.0, hz), handle_len, True, style)
+    site = _bar_handle(
+        door, f"{name}_handle", (s * (w - 0.06), back - PANEL / 2, hz), handle_len, True, style
+    )
     return door, joint.name, site
 
 
@@ -293,7 +300,17 @@ def add_hinge_cabinet(
     )
     top = _counter_top(body, name, w, d, style)
     door, joint, handle = _hinged_door(
-        body, name, hinge_left, w, h, -d / 2, TOE_KICK, style.cabinet, style, handle_z=h * 0.8
+        body,
+        name,
+        hinge_left,
+        w,
+        h,
+        -d / 2,
+        TOE_KICK,
+        style.cabinet,
+        style,
+        handle_z=h * 0.8,
+        front_pivot=True,
     )
     interior = Interior(name, (0, 0.0, TOE_KICK + h / 2), (w / 2 - PANEL, d / 2 - PANEL, h / 2 - PANEL))
     return Fixture(
@@ -689,7 +706,7 @@ def add_wall_cabinet(
         style.cabinet,
     )
     door, joint, handle = _hinged_door(
-        body, name, hinge_left, w, h, -d / 2, 0.0, style.cabinet, style, handle_z=0.12
+        body, name, hinge_left, w, h, -d / 2, 0.0, style.cabinet, style, handle_z=0.12, front_pivot=True
     )
     interior = Interior(name, (0, 0, h / 2), (w / 2 - PANEL, d / 2 - PANEL, h / 2 - PANEL))
     return Fixture(

@@ -3,20 +3,26 @@
 Every primitive only calls ``Robot.act``, so each of its steps is one metered action. World poses are
 (position [m], quaternion w, x, y, z); ``move_tool`` drives the arm controller's target (observed as
 ``target_pos_base``/``target_quat_base``) towards the desired tool pose at most ``POS_STEP`` /
-``ROT_STEP`` per action and stops when the measured tool pose is within the tolerances.
+``ROT_STEP`` per action and stops when the measured tool pose is within the tolerances. ``orbit``
+drives the base around a vertical axis with the arm holding its pose on the base, so a grasped handle
+travels on a circle about that axis (a door about its hinge).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from .geometry import quat_conj, quat_mul, rotvec, rotz
+from .geometry import mat_to_quat, quat_conj, quat_mul, rotvec, rotz
 from .robot import BASE_SPEED, POS_STEP, ROT_STEP, TORSO_STEP, YAW_SPEED, Robot
 
-__all__ = ["Motion", "MoveResult", "down_quat"]
+__all__ = ["DT", "Motion", "MoveResult", "down_quat", "facing_quat"]
+
+DT = 0.05
+"""Duration of one action [s] (20 Hz)."""
 
 
 def down_quat(yaw: float = 0.0) -> np.ndarray:
@@ -25,6 +31,16 @@ def down_quat(yaw: float = 0.0) -> np.ndarray:
     base = np.array([0.0, 1.0, 0.0, 0.0])  # 180 degrees about x: tool z down
     turn = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
     return quat_mul(turn, base)
+
+
+def facing_quat(heading: float, pitch: float = 0.0) -> np.ndarray:
+    """World orientation of a tool pointing along the horizontal ``heading`` [rad] (about the world z
+    from +x), tilted down by ``pitch`` [rad], its fingers closing horizontally: the grasp of a vertical
+    bar (a door handle) from the front; ``pitch`` = pi/2 gives ``down_quat(heading + pi/2)``."""
+    c, s = np.cos(heading), np.sin(heading)
+    z = np.array([np.cos(pitch) * c, np.cos(pitch) * s, -np.sin(pitch)])
+    x = np.array([-s, c, 0.0])
+    return mat_to_quat(np.column_stack([x, np.cross(z, x), z]))
 
 
 @dataclass(frozen=True)
@@ -153,6 +169,70 @@ class Motion:
             self.robot.act(base=np.clip(cmd, -1, 1), mode="base")
         # settle one step with the base commanded still
         self.robot.act(mode="base")
+        return MoveResult(False, steps, err)
+
+    def orbit(
+        self,
+        pivot: Any,
+        angle: float,
+        *,
+        rate: float = 0.6,
+        accel: float = 1.5,
+        gain: float = 4.0,
+        tol: float = 0.02,
+        yaw_tol: float = 0.03,
+        max_steps: int = 300,
+        stop: Callable[[dict[str, Any]], bool] | None = None,
+    ) -> MoveResult:
+        """Turn the base as a rigid body about the vertical axis through ``pivot`` by ``angle`` (base mode).
+
+        The base's position and heading rotate together (counter-clockwise seen from above for a
+        positive ``angle``) and the arm holds its pose on the base, so the tool travels on a circle about
+        the axis: with a door handle in the hand and the hinge as ``pivot``, the door swings with the
+        robot. The reference turns with a trapezoidal profile (``rate``, capped so that the base moves at
+        most 0.8 of its full speed, and ``accel``); the base tracks it with feed-forward plus ``gain`` on
+        the pose error.
+
+        Args:
+            pivot: A point of the axis [m] (world; z ignored).
+            angle: Turn [rad], relative to the base's pose at the call.
+            rate: Top turn rate of the reference [rad/s].
+            accel: Angular acceleration and deceleration of the reference [rad/s^2].
+            gain: Feedback on the position and heading errors [1/s].
+            tol: Final position tolerance of the base [m].
+            yaw_tol: Final heading tolerance [rad].
+            max_steps: Actions at most.
+            stop: Ends the turn early (reached) when it returns True for an observation.
+        """
+        o = self.obs
+        p = np.asarray(pivot, float)[:2]
+        r0 = np.asarray(o["base_pos"][:2], float) - p
+        yaw0 = float(o["base_yaw"])
+        rate = min(rate, 0.8 * BASE_SPEED / max(float(np.linalg.norm(r0)), 1e-6))
+        turn = abs(float(angle))
+        increments = []  # the reference's turn per action, trapezoidal
+        done, speed = 0.0, 0.0
+        while done < turn - 1e-9:
+            speed = min(rate, speed + accel * DT, np.sqrt(2 * accel * (turn - done)) + accel * DT / 2)
+            increments.append(min(speed * DT, turn - done))
+            done += increments[-1]
+        n = len(increments)
+        phi, steps, err = 0.0, 0, np.inf
+        for steps in range(1, max_steps + 1):
+            d_phi = float(np.sign(angle)) * increments[steps - 1] if steps <= n else 0.0
+            rot = rotz(phi)[:2, :2]
+            ff = rot @ np.array([-r0[1], r0[0]]) * d_phi / DT
+            v = ff + gain * (p + rot @ r0 - np.asarray(o["base_pos"][:2]))
+            w = d_phi / DT + gain * _wrap(yaw0 + phi - o["base_yaw"])
+            local = rotz(o["base_yaw"])[:2, :2].T @ v
+            cmd = np.array([local[0] / BASE_SPEED, local[1] / BASE_SPEED, w / YAW_SPEED])
+            o = self.robot.act(base=np.clip(cmd, -1, 1), mode="base")
+            phi += d_phi
+            if stop is not None and stop(o):
+                return MoveResult(True, steps, 0.0)
+            err = float(np.linalg.norm(p + rotz(phi)[:2, :2] @ r0 - np.asarray(o["base_pos"][:2])))
+            if steps >= n and err < tol and abs(_wrap(yaw0 + phi - o["base_yaw"])) < yaw_tol:
+                return MoveResult(True, steps, err)
         return MoveResult(False, steps, err)
 
     def set_torso(self, height: float, *, tol: float = 0.005, max_steps: int = 60) -> MoveResult:
