@@ -42,7 +42,7 @@ if TYPE_CHECKING:
 CACHE_ENV = "RLE_CACHE_DIR"
 DECLARATION = "SOLUTIONS"
 """Name of the ``SolutionSet`` in a family's solutions package."""
-_SKIP = ("__pycache__", ".pyc", "__init__.py")
+_SKIP = ("__pycache__", ".pyc")
 
 Transform = Callable[[Path], None]
 """Edits a materialised solution directory in place."""
@@ -59,7 +59,7 @@ class Solution:
         base: Solution materialised first (None: an empty directory).
         files: Overlay ``(destination, source)``: destination relative to the solution directory
             (``"."`` for its root), source relative to the family package; a source directory is
-            copied recursively (``__pycache__`` and ``__init__.py`` left out), files are replaced.
+            copied recursively (``__pycache__`` and ``.pyc`` left out), files are replaced.
         transforms: Module-level functions applied in order after the overlay.
     """
 

@@ -32,7 +32,21 @@ def _set(task_id: str, pins: dict[str, tuple[str, float]], reference: str | None
 
 REFERENCES: dict[str, str] = {}
 """Task id -> reference harness folder under ``solutions/reference``."""
-PINS: dict[str, dict[str, tuple[str, float]]] = {}
+BASELINE_PINS: dict[str, tuple[str, float]] = {
+    "baseline/empty": ("9a7e1683a0d2c269f53ecf8f24f2aa74eb4ef0f8778a8ed68c0c8485eb2f91ae", 0.0),
+    "baseline/missing_function": ("93b11184b203d1c36e5b9d2b1bd7d627ba14cd0cdb30213e125551bb306869f8", 0.0),
+    "baseline/reads_hidden_state": ("a7482a8c079e624311771c1064ce6af9691d68cdb0fbf1baa54d8bc0ac111516", 0.0),
+}
+"""The baselines are the same files for every group (checksum, golden quick score)."""
+REFERENCE_PINS: dict[str, tuple[str, float]] = {}
+"""Task id -> the reference's (checksum, golden quick score under the public key)."""
+BASELINE_GROUPS = ("02-group-01", "02-group-09", "02-group-12")
+"""Groups that ship the baselines (one per difficulty, beside their references)."""
+PINS: dict[str, dict[str, tuple[str, float]]] = {
+    tid: ({"reference": REFERENCE_PINS[tid]} if tid in REFERENCE_PINS else {})
+    | (BASELINE_PINS if tid in BASELINE_GROUPS else {})
+    for tid in sorted(set(BASELINE_GROUPS) | set(REFERENCE_PINS))
+}
 """Task id -> solution name -> (pinned checksum, golden quick score under the public key)."""
 
 SOLUTIONS: dict[str, SolutionSet] = {tid: _set(tid, pins, REFERENCES.get(tid)) for tid, pins in PINS.items()}

@@ -96,6 +96,7 @@ def available(task: str, level: int) -> bool:
     from importlib.util import find_spec
 
     return any(
-        task in PROGRAMS_BY_LEVEL.get(lv, {}) and find_spec(f"{__name__}.{PROGRAMS_BY_LEVEL[lv][task]}") is not None
+        task in PROGRAMS_BY_LEVEL.get(lv, {})
+        and find_spec(f"{__name__}.{PROGRAMS_BY_LEVEL[lv][task]}") is not None
         for lv in range(level, 0, -1)
     )
