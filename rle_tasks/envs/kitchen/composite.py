@@ -25,8 +25,16 @@ import numpy as np
 
 from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.fixtures import BURNERS, Fixture
-from rle_tasks.envs.kitchen.objects import extent
-from rle_tasks.envs.kitchen.tasks import STANDOFF, Condition, Episode, KitchenTask, Placement, _on_top, _spawn
+from rle_tasks.envs.kitchen.tasks import (
+    FLAT_KINDS,
+    STANDOFF,
+    Condition,
+    Episode,
+    KitchenTask,
+    Placement,
+    _spawn,
+    spot_near,
+)
 
 __all__ = [
     "Burner",
@@ -50,8 +58,7 @@ __all__ = [
     "OnCounter",
 ]
 
-FLAT = ("counter", "drawer_cabinet", "hinge_cabinet")
-"""Kinds of fixture whose counter top objects stand on."""
+FLAT = FLAT_KINDS
 
 
 @dataclass(frozen=True)
@@ -347,7 +354,7 @@ class CompositeTask(KitchenTask):
             name = o.role
             target[o.role] = name
             if isinstance(o.at, On):
-                pos = _spot_near(fixtures, fixtures[bind[o.at.fixture]], rng, cat, placements)
+                pos = spot_near(fixtures, fixtures[bind[o.at.fixture]], rng, cat, tuple(placements))
                 placements.append(Placement(name, cat, pos, float(rng.uniform(-math.pi, math.pi))))
             elif isinstance(o.at, In):
                 f = fixtures[bind[o.at.fixture]]
@@ -405,27 +412,3 @@ class CompositeTask(KitchenTask):
             c = p.condition(ctx)
             out.append(Condition(p.words(episode), c.fn))
         return tuple(out)
-
-
-def _spot_near(
-    fixtures: dict[str, Fixture],
-    f: Fixture,
-    rng: np.random.Generator,
-    category: str,
-    placements: list[Placement],
-) -> tuple[float, float, float]:
-    """A clear spot on the flat counter top nearest to ``f`` (its own top when it has one), trying the next
-    nearest tops when one is full."""
-    flat = [g for g in fixtures.values() if g.kind in FLAT and g.top is not None]
-    flat.sort(key=lambda g: (g.name != f.name, abs(g.pos[0] - f.pos[0]), g.name))
-    taken = tuple(
-        (p.pos[0], p.pos[1], max(extent(p.category)[1][:2]))
-        for p in placements
-        if p.inside is None and p.on is None
-    )
-    for host in flat:
-        try:
-            return _on_top(host, rng, category, fixtures=fixtures, taken=taken)
-        except ValueError:
-            continue
-    raise ValueError(f"no clear counter spot for a {category} near {f.name}")

@@ -400,17 +400,18 @@ class KitchenScenes(SceneSet):
 
     def scene(self, key: str) -> KitchenEnv:
         parts = key.split("/")
-        try:
-            if parts[0] == "pretrain" and len(parts) == 3:
-                k, s = int(parts[1]), int(parts[2])
-                if not (0 <= k < self.pretrain_kitchens and s >= 0):
-                    raise ValueError
-                return self._env(build_scene(pretrain_seed(k), self.task, _episode_seed(k, s)))
-            if parts[0] == "target" and len(parts) == 2:
-                layout, episode = self.targets[int(parts[1])]
-                return self._env(build_scene(layout, self.task, episode))
-        except (ValueError, IndexError):
-            pass
+        numbers = [int(p) for p in parts[1:] if p.isdigit()]
+        if (
+            parts[0] == "pretrain"
+            and len(parts) == 3
+            and len(numbers) == 2
+            and numbers[0] < self.pretrain_kitchens
+        ):
+            k, s = numbers
+            return self._env(build_scene(pretrain_seed(k), self.task, _episode_seed(k, s)))
+        if parts[0] == "target" and len(parts) == 2 and len(numbers) == 1 and numbers[0] < len(self.targets):
+            layout, episode = self.targets[numbers[0]]
+            return self._env(build_scene(layout, self.task, episode))
         raise LedgerError(f"unknown scene '{key}'", code="ledger.bad_scene")
 
     def development_key(self, index: int, options: dict[str, Any]) -> str:

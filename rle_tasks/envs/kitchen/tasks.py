@@ -31,6 +31,8 @@ from rle_tasks.envs.kitchen.objects import extent, graspable
 
 __all__ = ["TASKS", "Condition", "Episode", "KitchenTask", "Placement", "kitchen_task"]
 
+FLAT_KINDS = ("counter", "drawer_cabinet", "hinge_cabinet")
+"""Kinds of fixture whose counter top objects stand on."""
 STANDOFF = 0.55
 """Distance from the robot's arm root to the target fixture's front at spawn [m]."""
 SPAWN_NOISE = (0.04, 0.03, 0.05)
@@ -157,6 +159,34 @@ def _on_top(
     raise ValueError(f"no clear spot for a {category} on {fixture.name}")
 
 
+def spot_near(
+    fixtures: dict[str, Fixture],
+    f: Fixture,
+    rng: np.random.Generator,
+    category: str,
+    placements: tuple[Placement, ...] = (),
+) -> tuple[float, float, float]:
+    """A clear spot on the flat counter top nearest to ``f`` (its own top when it has one), trying the next
+    nearest tops when one is full (the microwave or the dish rack may take a top).
+
+    Raises:
+        ValueError: No flat top in the kitchen has room.
+    """
+    flat = [g for g in fixtures.values() if g.kind in FLAT_KINDS and g.top is not None]
+    flat.sort(key=lambda g: (g.name != f.name, abs(g.pos[0] - f.pos[0]), g.name))
+    taken = tuple(
+        (p.pos[0], p.pos[1], max(extent(p.category)[1][:2]))
+        for p in placements
+        if p.inside is None and p.on is None
+    )
+    for host in flat:
+        try:
+            return _on_top(host, rng, category, fixtures=fixtures, taken=taken)
+        except ValueError:
+            continue
+    raise ValueError(f"no clear counter spot for a {category} near {f.name}")
+
+
 class KitchenTask:
     """Base of the atomic tasks: ``sample`` an episode, ``conditions`` of success."""
 
@@ -242,7 +272,7 @@ class PickPlaceCounterToDrawer(KitchenTask):
         f = fixtures[drawers[int(rng.integers(len(drawers)))]]
         cats = [c for c in graspable() if extent(c)[1][2] <= 0.05]
         cat = cats[int(rng.integers(len(cats)))]
-        pos = _on_top(f, rng, cat, fixtures=fixtures)
+        pos = spot_near(fixtures, f, rng, cat)
         return Episode(
             self.name,
             f"Pick the {cat} from the counter and place it in the drawer.",
@@ -285,9 +315,7 @@ class PickPlaceMicrowaveToCounter(KitchenTask):
             if f.top is not None and f.kind in ("counter", "drawer_cabinet", "hinge_cabinet")
         ]
         dest = spots[int(rng.integers(len(spots)))] if spots else host
-        plate = _on_top(dest, rng, "plate", y_range=(0.16, 0.2), fixtures=fixtures)
-        if dest is host:
-            plate = (float(mw.pos[0] + rng.choice([-1, 1]) * 0.3), plate[1], plate[2])
+        plate = spot_near(fixtures, dest, rng, "plate")
         return Episode(
             self.name,
             f"Pick the {cat} from the microwave and place it on the plate on the counter.",
