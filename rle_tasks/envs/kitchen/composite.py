@@ -233,7 +233,7 @@ class OnCounter:
 
     def condition(self, c: _Ctx) -> Condition:
         o = c.bind[self.obj]
-        tops = tuple(g for f in c.fixtures.values() if f.kind in FLAT for g in f.top_geoms[:1])
+        tops = tuple(g for f in c.fixtures.values() if f.kind in FLAT for g in f.top_geoms)
         return Condition("", lambda m, d: pr.bodies_touch(m, d, o, {m.geom(g).id for g in tops}))
 
 

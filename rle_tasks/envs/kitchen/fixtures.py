@@ -106,7 +106,8 @@ class Fixture:
         top: Height of the surface objects can stand on (counter top, cooktop) [m], or None.
         sites: Named sites (handles, burners, knobs) by role.
         parts: Named bodies by role (``door``, ``drawer``, ``plate`` ...).
-        top_geoms: Geoms of the surface objects stand on (counter top) or of the interior floor.
+        top_geoms: Geoms of the surface objects stand on (counter top, cooktop, microwave plate, rack
+            tray); a drawer's floor is not one (an object in the drawer touches no counter top).
         burners: Burner name -> (knob joint, burner geom) for a stove.
         hinge_left: The door is hinged on its left (-x) edge (None without a hinged door).
     """
@@ -400,7 +401,7 @@ def add_drawer_cabinet(world: mujoco.MjsBody, name: str, x: float, w: float, sty
         top=COUNTER_HEIGHT,
         sites={"handle": handle},
         parts={"drawer": drawer.name},
-        top_geoms=(top, f"{name}_drawer_bottom"),
+        top_geoms=(top,),
     )
 
 
