@@ -132,6 +132,7 @@ class TransferUnit:
         agent: ``"scripted"`` or an external command line.
         steps: Charged steps of the session.
         wall_time_s: Time of the agent [s].
+        out_dir: Where to write ``agent_<trial>.png`` (the session's final state), or None.
     """
 
     trial: int
@@ -144,6 +145,7 @@ class TransferUnit:
     agent: str = "scripted"
     steps: int = 5000
     wall_time_s: float = 3600.0
+    out_dir: Path | None = None
 
 
 @dataclass(frozen=True)
@@ -236,8 +238,36 @@ def _run_command(stage: Path, unit: TransferUnit) -> tuple[str, str]:
     return f"exit {proc.returncode}", (proc.stdout + proc.stderr)[-2000:]
 
 
+def _render(
+    unit: TransferUnit, env: KitchenEnv, model: mujoco.MjModel, data: mujoco.MjData, label: str
+) -> None:
+    from PIL import Image, ImageDraw
+
+    from rle_design.viz.render import render_image
+
+    ep = env.scene.episode
+    x, y, _ = ep.robot
+    img = Image.fromarray(
+        render_image(
+            model,
+            data,
+            width=480,
+            height=360,
+            lookat=np.array([x, y + 0.6, 1.0]),
+            distance=2.6,
+            azimuth=90.0,
+            elevation=-25.0,
+        )
+    )
+    ImageDraw.Draw(img).text((8, 6), f"agent {unit.trial}: {ep.instruction}", fill=(20, 20, 20))
+    ImageDraw.Draw(img).text((8, 20), label, fill=(20, 20, 20))
+    Path(unit.out_dir).mkdir(parents=True, exist_ok=True)
+    img.save(Path(unit.out_dir) / f"agent_{unit.trial}.png")
+
+
 def _stages(unit: TransferUnit, ledger: Path) -> tuple[tuple[str, ...], int, int, bool, bool, int]:
-    """(conjunct names, b, m, success, recorded, resets) from a replay of the session's ledger."""
+    """(conjunct names, b, m, success, recorded, resets) from a replay of the session's ledger; with
+    ``unit.out_dir`` the final state is rendered there."""
     env = _env(unit, images=False)
     names = tuple(env.conditions_names())
     counts: list[int] = []
@@ -252,7 +282,15 @@ def _stages(unit: TransferUnit, ledger: Path) -> tuple[tuple[str, ...], int, int
         if kind == "steps" and all(vals.values()):
             success = True
 
-    replay(env, ledger, on_step=watch)
+    model, data, _ = replay(env, ledger, on_step=watch)
+    if unit.out_dir is not None and counts:
+        _render(
+            unit,
+            env,
+            model,
+            data,
+            f"b={counts[0]} m={max(counts)} n={len(names)}" + (" success" if success else ""),
+        )
     if not counts:
         return names, 0, 0, False, False, 0
     return names, counts[0], max(counts), success, True, len(counts)

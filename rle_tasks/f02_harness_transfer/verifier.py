@@ -44,6 +44,7 @@ def units(group: Group, root: Path, ctx: VerifyContext) -> list[TransferUnit]:
             agent=agent,
             steps=AGENT_STEPS,
             wall_time_s=AGENT_WALL_S,
+            out_dir=ctx.out_dir,
         )
         for k, (layout, episode) in enumerate(targets(ctx.secret, group)[:n])
     ]
