@@ -88,19 +88,40 @@ def _spawn(
 
 
 def _tops(fixtures: dict[str, Fixture]) -> tuple[str, ...]:
-    """Counter-top geoms of every fixture (objects must not touch them to count as inside)."""
+    """Counter-top geoms of every fixture (objects must not touch them to count as inside).
+
+    A drawer cabinet's ``top_geoms`` also hold its drawer's floor, which is no counter top: an object
+    inside the drawer rests on it (keeping it made PickPlaceCounterToDrawer impossible to succeed).
+    """
     return tuple(
-        g for f in fixtures.values() if f.kind not in ("microwave", "dish_rack") for g in f.top_geoms
+        g
+        for f in fixtures.values()
+        if f.kind not in ("microwave", "dish_rack")
+        for g in f.top_geoms
+        if not g.endswith("_drawer_bottom")
     )
 
 
 def _on_top(
-    fixture: Fixture, rng: np.random.Generator, category: str, y_range=(0.12, 0.28)
+    fixture: Fixture,
+    rng: np.random.Generator,
+    category: str,
+    y_range=(0.12, 0.28),
+    fixtures: dict[str, Fixture] | None = None,
 ) -> tuple[float, float, float]:
     _, half = extent(category)
     margin = max(half[0], half[1]) + 0.03
     x = fixture.pos[0] + rng.uniform(-fixture.size[0] / 2 + margin, fixture.size[0] / 2 - margin)
-    y = fixture.front_y + rng.uniform(*y_range)
+    lo, hi = y_range
+    # Keep clear of a microwave or dish rack standing on this top: without it the object spawned
+    # inside the microwave or on the rack's rail (and fell over), out of any gripper's reach. The
+    # draw is the same, only its range shrinks, so unaffected episodes stay as they were.
+    radius = math.hypot(half[0], half[1])
+    for f in (fixtures or {}).values():
+        if f.kind in ("microwave", "dish_rack") and abs(f.pos[0] - fixture.pos[0]) < 1e-6:
+            hi = min(hi, f.front_y - radius - 0.01 - fixture.front_y)
+            lo = min(lo, hi)
+    y = fixture.front_y + rng.uniform(lo, hi)
     return (float(x), float(y), float(fixture.top))
 
 
@@ -189,7 +210,7 @@ class PickPlaceCounterToDrawer(KitchenTask):
         f = fixtures[drawers[int(rng.integers(len(drawers)))]]
         cats = [c for c in graspable() if extent(c)[1][2] <= 0.05]
         cat = cats[int(rng.integers(len(cats)))]
-        pos = _on_top(f, rng, cat)
+        pos = _on_top(f, rng, cat, fixtures=fixtures)
         return Episode(
             self.name,
             f"Pick the {cat} from the counter and place it in the drawer.",
@@ -232,7 +253,7 @@ class PickPlaceMicrowaveToCounter(KitchenTask):
             if f.top is not None and f.kind in ("counter", "drawer_cabinet", "hinge_cabinet")
         ]
         dest = spots[int(rng.integers(len(spots)))] if spots else host
-        plate = _on_top(dest, rng, "plate", y_range=(0.16, 0.2))
+        plate = _on_top(dest, rng, "plate", y_range=(0.16, 0.2), fixtures=fixtures)
         if dest is host:
             plate = (float(mw.pos[0] + rng.choice([-1, 1]) * 0.3), plate[1], plate[2])
         return Episode(
