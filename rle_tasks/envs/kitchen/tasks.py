@@ -116,7 +116,7 @@ def _on_top(
     # Keep clear of a microwave or dish rack standing on this top: without it the object spawned
     # inside the microwave or on the rack's rail (and fell over), out of any gripper's reach. The
     # draw is the same, only its range shrinks, so unaffected episodes stay as they were.
-    radius = math.hypot(half[0], half[1])
+    radius = max(half[0], half[1])
     for f in (fixtures or {}).values():
         if f.kind in ("microwave", "dish_rack") and abs(f.pos[0] - fixture.pos[0]) < 1e-6:
             hi = min(hi, f.front_y - radius - 0.01 - fixture.front_y)
@@ -252,10 +252,21 @@ class PickPlaceMicrowaveToCounter(KitchenTask):
             for f in _neighbours(host, fixtures)
             if f.top is not None and f.kind in ("counter", "drawer_cabinet", "hinge_cabinet")
         ]
-        dest = spots[int(rng.integers(len(spots)))] if spots else host
+        if not spots:
+            # No counter beside the microwave's unit (a stove, sink, fridge or the run's end): the
+            # nearest counter instead. The unit itself has no room: the plate went into the
+            # microwave's body or onto its open door.
+            flat = [
+                f
+                for f in fixtures.values()
+                if f.pos[2] == 0.0
+                and f.kind in ("counter", "drawer_cabinet", "hinge_cabinet")
+                and f is not host
+            ]
+            near = min(abs(f.pos[0] - mw.pos[0]) for f in flat)
+            spots = [f for f in flat if abs(f.pos[0] - mw.pos[0]) < near + 1e-6]
+        dest = spots[int(rng.integers(len(spots)))]
         plate = _on_top(dest, rng, "plate", y_range=(0.16, 0.2), fixtures=fixtures)
-        if dest is host:
-            plate = (float(mw.pos[0] + rng.choice([-1, 1]) * 0.3), plate[1], plate[2])
         return Episode(
             self.name,
             f"Pick the {cat} from the microwave and place it on the plate on the counter.",

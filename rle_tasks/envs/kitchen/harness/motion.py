@@ -172,9 +172,16 @@ class Motion:
         tol: float = 0.02,
         yaw_tol: float = 0.03,
         max_steps: int = 200,
+        ramp: float | None = None,
     ) -> MoveResult:
-        """Drive the base to (x, y) [m] and heading ``yaw`` [rad] in the world (base mode)."""
+        """Drive the base to (x, y) [m] and heading ``yaw`` [rad] in the world (base mode).
+
+        Args:
+            ramp: Largest change of the base command per action, as a fraction of full scale (None:
+                any): 0.1 accelerates to full speed in 0.5 s, gently enough for an object in the hand.
+        """
         steps, err = 0, np.inf
+        last = np.zeros(3)
         for steps in range(1, max_steps + 1):
             o = self.obs
             d = np.array([x, y]) - np.asarray(o["base_pos"][:2])
@@ -187,7 +194,11 @@ class Motion:
             cmd = np.array(
                 [gain * local[0] / BASE_SPEED, gain * local[1] / BASE_SPEED, gain * dyaw / YAW_SPEED]
             )
-            self.robot.act(base=np.clip(cmd, -1, 1), mode="base")
+            cmd = np.clip(cmd, -1, 1)
+            if ramp is not None:
+                cmd = last + np.clip(cmd - last, -ramp, ramp)
+                last = cmd
+            self.robot.act(base=cmd, mode="base")
         # settle one step with the base commanded still
         self.robot.act(mode="base")
         return MoveResult(False, steps, err)
