@@ -21,6 +21,8 @@ from .pick import EMPTY, FAR, ROUND, box
 
 PITCH = 0.9
 """Lean of the tool from straight down towards the wall while grasping [rad]."""
+FIT = 0.062
+"""Object length [m] above which the fingers turn to close across the object's narrow side."""
 MAX_TURN = 0.6
 """Largest turn of the reach direction away from straight into the microwave [rad]."""
 PALM = 0.026
@@ -48,16 +50,16 @@ FACING_WALL = np.pi / 2
 
 
 def _reach(obs: dict, name: str) -> tuple[np.ndarray, np.ndarray]:
-    """Grasp (tool position [m], quaternion): leaning ``PITCH`` into the microwave, closing across the
-    object's narrower horizontal side where a turn of the reach within ``MAX_TURN`` allows, the palm
-    clear of the object's box."""
+    """Grasp (tool position [m], quaternion): leaning ``PITCH`` into the microwave, closing across an
+    object longer than ``FIT`` on its narrower horizontal side as far as a turn of the reach within
+    ``MAX_TURN`` allows, the palm clear of the object."""
     o = obs["objects"][name]
     c, _, rot = box(obs, name)
     half = np.asarray(o["half"])
     up = int(np.argmax(np.abs(rot[2])))
     i, j = (k for k in range(3) if k != up)
     turn = 0.0
-    if abs(half[i] - half[j]) >= 0.004:
+    if 2 * max(half[i], half[j]) > FIT and abs(half[i] - half[j]) >= 0.004:  # long: close across it
         a = rot[:, i] if half[i] < half[j] else rot[:, j]
         turn = float((np.arctan2(a[1], a[0]) + np.pi / 2) % np.pi - np.pi / 2)  # closing axis vs +x
         turn = float(np.clip(turn, -MAX_TURN, MAX_TURN))
