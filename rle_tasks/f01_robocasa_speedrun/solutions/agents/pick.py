@@ -18,8 +18,13 @@ from rle_tasks.envs.kitchen.harness.geometry import quat_to_mat
 from rle_tasks.envs.kitchen.harness.motion import Motion, down_quat
 from rle_tasks.envs.kitchen.harness.robot import Robot
 
-__all__ = ["Held", "box", "grasp_yaw", "pick", "place"]
+__all__ = ["ACTION_CAP", "Held", "box", "grasp_yaw", "out_of_actions", "pick", "place"]
 
+ACTION_CAP = 850
+"""Actions after which a program gives up before its next motion (a trial allows 1,000; no single
+motion of the programs takes more than 150)."""
+DT = 0.05
+"""Duration of one action [s]."""
 FINGER_CLEARANCE = 0.022
 """Least height of the tool (the finger pads' centre) above the support while grasping [m]."""
 PALM = 0.021
@@ -55,9 +60,9 @@ def box(obs: dict, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return pos + rot @ np.asarray(o["center"]), np.abs(rot) @ np.asarray(o["half"]), rot
 
 
-def _tool_yaw(obs: dict) -> float:
-    r = quat_to_mat(obs["ee_quat"])
-    return float(np.arctan2(r[1, 0], r[0, 0]))
+def out_of_actions(robot: Robot) -> bool:
+    """The episode has used ``ACTION_CAP`` actions (its simulated time counts them)."""
+    return float(robot.obs["time"]) / DT >= ACTION_CAP - 0.5
 
 
 def grasp_yaw(obs: dict, name: str) -> float:

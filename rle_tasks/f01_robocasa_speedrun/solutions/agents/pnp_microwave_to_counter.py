@@ -17,7 +17,7 @@ from rle_tasks.envs.kitchen.harness.geometry import quat_to_mat
 from rle_tasks.envs.kitchen.harness.motion import Motion, down_quat
 from rle_tasks.envs.kitchen.harness.robot import Robot
 
-from .pick import EMPTY, FAR, ROUND, box
+from .pick import EMPTY, FAR, ROUND, box, out_of_actions
 
 PITCH = 0.9
 """Lean of the tool from straight down towards the wall while grasping [rad]."""
@@ -92,6 +92,8 @@ def solve(robot: Robot, motion: Motion) -> bool:
     motion.set_torso(TORSO)
     held = False
     for _ in range(2):
+        if out_of_actions(robot):
+            break
         obs = robot.observe()
         g, q = _reach(obs, name)
         tz = quat_to_mat(q)[:, 2]
@@ -133,6 +135,8 @@ def solve(robot: Robot, motion: Motion) -> bool:
     obs = robot.observe()
     base_x = float(pp[0] - offset[0] - (obs["ee_pos"][0] - obs["base_pos"][0]))
     base_y = float(pp[1] - PLACE_STANDOFF)
+    if out_of_actions(robot):
+        return False
     # sideways first (the object passes in front of the microwave), backed off past the door's edge
     # when it stands in the way, then up to the counter
     side_y = BASE_Y - 0.12 if over_door else float(obs["base_pos"][1])
@@ -140,6 +144,8 @@ def solve(robot: Robot, motion: Motion) -> bool:
         motion.drive_to(float(obs["base_pos"][0]), side_y, FACING_WALL, max_steps=60, ramp=RAMP)
     motion.drive_to(base_x, side_y, FACING_WALL, max_steps=150, ramp=RAMP)
     motion.drive_to(base_x, base_y, FACING_WALL, max_steps=100, ramp=RAMP)
+    if out_of_actions(robot):
+        return False
     offset, bottom = _hold(robot.observe(), name)
     above = np.array([pp[0] - offset[0], pp[1] - offset[1], carry])
     motion.move_tool(above, q, tol=0.01, max_steps=100, gripper=1.0, correct=True)
