@@ -113,13 +113,15 @@ def _on_top(
     margin = max(half[0], half[1]) + 0.03
     x = fixture.pos[0] + rng.uniform(-fixture.size[0] / 2 + margin, fixture.size[0] / 2 - margin)
     lo, hi = y_range
-    # Keep clear of a microwave or dish rack standing on this top: without it the object spawned
-    # inside the microwave or on the rack's rail (and fell over), out of any gripper's reach. The
-    # draw is the same, only its range shrinks, so unaffected episodes stay as they were.
+    # Keep clear of a microwave (its door and handle stand 6 cm proud of its front) or dish rack on
+    # this top: without it the object spawned inside the microwave or on the rack's rail (and fell
+    # over), out of any gripper's reach. The draw is the same, only its range shrinks, so unaffected
+    # episodes stay as they were.
     radius = max(half[0], half[1])
     for f in (fixtures or {}).values():
         if f.kind in ("microwave", "dish_rack") and abs(f.pos[0] - fixture.pos[0]) < 1e-6:
-            hi = min(hi, f.front_y - radius - 0.01 - fixture.front_y)
+            clear = 0.07 if f.kind == "microwave" else 0.01
+            hi = min(hi, f.front_y - radius - clear - fixture.front_y)
             lo = min(lo, hi)
     y = fixture.front_y + rng.uniform(lo, hi)
     return (float(x), float(y), float(fixture.top))

@@ -27,9 +27,9 @@ DT = 0.05
 """Duration of one action [s]."""
 FINGER_CLEARANCE = 0.022
 """Least height of the tool (the finger pads' centre) above the support while grasping [m]."""
-PALM = 0.021
-"""Grasp depth below an object's top [m]: the palm, 26 mm above the tool, stays 5 mm clear of it (a
-cup pressed into the palm wedges and stays in the open hand)."""
+PALM = 0.016
+"""Grasp depth below an object's top [m]: the palm, 26 mm above the tool, stays 1 cm clear of it (a
+can or cup pressed into the palm wedges and stays in the open hand)."""
 PALM_ROUND = 0.03
 """Grasp depth below a round object's top [m]: the fingers must reach its equator (the palm touches)."""
 APPROACH = 0.10

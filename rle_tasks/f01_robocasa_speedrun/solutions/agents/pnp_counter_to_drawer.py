@@ -30,7 +30,7 @@ TALL = 1.2
 """Height of a fixture [m] above which the arm at its home pose would hit its front."""
 AVOID = 1.0
 """Cost [m] of a side with a tall fixture (a third of it for the microwave, which the hand passes)."""
-VIA = 0.08
+VIA = 0.03
 """The hand approaches the object from this far behind the counter's front edge, in front of any
 appliance on the counter [m]."""
 FACING_WALL = np.pi / 2
