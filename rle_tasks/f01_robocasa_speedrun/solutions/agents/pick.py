@@ -2,9 +2,10 @@
 
 Objects are grasped from above (``down_quat``) with the fingers closing across the object's narrower
 horizontal side, as deep as the palm lets them (``PALM`` below the object's top, kept clear of the
-surface below), and
-put down by lowering them until their bottom is just above the new support before the fingers open.
-Every move uses ``move_tool(correct=True)``, which servos out the controller's steady-state error.
+surface below), and put down by lowering them until their bottom is just above the new support
+before the fingers open. Moves that must be precise use ``move_tool(correct=True)``, which servos out
+the controller's steady-state error. A grasp is checked by the finger opening (``EMPTY``), not by
+``world.grasped``, which sees contacts with the finger bodies only and misses the finger pads'.
 """
 
 from __future__ import annotations
@@ -18,11 +19,20 @@ from rle_tasks.envs.kitchen.harness.geometry import quat_to_mat
 from rle_tasks.envs.kitchen.harness.motion import Motion, down_quat
 from rle_tasks.envs.kitchen.harness.robot import Robot
 
-__all__ = ["ACTION_CAP", "Held", "box", "grasp_yaw", "out_of_actions", "pick", "place"]
+__all__ = [
+    "PICK_ACTIONS",
+    "PLACE_ACTIONS",
+    "TRIAL_ACTIONS",
+    "Held",
+    "box",
+    "grasp_yaw",
+    "out_of_actions",
+    "pick",
+    "place",
+]
 
-ACTION_CAP = 850
-"""Actions after which a program gives up before its next motion (a trial allows 1,000; no single
-motion of the programs takes more than 150)."""
+TRIAL_ACTIONS = 1000
+"""Actions one evaluation trial allows."""
 DT = 0.05
 """Duration of one action [s]."""
 FINGER_CLEARANCE = 0.022
@@ -32,6 +42,10 @@ PALM = 0.016
 can or cup pressed into the palm wedges and stays in the open hand)."""
 PALM_ROUND = 0.03
 """Grasp depth below a round object's top [m]: the fingers must reach its equator (the palm touches)."""
+PICK_ACTIONS = 380
+"""Most actions ``pick`` takes."""
+PLACE_ACTIONS = 300
+"""Most actions ``place`` takes."""
 APPROACH = 0.10
 """Height of the pre-grasp pose above the grasp pose [m]."""
 RELEASE_DROP = 0.015
@@ -60,9 +74,9 @@ def box(obs: dict, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return pos + rot @ np.asarray(o["center"]), np.abs(rot) @ np.asarray(o["half"]), rot
 
 
-def out_of_actions(robot: Robot) -> bool:
-    """The episode has used ``ACTION_CAP`` actions (its simulated time counts them)."""
-    return float(robot.obs["time"]) / DT >= ACTION_CAP - 0.5
+def out_of_actions(robot: Robot, reserve: int) -> bool:
+    """The episode (its simulated time counts its actions) has fewer than ``reserve`` actions left."""
+    return round(float(robot.obs["time"]) / DT) + reserve >= TRIAL_ACTIONS
 
 
 def grasp_yaw(obs: dict, name: str) -> float:
@@ -93,7 +107,8 @@ def pick(
     """Grasp object ``name`` standing on a surface at ``support_z`` [m] from above and lift it by
     ``lift`` [m]; returns the hold, or None when the fingers closed on nothing or it stayed behind.
     With ``via_y`` [m] the hand first travels at the pre-grasp height to ``via_y`` in front of the
-    object (past appliances on the counter, under the wall cabinets) and then slides in."""
+    object (past appliances on the counter, under the wall cabinets) and then slides in. Takes at most
+    ``PICK_ACTIONS`` actions."""
     obs = robot.observe()
     c, h, _ = box(obs, name)
     yaw = grasp_yaw(obs, name)
@@ -121,7 +136,7 @@ def pick(
 
 def place(robot: Robot, motion: Motion, held: Held, xy: np.ndarray, support_z: float, carry_z: float) -> None:
     """Carry the held object at tool height ``carry_z`` [m] to above ``xy`` [m], lower it onto the surface
-    at ``support_z`` [m], let go and raise the tool ``FAR`` above it."""
+    at ``support_z`` [m], let go and raise the tool ``FAR`` above it (at most ``PLACE_ACTIONS`` actions)."""
     q = robot.observe()["ee_quat"]
     motion.move_tool([xy[0], xy[1], carry_z], q, tol=0.015, max_steps=150, gripper=1.0, correct=True)
     z = support_z + held.below + RELEASE_DROP

@@ -16,7 +16,7 @@ from rle_tasks.envs.kitchen.harness import world
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
 
-from .pick import box, out_of_actions, pick, place
+from .pick import PICK_ACTIONS, PLACE_ACTIONS, box, out_of_actions, pick, place
 
 COLUMN = 0.16
 """Clearance from the base's centre to the side of the drawer: the column's radius 0.125 m and a margin [m]."""
@@ -78,13 +78,13 @@ def solve(robot: Robot, motion: Motion) -> bool:
     via = float(drawer["pos"][1] - drawer["size"][1] / 2) + VIA
     held = None
     for _ in range(2):
-        if out_of_actions(robot):
+        if out_of_actions(robot, PICK_ACTIONS + 6):
             break
         held = pick(robot, motion, name, counter_z, via_y=via)
         if held is not None:
             break
         motion.open_gripper(steps=6)
-    if held is None or out_of_actions(robot):
+    if held is None or out_of_actions(robot, PLACE_ACTIONS):
         return False
     inner = drawer["interior"]
     ic, ih = np.asarray(inner["center"]), np.asarray(inner["half"])

@@ -3,9 +3,11 @@
 The microwave's cavity (0.26 m high) leaves no room above the object for a hand pointing down, so
 the hand reaches in through the opening leaning ``PITCH`` forward, its fingers closing sideways
 (turned by up to ``MAX_TURN`` to close across a box's narrow side), from a base standing 1 m from the
-wall in front of the object. It pulls the object straight out, lifts it (over the open door, hinged
-on the microwave's left, when the plate lies beyond it), drives to the plate with the arm holding
-still, lowers the object onto the plate's centre and lets go.
+wall in front of the object. It pulls the object straight out (a round one then turns to hang from
+a hand pointing down), lifts it (over the open door, hinged on the microwave's left, when the plate
+lies beyond it), drives sideways to the plate with the arm holding still and the base's acceleration
+limited, lowers the object onto the plate's centre and lets go. Butter lying lengthwise across the
+opening is the weak case: a turn of the reach beyond ``MAX_TURN`` hits the cavity's walls.
 """
 
 from __future__ import annotations
@@ -35,8 +37,6 @@ DOOR_CLEARANCE = 0.04
 """Height of the held object's bottom above the open door's top edge [m]."""
 PLACE_STANDOFF = 0.42
 """Distance from the base's centre to the plate's centre along y when placing [m]."""
-BALL = 0.003
-"""Spread of an object's half extents [m] below which it is a ball (apple, orange)."""
 RAMP = 0.1
 """Base acceleration limit while carrying (``Motion.drive_to``'s ``ramp``)."""
 TORSO = 0.15
@@ -46,6 +46,9 @@ SET_DOWN = 0.005
 GRIPPER_MAX = 0.08
 """Finger opening of a fully open gripper [m] (an action's gripper value g opens it to
 GRIPPER_MAX (1 - g) / 2)."""
+GRASP_ACTIONS, LIFT_ACTIONS, DRIVE_ACTIONS, SET_ACTIONS = 360, 240, 310, 265
+"""Most actions of a grasp attempt, of taking the object out (and turning a ball), of the drives to
+the plate and of setting it down and letting go."""
 FACING_WALL = np.pi / 2
 
 
@@ -92,7 +95,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
     motion.set_torso(TORSO)
     held = False
     for _ in range(2):
-        if out_of_actions(robot):
+        if out_of_actions(robot, GRASP_ACTIONS):
             break
         obs = robot.observe()
         g, q = _reach(obs, name)
@@ -105,10 +108,10 @@ def solve(robot: Robot, motion: Motion) -> bool:
             held = True
             break
         motion.move_tool(g - 0.1 * tz, q, tol=0.02, max_steps=40, gripper=-1.0)
-    if not held:
+    if not held or out_of_actions(robot, LIFT_ACTIONS):
         return False
-    # out of the microwave; a ball turns to hang from a hand pointing down (the palm then sits on top
-    # of it and cannot push it off the plate when the fingers open)
+    # out of the microwave; a round object turns to hang from a hand pointing down (the palm then sits
+    # on top of it and cannot push it off the plate when the fingers open)
     tool = np.asarray(robot.observe()["ee_pos"]) + [0.0, 0.0, 0.02]
     motion.move_tool(tool, q, tol=0.01, max_steps=20, gripper=1.0, correct=True)
     tool[1] = front - OUTSIDE
@@ -119,7 +122,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
     plate_top = float(pc[2] + ph[2])
     offset, bottom = _hold(obs, name)
     carry = plate_top + bottom + 0.08
-    if float(np.ptp(obs["objects"][name]["half"])) < BALL:
+    if float(np.ptp(obs["objects"][name]["half"])) < ROUND:
         motion.move_tool([tool[0], tool[1], carry], q, tol=0.02, max_steps=40, gripper=1.0)
         q = down_quat(FACING_WALL + np.pi / 2)
         motion.move_tool(robot.observe()["ee_pos"], q, tol=0.02, max_steps=40, gripper=1.0)
@@ -135,7 +138,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
     obs = robot.observe()
     base_x = float(pp[0] - offset[0] - (obs["ee_pos"][0] - obs["base_pos"][0]))
     base_y = float(pp[1] - PLACE_STANDOFF)
-    if out_of_actions(robot):
+    if out_of_actions(robot, DRIVE_ACTIONS):
         return False
     # sideways first (the object passes in front of the microwave), backed off past the door's edge
     # when it stands in the way, then up to the counter
@@ -144,7 +147,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
         motion.drive_to(float(obs["base_pos"][0]), side_y, FACING_WALL, max_steps=60, ramp=RAMP)
     motion.drive_to(base_x, side_y, FACING_WALL, max_steps=150, ramp=RAMP)
     motion.drive_to(base_x, base_y, FACING_WALL, max_steps=100, ramp=RAMP)
-    if out_of_actions(robot):
+    if out_of_actions(robot, SET_ACTIONS):
         return False
     offset, bottom = _hold(robot.observe(), name)
     above = np.array([pp[0] - offset[0], pp[1] - offset[1], carry])
