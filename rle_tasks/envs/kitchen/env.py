@@ -262,7 +262,9 @@ class KitchenEnv(MobileManipulatorEnv):
             fixtures[f.name] = _fixture_state(model, data, f)
         target = dict(self.scene.episode.target)
         obj = target.get("object")
-        grasped = bool(obj) and all(pr.bodies_touch(model, data, obj, pad) for pad in ROBOT.finger_pads)
+        grasped = bool(obj) and all(
+            pr.bodies_touch(model, data, obj, _subtree_geoms(model, pad)) for pad in ROBOT.finger_pads
+        )
         return {"objects": objects, "fixtures": fixtures, "target": target, "grasped": grasped}
 
     def query(self, model: mujoco.MjModel, data: mujoco.MjData, name: str, args: dict[str, Any]) -> Any:
@@ -329,6 +331,21 @@ class KitchenEnv(MobileManipulatorEnv):
             "boxes": np.array(boxes, dtype=np.float64).reshape(len(boxes), 4),
             "scores": np.array(scores, dtype=np.float64),
         }
+
+
+def _subtree_geoms(model: mujoco.MjModel, body: str) -> set[int]:
+    """Geoms of ``body`` and of every body below it (a finger and its pad)."""
+    root = model.body(body).id
+    bodies = {b for b in range(model.nbody) if _descends(model, b, root)}
+    return {g for g in range(model.ngeom) if model.geom_bodyid[g] in bodies}
+
+
+def _descends(model: mujoco.MjModel, b: int, root: int) -> bool:
+    while b > 0:
+        if b == root:
+            return True
+        b = model.body_parentid[b]
+    return b == root
 
 
 def _fixture_state(model: mujoco.MjModel, data: mujoco.MjData, f: Fixture) -> dict[str, Any]:

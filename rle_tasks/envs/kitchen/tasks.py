@@ -109,22 +109,6 @@ def _tops(fixtures: dict[str, Fixture]) -> tuple[str, ...]:
     )
 
 
-def _footprints(fixtures: dict[str, Fixture] | None) -> list[tuple[float, float, float, float]]:
-    """(x0, x1, y0, y1) of what stands on counter tops (microwave, dish rack) [m]."""
-    out = []
-    for f in (fixtures or {}).values():
-        if f.kind in ("microwave", "dish_rack"):
-            out.append(
-                (
-                    f.pos[0] - f.size[0] / 2,
-                    f.pos[0] + f.size[0] / 2,
-                    f.pos[1] - f.size[1] / 2,
-                    f.pos[1] + f.size[1] / 2,
-                )
-            )
-    return out
-
-
 def _on_top(
     fixture: Fixture,
     rng: np.random.Generator,
@@ -133,9 +117,12 @@ def _on_top(
     fixtures: dict[str, Fixture] | None = None,
     taken: tuple[tuple[float, float, float], ...] = (),
 ) -> tuple[float, float, float]:
-    """A spot on ``fixture``'s counter top, clear (by 2 cm) of the microwave and the dish rack and of the
-    objects at ``taken`` (x, y, radius). The first draw is kept when it is clear; otherwise up to 200
-    more draws, with the depth range widened to the whole top.
+    """A spot on ``fixture``'s counter top, clear of a microwave (7 cm: its door and handle stand 6 cm
+    proud of its front) or dish rack (1 cm) and of the objects at ``taken`` (x, y, radius; 2 cm).
+
+    The depth range shrinks in front of a microwave or dish rack standing on this top, so one draw
+    usually lands clear (an object spawned inside the microwave or on the rack's rail fell over, out of
+    any gripper's reach); when it does not, up to 200 more draws over the whole top.
 
     Raises:
         ValueError: No clear spot on this top.
@@ -143,16 +130,22 @@ def _on_top(
     _, half = extent(category)
     r = max(half[0], half[1])
     margin = r + 0.03
-    blocks = _footprints(fixtures)
-    lo, hi = -fixture.size[0] / 2 + margin, fixture.size[0] / 2 - margin
+    lo, hi = y_range
+    blocks = []
+    for f in (fixtures or {}).values():
+        if f.kind in ("microwave", "dish_rack"):
+            front = 0.07 if f.kind == "microwave" else 0.01
+            x0, x1 = f.pos[0] - f.size[0] / 2, f.pos[0] + f.size[0] / 2
+            blocks.append((x0 - 0.01, x1 + 0.01, f.front_y - front, f.pos[1] + f.size[1] / 2))
+            if abs(f.pos[0] - fixture.pos[0]) < 1e-6:
+                hi = min(hi, f.front_y - r - front - fixture.front_y)
+                lo = min(lo, hi)
+    xs = (-fixture.size[0] / 2 + margin, fixture.size[0] / 2 - margin)
     for k in range(201):
-        yr = y_range if k == 0 else (r + 0.03, fixture.size[1] - r - 0.03)
-        x = fixture.pos[0] + rng.uniform(lo, hi)
-        y = fixture.front_y + rng.uniform(*yr)
-        clear = all(
-            x + r + 0.02 < x0 or x - r - 0.02 > x1 or y + r + 0.02 < y0 or y - r - 0.02 > y1
-            for x0, x1, y0, y1 in blocks
-        )
+        ys = (lo, hi) if k == 0 else (r + 0.03, fixture.size[1] - r - 0.03)
+        x = fixture.pos[0] + rng.uniform(*xs)
+        y = fixture.front_y + rng.uniform(*ys)
+        clear = all(x + r < x0 or x - r > x1 or y + r < y0 or y - r > y1 for x0, x1, y0, y1 in blocks)
         clear = clear and all(np.hypot(x - tx, y - ty) > r + tr + 0.02 for tx, ty, tr in taken)
         if clear:
             return (float(x), float(y), float(fixture.top))
@@ -165,9 +158,10 @@ def spot_near(
     rng: np.random.Generator,
     category: str,
     placements: tuple[Placement, ...] = (),
+    y_range: tuple[float, float] = (0.12, 0.28),
 ) -> tuple[float, float, float]:
-    """A clear spot on the flat counter top nearest to ``f`` (its own top when it has one), trying the next
-    nearest tops when one is full (the microwave or the dish rack may take a top).
+    """A clear spot (``_on_top``) on the flat counter top nearest to ``f`` (its own top when it has one),
+    trying the next nearest tops when one is full (the microwave or the dish rack may take a top).
 
     Raises:
         ValueError: No flat top in the kitchen has room.
@@ -181,7 +175,7 @@ def spot_near(
     )
     for host in flat:
         try:
-            return _on_top(host, rng, category, fixtures=fixtures, taken=taken)
+            return _on_top(host, rng, category, y_range, fixtures=fixtures, taken=taken)
         except ValueError:
             continue
     raise ValueError(f"no clear counter spot for a {category} near {f.name}")
@@ -314,8 +308,21 @@ class PickPlaceMicrowaveToCounter(KitchenTask):
             for f in _neighbours(host, fixtures)
             if f.top is not None and f.kind in ("counter", "drawer_cabinet", "hinge_cabinet")
         ]
-        dest = spots[int(rng.integers(len(spots)))] if spots else host
-        plate = spot_near(fixtures, dest, rng, "plate")
+        if not spots:
+            # No counter beside the microwave's unit (a stove, sink, fridge or the run's end): the
+            # nearest counter instead. The unit itself has no room: the plate went into the
+            # microwave's body or onto its open door.
+            flat = [
+                f
+                for f in fixtures.values()
+                if f.pos[2] == 0.0
+                and f.kind in ("counter", "drawer_cabinet", "hinge_cabinet")
+                and f is not host
+            ]
+            near = min(abs(f.pos[0] - mw.pos[0]) for f in flat)
+            spots = [f for f in flat if abs(f.pos[0] - mw.pos[0]) < near + 1e-6]
+        dest = spots[int(rng.integers(len(spots)))]
+        plate = spot_near(fixtures, dest, rng, "plate", y_range=(0.16, 0.2))
         return Episode(
             self.name,
             f"Pick the {cat} from the microwave and place it on the plate on the counter.",

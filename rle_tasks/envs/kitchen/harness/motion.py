@@ -24,13 +24,28 @@ __all__ = ["DT", "Motion", "MoveResult", "down_quat", "facing_quat"]
 DT = 0.05
 """Duration of one action [s] (20 Hz)."""
 
+CORRECT_GAIN = 0.5
+"""Fraction of the measured pose error added to the target per action by ``move_tool(correct=True)``."""
+CORRECT_ZONE = 0.05
+"""Distance to the goal [m] within which ``move_tool(correct=True)`` integrates the error."""
+CORRECT_MAX = 0.04
+"""Largest position correction per axis [m]."""
+CORRECT_MAX_ROT = 0.2
+"""Largest orientation correction per axis [rad]."""
 
-def down_quat(yaw: float = 0.0) -> np.ndarray:
-    """World orientation of a tool pointing down (tool z = -world z), its fingers' closing axis turned
-    by ``yaw`` [rad] about the world z."""
+
+def down_quat(yaw: float = 0.0, pitch: float = 0.0) -> np.ndarray:
+    """World orientation of a tool pointing down (tool z = -world z), its fingers' closing axis (tool x)
+    turned by ``yaw`` [rad] about the world z, then tilted by ``pitch`` [rad] about that (horizontal)
+    closing axis: tool z = (-sin yaw sin pitch, cos yaw sin pitch, -cos pitch), leaning towards
+    (-sin yaw, cos yaw) for a positive ``pitch``."""
     base = np.array([0.0, 1.0, 0.0, 0.0])  # 180 degrees about x: tool z down
     turn = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
-    return quat_mul(turn, base)
+    q = quat_mul(turn, base)
+    if pitch:
+        axis = np.array([np.cos(yaw), np.sin(yaw), 0.0])
+        q = quat_mul(np.array([np.cos(pitch / 2), *(np.sin(pitch / 2) * axis)]), q)
+    return q
 
 
 def facing_quat(heading: float, pitch: float = 0.0) -> np.ndarray:
@@ -54,6 +69,14 @@ class MoveResult:
 
 def _wrap(a: float) -> float:
     return float((a + np.pi) % (2 * np.pi) - np.pi)
+
+
+def _exp(rv: np.ndarray) -> np.ndarray:
+    """Unit quaternion of a rotation vector [rad]."""
+    a = float(np.linalg.norm(rv))
+    return (
+        np.array([1.0, 0.0, 0.0, 0.0]) if a < 1e-12 else np.array([np.cos(a / 2), *(np.sin(a / 2) * rv / a)])
+    )
 
 
 class Motion:
@@ -89,6 +112,7 @@ class Motion:
         max_steps: int = 150,
         speed: float = 1.0,
         gripper: float | None = None,
+        correct: bool = False,
     ) -> MoveResult:
         """Move the tool to a world pose (``quat`` None keeps the current orientation).
 
@@ -100,16 +124,29 @@ class Motion:
             max_steps: Actions at most.
             speed: Fraction of the full-scale step used per action (0, 1].
             gripper: Gripper command held during the motion (None keeps the last).
+            correct: Integrate the measured pose error into the controller's target once the tool is
+                within ``CORRECT_ZONE`` of the goal (at most ``CORRECT_MAX`` [m] / ``CORRECT_MAX_ROT``
+                [rad]), which removes the controller's steady-state error (gravity sag, a load, the
+                fingers pressing on something) near the edge of the workspace.
         """
         steps, err = 0, np.inf
+        bias_p, bias_r = np.zeros(3), np.zeros(3)
         for steps in range(1, max_steps + 1):
             o = self.obs
             p_des, q_des = self._to_base(pos, quat)
-            d_pos = p_des - np.asarray(o["target_pos_base"])
+            if correct:
+                p_now, q_now = self._to_base(o["ee_pos"], o["ee_quat"] if q_des is not None else None)
+                if np.linalg.norm(p_des - p_now) < CORRECT_ZONE:
+                    bias_p = np.clip(bias_p + CORRECT_GAIN * (p_des - p_now), -CORRECT_MAX, CORRECT_MAX)
+                    if q_des is not None:
+                        e_rot = rotvec(quat_mul(q_des, quat_conj(q_now)))
+                        bias_r = np.clip(bias_r + CORRECT_GAIN * e_rot, -CORRECT_MAX_ROT, CORRECT_MAX_ROT)
+            d_pos = p_des + bias_p - np.asarray(o["target_pos_base"])
             arm = np.zeros(6)
             arm[:3] = np.clip(d_pos / POS_STEP, -speed, speed)
             if q_des is not None:
-                rv = rotvec(quat_mul(q_des, quat_conj(np.asarray(o["target_quat_base"]))))
+                q_cmd = quat_mul(_exp(bias_r), q_des) if correct else q_des
+                rv = rotvec(quat_mul(q_cmd, quat_conj(np.asarray(o["target_quat_base"]))))
                 arm[3:] = np.clip(rv / ROT_STEP, -speed, speed)
             o = self.robot.act(arm=arm, gripper=gripper)
             p_now, _ = self._to_base(o["ee_pos"], None)
@@ -151,9 +188,16 @@ class Motion:
         tol: float = 0.02,
         yaw_tol: float = 0.03,
         max_steps: int = 200,
+        ramp: float | None = None,
     ) -> MoveResult:
-        """Drive the base to (x, y) [m] and heading ``yaw`` [rad] in the world (base mode)."""
+        """Drive the base to (x, y) [m] and heading ``yaw`` [rad] in the world (base mode).
+
+        Args:
+            ramp: Largest change of the base command per action, as a fraction of full scale (None:
+                any): 0.1 accelerates to full speed in 0.5 s, gently enough for an object in the hand.
+        """
         steps, err = 0, np.inf
+        last = np.zeros(3)
         for steps in range(1, max_steps + 1):
             o = self.obs
             d = np.array([x, y]) - np.asarray(o["base_pos"][:2])
@@ -166,7 +210,11 @@ class Motion:
             cmd = np.array(
                 [gain * local[0] / BASE_SPEED, gain * local[1] / BASE_SPEED, gain * dyaw / YAW_SPEED]
             )
-            self.robot.act(base=np.clip(cmd, -1, 1), mode="base")
+            cmd = np.clip(cmd, -1, 1)
+            if ramp is not None:
+                cmd = last + np.clip(cmd - last, -ramp, ramp)
+                last = cmd
+            self.robot.act(base=cmd, mode="base")
         # settle one step with the base commanded still
         self.robot.act(mode="base")
         return MoveResult(False, steps, err)
