@@ -366,7 +366,10 @@ def add_drawer_cabinet(world: mujoco.MjsBody, name: str, x: float, w: float, sty
         armature=0.05,
     )
     joint.limited = 1
-    iw, idp, ih = w / 2 - PANEL - GAP - 0.01, d / 2 - PANEL - 0.02, 0.13
+    iw, ih = w / 2 - PANEL - GAP - 0.01, 0.13
+    # the tray runs from the front panel's inner face to 2 cm short of the carcass's back panel
+    tray_front, tray_back = -d / 2 - GAP, d / 2 - PANEL - 0.02
+    yc, idp = (tray_front + tray_back) / 2, (tray_back - tray_front) / 2
     rgba = style.cabinet
     _box(
         drawer,
@@ -376,13 +379,13 @@ def add_drawer_cabinet(world: mujoco.MjsBody, name: str, x: float, w: float, sty
         rgba,
         mass=1.0,
     )
-    _box(drawer, f"{name}_drawer_bottom", (0, 0, 0.01 + 0.005), (iw, idp, 0.005), rgba, mass=0.8)
-    _box(drawer, f"{name}_drawer_back", (0, idp - 0.005, 0.01 + ih / 2), (iw, 0.005, ih / 2), rgba, mass=0.3)
+    _box(drawer, f"{name}_drawer_bottom", (0, yc, 0.01 + 0.005), (iw, idp, 0.005), rgba, mass=0.8)
+    _box(drawer, f"{name}_drawer_back", (0, tray_back - 0.005, 0.01 + ih / 2), (iw, 0.005, ih / 2), rgba, mass=0.3)
     for k, sx in enumerate((-1, 1)):
         _box(
             drawer,
             f"{name}_drawer_side{k}",
-            (sx * (iw - 0.005), 0, 0.01 + ih / 2),
+            (sx * (iw - 0.005), yc, 0.01 + ih / 2),
             (0.005, idp, ih / 2),
             rgba,
             mass=0.3,
@@ -390,7 +393,7 @@ def add_drawer_cabinet(world: mujoco.MjsBody, name: str, x: float, w: float, sty
     handle = _bar_handle(
         drawer, f"{name}_handle", (0, -d / 2 - PANEL - GAP, front_h / 2), min(0.3, w * 0.5), False, style
     )
-    interior = Interior(drawer.name, (0, 0, 0.02 + ih / 2), (iw - 0.01, idp - 0.01, ih / 2))
+    interior = Interior(drawer.name, (0, yc, 0.02 + ih / 2), (iw - 0.01, idp - 0.01, ih / 2))
     return Fixture(
         name,
         "drawer_cabinet",

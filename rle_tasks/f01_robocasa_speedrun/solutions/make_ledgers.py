@@ -1,8 +1,8 @@
 """Build-time recorder of the shipped ledgers: ``python -m rle_tasks.f01_robocasa_speedrun.solutions.make_ledgers [TASK_ID ...]``.
 
 Each ledger is recorded as an agent's would be: a ``LedgerServer`` serves the task's session under the
-public development key (images off: no program reads them, and they change neither the scenes nor
-their digests), the program drives it through a ``LedgerClient``, and the session is sealed. The
+public development key (images off at level 3, where no program reads them; they change neither
+the scenes nor their digests), the program drives it through a ``LedgerClient``, and the session is sealed. The
 ledger is written gzipped to ``ledgers/<task id>/<name>/ledger.jsonl.gz``; the script then verifies
 each solution and prints the checksum and score to pin in ``PINS``.
 """
@@ -37,7 +37,7 @@ def record(kitchen: KitchenTaskId, level: int, program: Callable[[LedgerClient],
     with tempfile.TemporaryDirectory(prefix="rle-f01-") as tmp:
         ledger = Path(tmp) / LEDGER
         server = LedgerServer(
-            scenes(kitchen, level, PUBLIC, image_size=None),
+            scenes(kitchen, level, PUBLIC, image_size=None if level == 3 else (128, 128)),
             key=ledger_key(PUBLIC, task_id),
             ledger_path=ledger,
             socket_path=Path(tmp) / "ledger.sock",
