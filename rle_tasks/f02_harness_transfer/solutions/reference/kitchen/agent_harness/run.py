@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .skills import BESIDE_Y, COUNTER_Z, FRONT_Y, SIDE_GAP, STAND_Y, Drawer, Skills
+from .skills import BESIDE_Y, COUNTER_Z, FRONT_Y, SIDE_GAP, STAND_Y, Drawer, Skills, turn_knob
 
 __all__ = ["Step", "parse", "solve"]
 
@@ -70,7 +70,7 @@ def solve(client: Any, instruction: str) -> str:
     """Reset the session once, then carry out the instruction; returns the skill log (one line per
     event) for the caller to read."""
     sk = Skills(client)
-    sk.robot.reset()
+    sk.reset()
     steps = parse(instruction)
     sk.note(f"plan: {steps}")
     ctx: dict[str, Any] = {}
@@ -95,47 +95,63 @@ def _drawer(sk: Skills, ctx: dict[str, Any]) -> Drawer | None:
     return ctx["drawer"]
 
 
-def _side(sk: Skills, d: Drawer, target_x: float) -> float:
-    """Side (+1: +x) of the drawer to stand beside: towards ``target_x`` unless a tall fridge stands
-    there (its front is 0.1 m proud and the arm would hit it)."""
+def _beside(sk: Skills, d: Drawer, target_x: float) -> tuple[float, float, float]:
+    """(x, y [m], side) of the base beside the open drawer, on the side of ``target_x`` (+1: +x) unless
+    the fridge stands there (its front is 0.1 m prouder and the arm would hit it)."""
     side = 1.0 if target_x >= d.x else -1.0
     fridge = sk.extent_x("fridge", (-np.inf, -np.inf, 0.95), (np.inf, np.inf, 2.0))
     for s in (side, -side):
         x = d.x + s * (d.width / 2 + SIDE_GAP)
         if fridge is None or not (fridge[0] - 0.3 < x < fridge[1] + 0.3):
-            return s
-    return side
+            return x, BESIDE_Y, s
+    return d.x + side * (d.width / 2 + SIDE_GAP), BESIDE_Y, side
 
 
-def _counter_object(sk: Skills, obj: str) -> np.ndarray:
-    """Points of an object standing on a counter top (or the drawer's tray) seen from the look pose."""
-    return sk.find(obj, (-np.inf, -np.inf, 0.6), (np.inf, 0.0, 1.3))
+def _find_on_top(sk: Skills, prompt: str, radius: float = 0.08) -> np.ndarray | None:
+    """(x, y, top z) [m] of an object standing on a counter top, or None."""
+    pts = sk.find(prompt, (-np.inf, -np.inf, 0.88), (np.inf, 0.0, 1.3), radius=radius)
+    if len(pts) < 3:
+        return None
+    mid = (
+        (pts[:, :2].min(axis=0) + pts[:, :2].max(axis=0)) / 2
+        if radius > 0.1
+        else np.median(pts[:, :2], axis=0)
+    )
+    return np.array([*mid, np.percentile(pts[:, 2], 95)])
+
+
+def _find_in_drawer(sk: Skills, prompt: str, d: Drawer) -> np.ndarray | None:
+    """(x, y, top z) [m] of an object on the open drawer's tray, or None."""
+    lo = (d.x - d.width / 2, d.front_y, d.floor_z - 0.02)
+    hi = (d.x + d.width / 2, FRONT_Y, d.floor_z + 0.2)
+    pts = sk.find(prompt, lo, hi)
+    if len(pts) < 3:
+        return None
+    return np.array([*np.median(pts[:, :2], axis=0), np.percentile(pts[:, 2], 95)])
 
 
 def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
-    pts = _counter_object(sk, step.obj)
-    if len(pts) < 3:
+    d = _drawer(sk, ctx) if "drawer" in (step.source, step.dest) else None
+    if step.source == "drawer":
+        guess = _find_in_drawer(sk, step.obj, d) if d is not None else None
+    else:
+        guess = _find_on_top(sk, step.obj)
+    if guess is None:
         sk.note(f"cannot find the {step.obj}")
         return False
-    guess = np.array([*np.median(pts[:, :2], axis=0), np.percentile(pts[:, 2], 95)])
     sk.note(f"{step.obj} near {np.round(guess, 3)}")
-    plate = None
-    if step.dest == "plate":
-        ppts = sk.find("plate", (-np.inf, -np.inf, 0.85), (np.inf, 0.0, 1.1), radius=0.13)
-        if len(ppts) >= 3:
-            plate = np.array(
-                [*((ppts[:, :2].min(axis=0) + ppts[:, :2].max(axis=0)) / 2), np.percentile(ppts[:, 2], 90)]
-            )
-            sk.note(f"plate near {np.round(plate, 3)}")
-    d = _drawer(sk, ctx) if "drawer" in (step.source, step.dest) else None
+    plate = _find_on_top(sk, "plate", radius=0.14) if step.dest == "plate" else None
+    if plate is not None:
+        sk.note(f"plate near {np.round(plate, 3)}")
+    # where to stand for the grasp
     if step.source == "drawer" and d is not None:
-        sk.goto(d.x, STAND_Y)
+        sk.goto(d.x, min(float(guess[1]) - 0.5, STAND_Y + 0.05))
     elif d is not None:
-        side = _side(sk, d, guess[0])
+        x, y, side = _beside(sk, d, guess[0])
         ctx["side"] = side
-        sk.goto(d.x + side * (d.width / 2 + SIDE_GAP), BESIDE_Y)
+        sk.goto(x, y)
     else:
-        sk.goto(float(guess[0]), FRONT_Y - 0.21)
+        sk.goto(float(guess[0]), BESIDE_Y)
     held = sk.pick(step.obj, guess)
     if held is None:
         return False
@@ -148,10 +164,26 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
         return True
     if step.dest == "plate" and plate is not None:
         if d is not None and step.source == "drawer":
-            side = _side(sk, d, plate[0])
-            sk.goto(d.x + side * (d.width / 2 + SIDE_GAP), BESIDE_Y)
+            sk.carry_pose()
+            x, y, _ = _beside(sk, d, plate[0])
+            sk.goto(x, float(sk.obs["base_pos"][1]), lane=False)  # sideways in front of the drawer: the deck
+            sk.goto(x, y, lane=False)  # passes under it
+        elif abs(plate[0] - sk.obs["base_pos"][0]) > 0.45:
+            sk.carry_pose()
+            sk.goto(float(plate[0]), BESIDE_Y)
         sk.place(held, plate[:2], plate[2], drop=0.02, carry_z=max(sk.obs["ee_pos"][2], 1.1))
         return True
+    if step.dest == "sink":
+        sk.carry_pose()
+        basin = sk.find("sink basin", (-np.inf, -np.inf, 0.6), (np.inf, 0.0, 0.95), radius=None)
+        if len(basin) >= 10:
+            mid = (np.percentile(basin[:, :2], 5, axis=0) + np.percentile(basin[:, :2], 95, axis=0)) / 2
+            floor = float(np.percentile(basin[:, 2], 3))
+            if abs(mid[0] - sk.obs["base_pos"][0]) > 0.35:
+                sk.goto(float(mid[0]), BESIDE_Y)
+            sk.note(f"sink basin at {np.round(mid, 3)}, floor {floor:.2f}")
+            sk.place(held, mid, floor, drop=0.03, carry_z=max(sk.obs["ee_pos"][2], 1.1))
+            return True
     sk.note(f"no destination for {step.dest}")
     return False
 
@@ -175,7 +207,7 @@ def run_close_door(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
 
 
 def run_knob(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
-    return False
+    return turn_knob(sk, step.burner, step.on)
 
 
 RUN = {

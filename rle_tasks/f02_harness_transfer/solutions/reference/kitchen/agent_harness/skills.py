@@ -102,6 +102,25 @@ class Skills:
         self.robot = Robot(client)
         self.motion = Motion(self.robot)
         self.log: list[str] = []
+        self.home_base: tuple[np.ndarray, np.ndarray] | None = None
+
+    def reset(self) -> dict[str, Any]:
+        """Reset the session (one charged step) and remember the arm's home pose on the base."""
+        o = self.robot.reset()
+        self.home_base = (np.asarray(o["ee_pos_base"], float), np.asarray(o["ee_quat_base"], float))
+        return o
+
+    def home(self) -> None:
+        """The tool back to its pose at the reset (relative to the base): the arm's own ready posture,
+        from which every skill starts well."""
+        if self.home_base is None:
+            return
+        o = self.obs
+        p, q = self.home_base
+        yaw = float(o["base_yaw"])
+        qb = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
+        world = np.asarray(o["base_pos"], float) + rotz(yaw) @ p
+        self.motion.move_tool(world, quat_mul(qb, q), tol=0.03, rot_tol=0.1, max_steps=120)
 
     # -- basics -------------------------------------------------------------------------------
 
@@ -123,12 +142,28 @@ class Skills:
         base's heading and ``pitch`` down: an overview of the counters ahead (and beside for a turn)."""
         o = self.obs
         self.motion.move_tool(
-            self.base_point(0.12, 0.0, 1.6), facing_quat(o["base_yaw"] + turn, pitch), tol=0.03, max_steps=60
+            self.base_point(0.12, 0.0, 1.6), facing_quat(o["base_yaw"] + turn, pitch), tol=0.03, max_steps=150
         )
 
     def tuck(self) -> None:
-        """The hand high over the base (safe for driving), looking ahead."""
+        """The hand high over the base (safe for driving), looking ahead; a low hand first backs out
+        towards the base (from under a counter top's edge)."""
+        o = self.obs
+        if o["ee_pos"][2] < 1.0:
+            back = np.asarray(o["ee_pos"], float).copy()
+            back[:2] += (
+                0.1
+                * (np.asarray(o["base_pos"][:2]) - back[:2])
+                / max(float(np.linalg.norm(np.asarray(o["base_pos"][:2]) - back[:2])), 1e-6)
+            )
+            self.motion.move_tool(back, None, tol=0.02, max_steps=30)
+            self.motion.move_tool_by([0.0, 0.0, 0.15], tol=0.03, max_steps=40)
+            self.home()
         self.look(0.0)
+
+    def carry_pose(self) -> None:
+        """Bring the hand (holding an object) close over the base, 1.15 m up, before driving."""
+        self.motion.move_tool(self.base_point(0.3, 0.0, 1.15), None, tol=0.03, max_steps=120)
 
     def goto(self, x: float, y: float, heading: float = FACING, *, lane: bool | None = None) -> bool:
         """Drive the base to (x, y) [m] facing ``heading``; a long drive along the run first backs out
@@ -289,7 +324,7 @@ class Skills:
                     return held
             self.note(f"pick {prompt}: missed (attempt {attempt}, opening {self.obs['gripper']:.4f})")
             self.motion.open_gripper(steps=6)
-            self.motion.move_tool_by([0.0, 0.0, 0.1], max_steps=30)
+            self.tuck()
             guess = np.array([xy[0], xy[1], top])
         return None
 
@@ -315,7 +350,9 @@ class Skills:
         q = self.obs["ee_quat"]
         z = support_z + held.below + drop
         cz = max(z + 0.12, self.obs["ee_pos"][2]) if carry_z is None else carry_z
-        self.motion.move_tool([xy[0], xy[1], cz], q, tol=0.015, max_steps=150, gripper=1.0, correct=True)
+        self.motion.move_tool(
+            [xy[0], xy[1], cz], q, tol=0.015, max_steps=200, speed=0.5, gripper=1.0, correct=True
+        )
         r = self.motion.move_tool(
             [xy[0], xy[1], z], q, tol=0.008, max_steps=80, speed=0.6, gripper=1.0, correct=True
         )
@@ -350,3 +387,69 @@ class Skills:
         self.motion.drive_to(hand[0], goal - 0.2, FACING, tol=0.03, max_steps=60)
         self.tuck()
         return y > FRONT_Y - 0.03
+
+
+FORWARD = np.array([np.cos(-np.pi / 4), np.sin(-np.pi / 4), 0.0, 0.0])
+"""Tool z along world +y (into a unit's front), fingers closing along x."""
+KNOB_STANDOFF = 0.15
+"""Distance of the look-and-refine pose in front of a knob [m]."""
+KNOB_BASE_Y = -1.15
+"""Base y for work on the stove's knobs [m]."""
+
+
+def _knob_refine(sk: Skills, prompt: str) -> np.ndarray | None:
+    """Knob grip position [m] from the eye-in-hand camera looking at it face-on: the mask's median
+    across, its front-most 30 % along the view."""
+    pts = sk.see(prompt, cameras=(HAND,), tries=4)
+    pts = clean(pts, 0.04)
+    if len(pts) < 3:
+        return None
+    return np.array([np.median(pts[:, 0]), np.percentile(pts[:, 1], 30), np.median(pts[:, 2])])
+
+
+def turn_knob(sk: Skills, burner: str, on: bool) -> bool:
+    """Turn the ``burner`` ("front left" ...) knob on or off (a lit burner's knob stands at +0.9 rad about
+    its axis, off within 0.35 rad of 0): find the knob (turning the look pose, else the stove first), stand in
+    front of it, look at it face-on from ``KNOB_STANDOFF``, grip its bar and twist."""
+    prompt = f"{burner} knob"
+    lo, hi = (-np.inf, -np.inf, 0.6), (np.inf, FRONT_Y + 0.02, 1.0)
+    pts = sk.find(prompt, lo, hi, turns=(0.0, 0.8, -0.8, 1.3, -1.3), radius=0.04)
+    if len(pts) < 3:
+        stove = sk.find(
+            "stove",
+            (-np.inf, -np.inf, 0.3),
+            (np.inf, 0.0, 1.0),
+            turns=(0.0, 0.8, -0.8, 1.3, -1.3),
+            radius=None,
+        )
+        if len(stove) < 3:
+            sk.note("no stove in sight")
+            return False
+        sk.tuck()
+        sk.goto(float(np.median(stove[:, 0])), KNOB_BASE_Y)
+        pts = sk.find(prompt, lo, hi, radius=0.04)
+        if len(pts) < 3:
+            sk.note(f"no {prompt} in sight")
+            return False
+    knob = np.median(pts, axis=0)
+    sk.note(f"{prompt} near {np.round(knob, 3)}")
+    sk.tuck()
+    sk.goto(float(knob[0]), KNOB_BASE_Y)
+    sk.home()
+    sk.motion.open_gripper(steps=2)
+    sk.motion.move_tool(knob + [0.0, -KNOB_STANDOFF, 0.0], FORWARD, max_steps=200)
+    fine = _knob_refine(sk, prompt)
+    if fine is not None:
+        knob = fine
+    sk.motion.move_tool(knob, FORWARD, max_steps=100, speed=0.5)
+    sk.motion.close_gripper(steps=8)
+    # The tool turns about +y, the knob's axis points along -y: +0.7 takes an off knob (0) to -0.7 (on),
+    # +0.9 takes a lit burner's knob (+0.9) back to 0 (off).
+    twist = 0.7 if on else 0.9
+    turn = np.array([np.cos(twist / 2), 0.0, np.sin(twist / 2), 0.0])
+    sk.motion.move_tool(sk.obs["ee_pos"], quat_mul(turn, FORWARD), max_steps=60, gripper=1.0)
+    sk.motion.open_gripper(steps=6)
+    sk.motion.move_tool_by([0.0, -0.12, 0.0], max_steps=40)
+    sk.note(f"turned {prompt} {'on' if on else 'off'} at {np.round(knob, 3)}")
+    sk.tuck()
+    return True
