@@ -1,7 +1,7 @@
 """The robot and sensor API of the kitchen.
 
     from client import connect
-    from harness.robot import Robot
+    from agent_harness.robot import Robot
 
     with connect() as client:
         robot = Robot(client)
