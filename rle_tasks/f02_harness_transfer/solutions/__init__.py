@@ -10,27 +10,44 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from rle_tasks.core.solutions import Solution, SolutionSet
 
-__all__ = ["PINS", "SOLUTIONS"]
+__all__ = ["PINS", "SOLUTIONS", "add_harness_modules"]
 
 PACKAGE = "rle_tasks.f02_harness_transfer"
 BASELINES = ("empty", "missing_function", "reads_hidden_state")
 
 
+SHARED_MODULES = ("robot.py", "geometry.py")
+"""Kitchen harness modules the reference harness uses unchanged (generated into it, not stored twice)."""
+
+
+def add_harness_modules(directory: Path) -> None:
+    """Copy the kitchen harness's ``SHARED_MODULES`` into ``agent_harness/`` (the harness must be
+    self-contained: a fresh agent has nothing else)."""
+    from rle_tasks.envs.kitchen.workspace import HARNESS
+
+    for name in SHARED_MODULES:
+        text = (HARNESS / name).read_text().replace("from harness.", "from agent_harness.")
+        (directory / "agent_harness" / name).write_text(text)
+
+
 def _set(task_id: str, pins: dict[str, tuple[str, float]], reference: str | None) -> SolutionSet:
     sols = []
     for name, (sha, score) in pins.items():
-        src = (
-            f"solutions/reference/{reference}"
-            if name == "reference"
-            else f"solutions/baseline/{name.split('/')[1]}"
-        )
-        sols.append(Solution(name, sha, score, files=((".", src),)))
+        if name == "reference":
+            files = ((".", f"solutions/reference/{reference}"),)
+            sols.append(Solution(name, sha, score, files=files, transforms=(add_harness_modules,)))
+        else:
+            sols.append(
+                Solution(name, sha, score, files=((".", f"solutions/baseline/{name.split('/')[1]}"),))
+            )
     return SolutionSet(package=PACKAGE, solutions=tuple(sols))
 
 
-REFERENCES: dict[str, str] = {}
+REFERENCES: dict[str, str] = {"02-group-01": "kitchen", "02-group-09": "kitchen", "02-group-12": "kitchen"}
 """Task id -> reference harness folder under ``solutions/reference``."""
 BASELINE_PINS: dict[str, tuple[str, float]] = {
     "baseline/empty": ("9a7e1683a0d2c269f53ecf8f24f2aa74eb4ef0f8778a8ed68c0c8485eb2f91ae", 0.0),
