@@ -123,6 +123,7 @@ def instruction(kitchen: KitchenTaskId, level: int) -> str:
 
 
 def task_specs() -> list[TaskSpec]:
+    from .solutions import SOLUTIONS
     from .verifier import verifier
 
     specs = []
@@ -146,12 +147,8 @@ def task_specs() -> list[TaskSpec]:
                     contract=CONTRACT,
                     make_dev_env=make_dev_env,
                     verify=verifier(kitchen, level),
-                    solutions=SOLUTIONS_BY_LEVEL.get(level, ()),
-                    solutions_module=f"rle_tasks.f01_robocasa_speedrun.solutions.{kitchen.slug.replace('-', '_')}",
+                    solutions=SOLUTIONS[tid].names if tid in SOLUTIONS else (),
+                    solutions_module="rle_tasks.f01_robocasa_speedrun.solutions",
                 )
             )
     return specs
-
-
-SOLUTIONS_BY_LEVEL: dict[int, tuple[str, ...]] = {}
-"""Shipped solution names per level (filled in by ``solutions`` once references exist)."""

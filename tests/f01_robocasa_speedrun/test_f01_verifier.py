@@ -3,7 +3,6 @@ its replayed trials, and every broken or foreign ledger scores 0 with its reason
 
 import gzip
 import shutil
-from pathlib import Path
 
 import pytest
 

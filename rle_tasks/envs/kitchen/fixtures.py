@@ -380,7 +380,14 @@ def add_drawer_cabinet(world: mujoco.MjsBody, name: str, x: float, w: float, sty
         mass=1.0,
     )
     _box(drawer, f"{name}_drawer_bottom", (0, yc, 0.01 + 0.005), (iw, idp, 0.005), rgba, mass=0.8)
-    _box(drawer, f"{name}_drawer_back", (0, tray_back - 0.005, 0.01 + ih / 2), (iw, 0.005, ih / 2), rgba, mass=0.3)
+    _box(
+        drawer,
+        f"{name}_drawer_back",
+        (0, tray_back - 0.005, 0.01 + ih / 2),
+        (iw, 0.005, ih / 2),
+        rgba,
+        mass=0.3,
+    )
     for k, sx in enumerate((-1, 1)):
         _box(
             drawer,

@@ -1,8 +1,8 @@
 """Build-time recorder of the shipped ledgers: ``python -m rle_tasks.f01_robocasa_speedrun.solutions.make_ledgers [TASK_ID ...]``.
 
 Each ledger is recorded as an agent's would be: a ``LedgerServer`` serves the task's session under the
-public development key (images off at level 3, where no program reads them; they change neither
-the scenes nor their digests), the program drives it through a ``LedgerClient``, and the session is sealed. The
+public development key (images rendered only for the level 1-2 references, the programs that read
+them; they change neither the scenes nor their digests), the program drives it through a ``LedgerClient``, and the session is sealed. The
 ledger is written gzipped to ``ledgers/<task id>/<name>/ledger.jsonl.gz``; the script then verifies
 each solution and prints the checksum and score to pin in ``PINS``.
 """
@@ -31,13 +31,20 @@ BUDGET_TASK = "01-open-fridge-l1"
 """The one task whose ``budget_exhausted`` baseline is shipped (its ledger holds 50,000 actions)."""
 
 
-def record(kitchen: KitchenTaskId, level: int, program: Callable[[LedgerClient], Any], dest: Path) -> Path:
-    """Serve the task's session under the public key, run ``program(client)``, seal; write ``dest/ledger.jsonl.gz``."""
+def record(
+    kitchen: KitchenTaskId,
+    level: int,
+    program: Callable[[LedgerClient], Any],
+    dest: Path,
+    images: bool = False,
+) -> Path:
+    """Serve the task's session under the public key, run ``program(client)``, seal; write
+    ``dest/ledger.jsonl.gz``. ``images`` renders the cameras (programs that read them: levels 1-2)."""
     task_id = kitchen.task_id(level)
     with tempfile.TemporaryDirectory(prefix="rle-f01-") as tmp:
         ledger = Path(tmp) / LEDGER
         server = LedgerServer(
-            scenes(kitchen, level, PUBLIC, image_size=None if level == 3 else (128, 128)),
+            scenes(kitchen, level, PUBLIC, image_size=(128, 128) if images else None),
             key=ledger_key(PUBLIC, task_id),
             ledger_path=ledger,
             socket_path=Path(tmp) / "ledger.sock",
@@ -109,7 +116,8 @@ def main(task_ids: list[str], only: set[str] | None = None) -> None:
             for name, program in progs.items():
                 if only and name not in only:
                     continue
-                record(kitchen, level, program, HERE / "ledgers" / task_id / name.split("/")[-1])
+                images = name == "reference" and level < 3
+                record(kitchen, level, program, HERE / "ledgers" / task_id / name.split("/")[-1], images)
                 print(f"{task_id} {name}: recorded", flush=True)
             names = list(progs) + (["baseline/tampered"] if "reference" in progs else [])
             sset: SolutionSet = _set(task_id, {n: ("", 0.0) for n in names})
