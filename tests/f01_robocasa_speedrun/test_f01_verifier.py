@@ -2,6 +2,7 @@
 its replayed trials, and every broken or foreign ledger scores 0 with its reason."""
 
 import gzip
+import os
 import shutil
 
 import pytest
@@ -88,3 +89,23 @@ def test_a_session_served_with_another_budget_is_refused(tmp_path, monkeypatch):
     assert r.score == 0.0 and r.errors[0].code == "f01.wrong_session"
     assert "development budget was 100 steps" in r.errors[0].message
     shutil.rmtree(tmp_path)
+
+
+DEFAULT_REFERENCES = ("01-open-fridge-l3", "01-turn-on-stove-l2")
+"""References replayed by default; every one with RLE_FULL_BATTERY=1 (reduced form of a physics test)."""
+SHIPPED = [
+    (t.id, n)
+    for t in (get_task(k.task_id(lv)) for k in KITCHEN_TASKS for lv in (1, 2, 3))
+    for n in t.solutions
+    if n != "reference" or t.id in DEFAULT_REFERENCES or os.environ.get("RLE_FULL_BATTERY") == "1"
+]
+
+
+@pytest.mark.physics
+@pytest.mark.parametrize("task_id,name", SHIPPED, ids=[f"{t}:{n}" for t, n in SHIPPED])
+def test_every_shipped_solution_verifies_to_its_golden_score(task_id, name):
+    from rle_tasks.core.solutions import declaration
+
+    task = get_task(task_id)
+    report = task.verify(materialise(task, name), CTX)
+    assert report.score == pytest.approx(declaration(task).get(name).quick_score, abs=1e-12)
