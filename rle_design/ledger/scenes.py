@@ -446,6 +446,5 @@ class _Run:
             else {}
         )
         rs = rec.get("success")
-        return TrialReplay(
-            self.trial, self.key, self.actions, self.success_at, rs if isinstance(rs, bool) else None
-        )
+        recorded_success = rs if isinstance(rs, bool) else None
+        return TrialReplay(self.trial, self.key, self.actions, self.success_at, recorded_success, self.model, self.data)

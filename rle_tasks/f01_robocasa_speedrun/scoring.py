@@ -3,14 +3,15 @@
 ``s`` is the number of successful evaluation trials over five (a missing trial counts as a failure),
 ``d`` the charged development steps. The two checkpoints are the card's two terms: ``success``
 (weight 0.80, score s) and ``efficiency`` (weight 0.20, score s (1 - d / 50,000)), so their credits sum
-to R. A missing, unsealed or unverifiable ledger makes the report invalid with score 0.
+to R. A missing, unsealed or unverifiable ledger makes the report invalid with score 0. ``passed`` is
+informational: ``success`` at s >= 0.8 (four of five trials), ``efficiency`` at >= 0.5.
 """
 
 from __future__ import annotations
 
 import functools
 
-from rle_tasks.core.scoring import CheckpointSpec, Fraction, Rubric
+from rle_tasks.core.scoring import CheckpointSpec, Fraction, PassRule, Rubric
 
 STEP_BUDGET = 50_000
 
@@ -29,12 +30,14 @@ def rubric(task_id: str) -> Rubric:
                 0.80,
                 "s: evaluation trials whose success predicate held after some action, out of 5 target kitchens",
                 Fraction("s, the fraction of the five trials that succeeded (missing trials fail)"),
+                pass_rule=PassRule(at=0.8),
             ),
             CheckpointSpec(
                 "efficiency",
                 0.20,
                 "s (1 - d / 50,000): success scaled by the unused share of the development budget (d charged steps)",
                 Fraction("s (1 - d / 50,000)"),
+                pass_rule=PassRule(at=0.5),
             ),
         ),
     )
