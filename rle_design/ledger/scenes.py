@@ -447,4 +447,6 @@ class _Run:
         )
         rs = rec.get("success")
         recorded_success = rs if isinstance(rs, bool) else None
-        return TrialReplay(self.trial, self.key, self.actions, self.success_at, recorded_success, self.model, self.data)
+        return TrialReplay(
+            self.trial, self.key, self.actions, self.success_at, recorded_success, self.model, self.data
+        )

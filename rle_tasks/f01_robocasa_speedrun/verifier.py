@@ -70,6 +70,7 @@ def _render_trials(trials, scene_set, path: Path) -> None:
     import numpy as np
     from PIL import Image, ImageDraw
 
+    from rle_design.scene.mobile_panda import HIDDEN_GROUP
     from rle_design.viz.render import render_image
 
     tiles = []
@@ -87,6 +88,8 @@ def _render_trials(trials, scene_set, path: Path) -> None:
                 distance=2.6,
                 azimuth=90.0,
                 elevation=-25.0,
+                groups=(HIDDEN_GROUP,),
+                sites=False,
             )
         )
         label = f"trial {t.trial}: " + (

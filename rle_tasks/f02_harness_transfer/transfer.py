@@ -243,6 +243,7 @@ def _render(
 ) -> None:
     from PIL import Image, ImageDraw
 
+    from rle_design.scene.mobile_panda import HIDDEN_GROUP
     from rle_design.viz.render import render_image
 
     ep = env.scene.episode
@@ -257,6 +258,8 @@ def _render(
             distance=2.6,
             azimuth=90.0,
             elevation=-25.0,
+            groups=(HIDDEN_GROUP,),
+            sites=False,
         )
     )
     ImageDraw.Draw(img).text((8, 6), f"agent {unit.trial}: {ep.instruction}", fill=(20, 20, 20))
