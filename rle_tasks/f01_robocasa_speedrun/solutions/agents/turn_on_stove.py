@@ -26,6 +26,12 @@ def solve(robot: Robot, motion: Motion) -> bool:
     knob = np.asarray(world.fixture(obs, target["fixture"])["sites"][target["burner"] + "_knob"])
     motion.open_gripper(steps=2)
     motion.move_tool(knob + [0.0, -0.15, 0.0], FORWARD, max_steps=200)
+    return twist(robot, motion, knob)
+
+
+def twist(robot: Robot, motion: Motion, knob: np.ndarray) -> bool:
+    """From 15 cm in front of the knob at ``knob`` [m]: move onto it, grip, turn by ``TWIST``, let go,
+    back away; returns the task's success."""
     motion.move_tool(knob, FORWARD, max_steps=100, speed=0.5)
     motion.close_gripper(steps=8)
     turn = np.array([np.cos(TWIST / 2), 0.0, np.sin(TWIST / 2), 0.0])

@@ -16,14 +16,11 @@ from collections.abc import Callable
 import numpy as np
 
 from rle_tasks.envs.kitchen.harness import geometry, perception
-from rle_tasks.envs.kitchen.harness.geometry import quat_mul
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import CAMERAS, Robot
 
-FORWARD = np.array([np.cos(-np.pi / 4), np.sin(-np.pi / 4), 0.0, 0.0])
-"""Tool z along world +y (into the stove's front panel)."""
-TWIST = 0.7
-"""Knob turn commanded [rad] (on from 0.35)."""
+from .turn_on_stove import FORWARD, twist
+
 STANDOFF = 0.15
 """Distance of the look-and-refine pose in front of the knob [m]."""
 REACH_SIDE = 0.12
@@ -116,10 +113,4 @@ def solve(
         debug("fine", fine)
     if fine is not None:
         knob = fine
-    motion.move_tool(knob, FORWARD, max_steps=100, speed=0.5)
-    motion.close_gripper(steps=8)
-    turn = np.array([np.cos(TWIST / 2), 0.0, np.sin(TWIST / 2), 0.0])
-    motion.move_tool(robot.obs["ee_pos"], quat_mul(turn, FORWARD), max_steps=60, gripper=1.0)
-    motion.open_gripper(steps=6)
-    motion.move_tool_by([0.0, -0.12, 0.0], max_steps=40)
-    return bool(robot.observe()["success"])
+    return twist(robot, motion, knob)
