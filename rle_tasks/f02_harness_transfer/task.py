@@ -10,6 +10,7 @@ The artifact is ``agent_harness/`` (code and ``MANUAL.md``). Evaluation: five fr
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from rle_tasks.core.secrets import Secret, derive_seed
@@ -73,11 +74,17 @@ def dev_scenes(group: Group) -> GroupScenes:
     return GroupScenes(group.develop[0], level=2, tasks=group.develop)
 
 
+def _template(text: str) -> str:
+    """An instruction template with its roles as ``<role>``."""
+    return re.sub(r"[{](\w+)[}]", r"<\1>", text)
+
+
 def instruction(group: Group) -> str:
     from .scoring import rubric
 
     dev = "\n".join(
-        f"- `{t}`: {COMPOSITES[t].instruction} (skills: {', '.join(SKILLS[t])})" for t in group.develop
+        f"- `{t}`: {_template(COMPOSITES[t].instruction)} (skills: {', '.join(SKILLS[t])})"
+        for t in group.develop
     )
     text = (HERE / "instruction.md").read_text()
     return (
