@@ -733,6 +733,8 @@ def cases() -> list[Case]:
     out += f07_cases()
     out += ledger_cases()
     from rle_tasks.audit.f06_cases import f06_cases
+    from rle_tasks.audit.kitchen_cases import kitchen_cases
 
     out += f06_cases()
+    out += kitchen_cases()
     return out

@@ -5,7 +5,10 @@
    ledger key) run through the core runner (``ctx.jobs`` workers, local pool or Ray); quick mode runs
    the first two and marks the report ``partial`` (the others count 0).
 3. Score: the mean of the five s_trial (``transfer.stage_score``); a trial that could not be scored
-   (no stage records, harness unusable, unverifiable ledger) counts 0 and its reason is reported.
+   (no stage records, harness unusable, unverifiable ledger) counts 0. Every agent that did not run to
+   its end or left nothing to score is reported: ``f02.<agent ending>`` (``f02.no_entry_point``,
+   ``f02.missing_function``, ``f02.sandbox.forbidden`` ...) or ``f02.<status>``
+   (``f02.harness_unusable``, ``f02.no_stage_records``, ``f02.no_session``).
 """
 
 from __future__ import annotations
@@ -76,7 +79,7 @@ def verifier(group: Group):
         for r in results:
             if r.status != "scored" or r.agent != "ran":
                 findings.add_error(
-                    f"f02.agent_{r.trial}",
+                    f"f02.{r.status}" if r.agent in ("ran", "not_run") else f"f02.{r.agent}",
                     f"fresh agent {r.trial}: {r.status}, {r.agent}: {r.message}"[:600],
                     HARNESS_DIR,
                 )
