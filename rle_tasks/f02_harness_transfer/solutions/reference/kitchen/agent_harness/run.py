@@ -20,6 +20,7 @@ import numpy as np
 from .skills import (
     BESIDE_Y,
     COUNTER_Z,
+    EMPTY,
     FRONT_Y,
     SIDE_GAP,
     STAND_Y,
@@ -27,6 +28,7 @@ from .skills import (
     Skills,
     close_door,
     find_open_door,
+    push_drawer_holding,
     turn_knob,
 )
 
@@ -34,6 +36,8 @@ __all__ = ["Step", "parse", "solve"]
 
 SINK_DROP = 0.03
 """Height of an object's bottom above the counter tops when let go over the sink basin [m]."""
+PLACE_REACH = 0.45
+"""Least distance ahead of the base's centre of a place position [m] (nearer, the arm cannot reach down)."""
 CARRY_Z = 1.1
 """Tool height while carrying an object over the counters [m] (below the wall cabinets, 1.45 m up)."""
 OBJECTS = ("apple", "orange", "lemon", "bread", "butter", "can", "cup", "milk", "bottle", "bowl")
@@ -87,7 +91,7 @@ def solve(client: Any, instruction: str) -> str:
     sk.reset()
     steps = parse(instruction)
     sk.note(f"plan: {steps}")
-    ctx: dict[str, Any] = {}
+    ctx: dict[str, Any] = {"close_drawer": any(s.kind == "close_drawer" for s in steps)}
     for step in steps:
         try:
             ok = RUN[step.kind](sk, step, ctx)
@@ -190,7 +194,17 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
         sk.place(held, xy, d.floor_z, carry_z=min(max(sk.obs["ee_pos"][2], 1.05), 1.2))
         return True
     if step.dest == "plate" and plate is not None:
-        if d is not None and step.source == "drawer":
+        if d is not None and step.source == "drawer" and ctx.get("close_drawer"):
+            # Close the drawer first, the object still in the hand, and put it on the plate last: a fruit
+            # left on a plate rolls off within seconds at any disturbance.
+            side = 1.0 if plate[0] >= d.x else -1.0
+            ctx["drawer_closed"] = push_drawer_holding(sk, d, held, side)
+            if sk.obs["gripper"] <= EMPTY:
+                sk.note(f"lost the {step.obj} while pushing the drawer")
+                return False
+            if ctx["drawer_closed"]:
+                sk.goto(float(plate[0]), min(BESIDE_Y, float(plate[1]) - PLACE_REACH))
+        if d is not None and step.source == "drawer" and not ctx.get("drawer_closed"):
             sk.carry_pose()
             x, y, _ = _beside(sk, d, plate[0])
             sk.goto(x, float(sk.obs["base_pos"][1]), lane=False)  # sideways in front of the drawer: the deck
@@ -218,6 +232,8 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
 
 
 def run_close_drawer(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
+    if ctx.get("drawer_closed"):
+        return True
     d = _drawer(sk, ctx)
     if d is None:
         sk.note("no open drawer seen")

@@ -441,6 +441,44 @@ class Skills:
         return y > FRONT_Y - 0.03
 
 
+HAND_AHEAD = 0.1
+"""Reach of the hand's body beyond the tool centre along the fingers' closing axis [m] (it is about 0.2 m
+across, the closed fingers about 0.08 m)."""
+HOLD_PUSH_OFFSET = 0.21
+"""Sideways offset from a drawer's middle where a holding hand pushes it: clear of the handle bar (at
+most 0.3 m long) [m]."""
+HOLD_PUSH_Z = 0.74
+"""Tool height for pushing a drawer with the hand's body while holding an object [m] (the drawer's front
+spans 0.68-0.88 m, the hand's body starts about 5 cm above the tool centre)."""
+
+
+def push_drawer_holding(sk: Skills, d: Drawer, held: Held, side: float) -> bool:
+    """Push the drawer shut with the side of the hand's body while the fingers keep holding ``held``: the
+    tool pointing down with the fingers closing along y (the body leads the object by ``HAND_AHEAD``),
+    ``HOLD_PUSH_OFFSET`` to ``side`` (+1: +x) of the drawer's middle, the base driving towards the run.
+    Returns True when the drawer no longer stands out and the object is still held."""
+    reach = 0.6
+    q = down_quat(FACING)
+    z = max(HOLD_PUSH_Z, d.handle_z - 0.1 + held.below - 0.03)
+    x = d.x + side * HOLD_PUSH_OFFSET
+    sk.motion.move_tool(sk.base_point(0.35, 0.0, 1.1), q, tol=0.03, max_steps=100)
+    sk.goto(x, d.front_y - HAND_AHEAD - 0.08 - reach)
+    sk.motion.move_tool(sk.base_point(reach, 0.0, z + 0.12), q, tol=0.03, max_steps=100)
+    sk.motion.move_tool(sk.base_point(reach, 0.0, z), q, tol=0.01, max_steps=60, correct=True)
+    hand = np.asarray(sk.obs["ee_pos"], float)
+    goal = DOOR_Y - HAND_AHEAD + 0.02 - (hand[1] - sk.obs["base_pos"][1])
+    sk.motion.drive_to(float(hand[0]), goal, FACING, tol=0.01, max_steps=150)
+    sk.note(f"pushed drawer holding {held.prompt}: hand {np.round(sk.obs['ee_pos'], 3)}, goal {goal:.3f}")
+    sk.motion.drive_to(float(hand[0]), goal - 0.15, FACING, tol=0.03, max_steps=60)
+    sk.motion.move_tool(sk.base_point(0.35, 0.0, 1.1), None, tol=0.03, max_steps=100)
+    holding = float(sk.obs["gripper"]) > EMPTY
+    sk.look(0.0)
+    lo, hi = (d.x - d.width / 2, -np.inf, 0.6), (d.x + d.width / 2, FRONT_Y - 0.12, 0.95)
+    out = sk.see("drawer", lo, hi, tries=2)  # a closed drawer's handle stands 0.07 m proud
+    sk.note(f"drawer points still out: {len(out)}; holding {holding}")
+    return holding and len(out) < 10
+
+
 DOOR_Y = FRONT_Y - 0.021
 """y of a hinged base-cabinet door's hinge axis (the closed door's front face) [m]."""
 DOOR_PUSH_Z = 0.55
