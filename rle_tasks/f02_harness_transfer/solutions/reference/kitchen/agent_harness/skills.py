@@ -23,7 +23,20 @@ from .motion import Motion, down_quat, facing_quat
 from .perception import HAND, clean, clouds, in_box, merged
 from .robot import CAMERAS, Robot
 
-__all__ = ["COUNTER_Z", "FACING", "FRONT_Y", "Drawer", "Held", "Skills"]
+__all__ = [
+    "COUNTER_Z",
+    "EMPTY",
+    "FACING",
+    "FRONT_Y",
+    "Drawer",
+    "Held",
+    "OpenDoor",
+    "Skills",
+    "close_door",
+    "find_open_door",
+    "push_drawer_holding",
+    "turn_knob",
+]
 
 FACING = np.pi / 2
 """Base heading that faces the wall [rad]."""
