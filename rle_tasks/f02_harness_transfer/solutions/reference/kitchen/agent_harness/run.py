@@ -17,10 +17,29 @@ from typing import Any
 
 import numpy as np
 
-from .skills import BESIDE_Y, COUNTER_Z, FRONT_Y, SIDE_GAP, STAND_Y, Drawer, Skills, turn_knob
+from .skills import (
+    BESIDE_Y,
+    COUNTER_Z,
+    EMPTY,
+    FRONT_Y,
+    SIDE_GAP,
+    STAND_Y,
+    Drawer,
+    Skills,
+    close_door,
+    find_open_door,
+    push_drawer_holding,
+    turn_knob,
+)
 
 __all__ = ["Step", "parse", "solve"]
 
+SINK_DROP = 0.03
+"""Height of an object's bottom above the counter tops when let go over the sink basin [m]."""
+PLACE_REACH = 0.45
+"""Least distance ahead of the base's centre of a place position [m] (nearer, the arm cannot reach down)."""
+CARRY_Z = 1.1
+"""Tool height while carrying an object over the counters [m] (below the wall cabinets, 1.45 m up)."""
 OBJECTS = ("apple", "orange", "lemon", "bread", "butter", "can", "cup", "milk", "bottle", "bowl")
 """Object categories an instruction may name."""
 
@@ -39,8 +58,8 @@ class Step:
 
 
 def parse(instruction: str) -> list[Step]:
-    """The steps of an instruction, in a workable order (pick-and-place before closing the drawer it
-    fills; knobs first, then doors, then objects, for a task spread over the kitchen)."""
+    """The steps of an instruction, in a workable order: an open hinged door first (it stands 0.5 m out
+    of the run, in the way), then the object (before closing the drawer it fills), knobs last."""
     text = instruction.lower()
     steps: list[Step] = []
     obj = next((w for w in re.findall(r"[a-z]+", text) if w in OBJECTS), "")
@@ -54,15 +73,14 @@ def parse(instruction: str) -> list[Step]:
                 dest = key
                 break
         steps.append(Step("pick_place", obj, source, dest))
-    for m in re.finditer(r"turn (on|off) the (front|rear) (left|right)", text):
-        steps.insert(0, Step("knob", burner=f"{m.group(2)} {m.group(3)}", on=m.group(1) == "on"))
-    if re.search(r"close the (open )?drawer", text) or re.search(r"close the drawer", text):
+    if re.search(r"close the (open )?drawer", text):
         steps.append(Step("close_drawer"))
     if re.search(r"\bopen the drawer", text):
         steps.append(Step("open_drawer"))
     if re.search(r"close the cabinet", text):
-        k = sum(s.kind == "knob" for s in steps)
-        steps.insert(k, Step("close_door"))
+        steps.insert(0, Step("close_door"))
+    for m in re.finditer(r"turn (on|off) the (front|rear) (left|right)", text):
+        steps.append(Step("knob", burner=f"{m.group(2)} {m.group(3)}", on=m.group(1) == "on"))
     return steps
 
 
@@ -73,7 +91,7 @@ def solve(client: Any, instruction: str) -> str:
     sk.reset()
     steps = parse(instruction)
     sk.note(f"plan: {steps}")
-    ctx: dict[str, Any] = {}
+    ctx: dict[str, Any] = {"close_drawer": any(s.kind == "close_drawer" for s in steps)}
     for step in steps:
         try:
             ok = RUN[step.kind](sk, step, ctx)
@@ -109,7 +127,7 @@ def _beside(sk: Skills, d: Drawer, target_x: float) -> tuple[float, float, float
 
 def _find_on_top(sk: Skills, prompt: str, radius: float = 0.08) -> np.ndarray | None:
     """(x, y, top z) [m] of an object standing on a counter top, or None."""
-    pts = sk.find(prompt, (-np.inf, -np.inf, 0.88), (np.inf, 0.0, 1.3), radius=radius)
+    pts = sk.search(prompt, (-np.inf, -np.inf, 0.88), (np.inf, 0.0, 1.3), radius=radius)
     if len(pts) < 3:
         return None
     mid = (
@@ -118,6 +136,17 @@ def _find_on_top(sk: Skills, prompt: str, radius: float = 0.08) -> np.ndarray | 
         else np.median(pts[:, :2], axis=0)
     )
     return np.array([*mid, np.percentile(pts[:, 2], 95)])
+
+
+def _find_near(sk: Skills, prompt: str, fixture: str) -> np.ndarray | None:
+    """``_find_on_top`` again from in front of ``fixture`` (the object stands near it, out of sight)."""
+    pts = sk.search(fixture, (-np.inf, -np.inf, 0.6), (np.inf, 0.0, 1.2), radius=None)
+    if len(pts) < 10:
+        sk.note(f"no {fixture} in sight")
+        return None
+    sk.tuck()
+    sk.goto(float(np.median(pts[:, 0])), STAND_Y)
+    return _find_on_top(sk, prompt)
 
 
 def _find_in_drawer(sk: Skills, prompt: str, d: Drawer) -> np.ndarray | None:
@@ -136,6 +165,8 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
         guess = _find_in_drawer(sk, step.obj, d) if d is not None else None
     else:
         guess = _find_on_top(sk, step.obj)
+        if guess is None and step.dest in ("sink", "rack"):
+            guess = _find_near(sk, step.obj, "sink" if step.dest == "sink" else "dish rack")
     if guess is None:
         sk.note(f"cannot find the {step.obj}")
         return False
@@ -160,10 +191,20 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
         # Near the counter's edge: a round fruit lags 5/7 of the tray's travel as it rolls while the drawer
         # closes; from here it ends inside, not against the drawer's front.
         xy = np.array([d.x + side * min(0.06, d.width / 2 - 0.12), FRONT_Y - 0.075])
-        sk.place(held, xy, d.floor_z, carry_z=max(sk.obs["ee_pos"][2], 1.05))
+        sk.place(held, xy, d.floor_z, carry_z=min(max(sk.obs["ee_pos"][2], 1.05), 1.2))
         return True
     if step.dest == "plate" and plate is not None:
-        if d is not None and step.source == "drawer":
+        if d is not None and step.source == "drawer" and ctx.get("close_drawer"):
+            # Close the drawer first, the object still in the hand, and put it on the plate last: a fruit
+            # left on a plate rolls off within seconds at any disturbance.
+            side = 1.0 if plate[0] >= d.x else -1.0
+            ctx["drawer_closed"] = push_drawer_holding(sk, d, held, side)
+            if sk.obs["gripper"] <= EMPTY:
+                sk.note(f"lost the {step.obj} while pushing the drawer")
+                return False
+            if ctx["drawer_closed"]:
+                sk.goto(float(plate[0]), min(BESIDE_Y, float(plate[1]) - PLACE_REACH))
+        if d is not None and step.source == "drawer" and not ctx.get("drawer_closed"):
             sk.carry_pose()
             x, y, _ = _beside(sk, d, plate[0])
             sk.goto(x, float(sk.obs["base_pos"][1]), lane=False)  # sideways in front of the drawer: the deck
@@ -171,7 +212,7 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
         elif abs(plate[0] - sk.obs["base_pos"][0]) > 0.45:
             sk.carry_pose()
             sk.goto(float(plate[0]), BESIDE_Y)
-        sk.place(held, plate[:2], plate[2], drop=0.02, carry_z=max(sk.obs["ee_pos"][2], 1.1))
+        sk.place(held, plate[:2], plate[2], drop=0.02, carry_z=min(max(sk.obs["ee_pos"][2], 1.1), 1.2))
         return True
     if step.dest == "sink":
         sk.carry_pose()
@@ -179,16 +220,20 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
         if len(basin) >= 10:
             mid = (np.percentile(basin[:, :2], 5, axis=0) + np.percentile(basin[:, :2], 95, axis=0)) / 2
             floor = float(np.percentile(basin[:, 2], 3))
-            if abs(mid[0] - sk.obs["base_pos"][0]) > 0.35:
-                sk.goto(float(mid[0]), BESIDE_Y)
             sk.note(f"sink basin at {np.round(mid, 3)}, floor {floor:.2f}")
-            sk.place(held, mid, floor, drop=0.03, carry_z=max(sk.obs["ee_pos"][2], 1.1))
+            sk.carry_pose()  # from the look pose (1.6 m up): carried that high the hand hits the wall cabinets
+            sk.goto(float(mid[0]), BESIDE_Y)
+            # Let go just above the counter top's height over the basin's middle: the object drops in (a low
+            # release far out over the basin is beyond the arm's reach).
+            sk.place(held, mid, COUNTER_Z, drop=SINK_DROP, carry_z=CARRY_Z)
             return True
     sk.note(f"no destination for {step.dest}")
     return False
 
 
 def run_close_drawer(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
+    if ctx.get("drawer_closed"):
+        return True
     d = _drawer(sk, ctx)
     if d is None:
         sk.note("no open drawer seen")
@@ -203,7 +248,8 @@ def run_open_drawer(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
 
 
 def run_close_door(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
-    return False
+    door = find_open_door(sk)
+    return door is not None and close_door(sk, door)
 
 
 def run_knob(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:

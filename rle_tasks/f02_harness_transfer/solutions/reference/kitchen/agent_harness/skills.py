@@ -23,7 +23,20 @@ from .motion import Motion, down_quat, facing_quat
 from .perception import HAND, clean, clouds, in_box, merged
 from .robot import CAMERAS, Robot
 
-__all__ = ["COUNTER_Z", "FACING", "FRONT_Y", "Drawer", "Held", "Skills"]
+__all__ = [
+    "COUNTER_Z",
+    "EMPTY",
+    "FACING",
+    "FRONT_Y",
+    "Drawer",
+    "Held",
+    "OpenDoor",
+    "Skills",
+    "close_door",
+    "find_open_door",
+    "push_drawer_holding",
+    "turn_knob",
+]
 
 FACING = np.pi / 2
 """Base heading that faces the wall [rad]."""
@@ -52,6 +65,12 @@ WORK_TORSO = 0.15
 PICK_TORSO = 0.15
 """Torso height for picking and placing [m]: the arm's root 1.0 m up, where it reaches the counter
 tops far out without sagging."""
+FAR_TURN = 1.45
+"""Turn of the hand off the base's heading for a look along the run [rad]."""
+FAR_PITCH = 0.5
+"""Tilt below the horizontal of the eye-in-hand camera for a look along the run [rad]."""
+ROAM = (-1.6, 1.6)
+"""Offsets along the run from where ``find_far`` looks again when it saw nothing [m]."""
 LOOK_PITCH = 1.1
 """Tilt below the horizontal of the eye-in-hand camera in the look pose [rad]."""
 
@@ -159,6 +178,8 @@ class Skills:
             self.motion.move_tool(back, None, tol=0.02, max_steps=30)
             self.motion.move_tool_by([0.0, 0.0, 0.15], tol=0.03, max_steps=40)
             self.home()
+        elif float(np.asarray(self.obs["ee_pos_base"])[0]) > 0.4:
+            self.home()  # from far out straight up to the look pose the elbow jams (under a wall cabinet)
         self.look(0.0)
 
     def carry_pose(self) -> None:
@@ -213,6 +234,50 @@ class Skills:
             if len(pts) >= 3:
                 return clean(pts, radius) if radius else pts
         return np.zeros((0, 3))
+
+    def find_far(
+        self,
+        prompt: str,
+        lo: tuple[float, float, float] = (-np.inf, -np.inf, -np.inf),
+        hi: tuple[float, float, float] = (np.inf, np.inf, np.inf),
+    ) -> np.ndarray:
+        """Points [m] of ``prompt`` in [lo, hi] seen looking along the run to either side (the hand turned
+        ``FAR_TURN`` off the heading, tilted ``FAR_PITCH`` down): finds what stands up to about 2.5 m away,
+        coarsely (the look pose sees about 1 m around); failing that, from ``ROAM`` m to the left and then
+        to the right on ``LANE_Y``."""
+        x0 = float(self.obs["base_pos"][0])
+        for k, dx in enumerate((0.0, *ROAM)):
+            if k:
+                self.tuck()
+                self.goto(x0 + dx, LANE_Y, lane=True)
+            for turn in (FAR_TURN, -FAR_TURN):
+                self.look(turn, FAR_PITCH)
+                pts = self.see(prompt, lo, hi, tries=2)
+                if len(pts) >= 5:
+                    return pts
+        return np.zeros((0, 3))
+
+    def search(
+        self,
+        prompt: str,
+        lo: tuple[float, float, float] = (-np.inf, -np.inf, -np.inf),
+        hi: tuple[float, float, float] = (np.inf, np.inf, np.inf),
+        radius: float | None = 0.08,
+        stand_y: float = STAND_Y,
+    ) -> np.ndarray:
+        """``find``; failing that ``find_far``, a drive to stand in front of what it saw (at ``stand_y``)
+        and ``find`` again. Points [m] as ``find`` returns them (empty when not found)."""
+        pts = self.find(prompt, lo, hi, radius=radius)
+        if len(pts) >= 3:
+            return pts
+        far = self.find_far(prompt, lo, hi)
+        if len(far) < 5:
+            return np.zeros((0, 3))
+        x = float(np.median(far[:, 0]))
+        self.note(f"{prompt} seen far off, near x {x:.2f}")
+        self.tuck()
+        self.goto(x, stand_y)
+        return self.find(prompt, lo, hi, radius=radius)
 
     def extent_x(self, prompt: str, lo=(-np.inf, -np.inf, -np.inf), hi=(np.inf, np.inf, np.inf)):
         """(x min, x max) [m] of what ``prompt`` shows in [lo, hi] now, or None."""
@@ -389,6 +454,193 @@ class Skills:
         return y > FRONT_Y - 0.03
 
 
+HAND_AHEAD = 0.1
+"""Reach of the hand's body beyond the tool centre along the fingers' closing axis [m] (it is about 0.2 m
+across, the closed fingers about 0.08 m)."""
+HOLD_PUSH_OFFSET = 0.21
+"""Sideways offset from a drawer's middle where a holding hand pushes it: clear of the handle bar (at
+most 0.3 m long) [m]."""
+HOLD_PUSH_Z = 0.74
+"""Tool height for pushing a drawer with the hand's body while holding an object [m] (the drawer's front
+spans 0.68-0.88 m, the hand's body starts about 5 cm above the tool centre)."""
+
+
+def push_drawer_holding(sk: Skills, d: Drawer, held: Held, side: float) -> bool:
+    """Push the drawer shut with the side of the hand's body while the fingers keep holding ``held``: the
+    tool pointing down with the fingers closing along y (the body leads the object by ``HAND_AHEAD``),
+    ``HOLD_PUSH_OFFSET`` to ``side`` (+1: +x) of the drawer's middle, the base driving towards the run.
+    Returns True when the drawer no longer stands out and the object is still held."""
+    reach = 0.6
+    q = down_quat(FACING)
+    z = max(HOLD_PUSH_Z, d.handle_z - 0.1 + held.below - 0.03)
+    x = d.x + side * HOLD_PUSH_OFFSET
+    sk.motion.move_tool(sk.base_point(0.35, 0.0, 1.1), q, tol=0.03, max_steps=100)
+    sk.goto(x, d.front_y - HAND_AHEAD - 0.08 - reach)
+    sk.motion.move_tool(sk.base_point(reach, 0.0, z + 0.12), q, tol=0.03, max_steps=100)
+    sk.motion.move_tool(sk.base_point(reach, 0.0, z), q, tol=0.01, max_steps=60, correct=True)
+    hand = np.asarray(sk.obs["ee_pos"], float)
+    goal = DOOR_Y - HAND_AHEAD + 0.02 - (hand[1] - sk.obs["base_pos"][1])
+    sk.motion.drive_to(float(hand[0]), goal, FACING, tol=0.01, max_steps=150)
+    sk.note(f"pushed drawer holding {held.prompt}: hand {np.round(sk.obs['ee_pos'], 3)}, goal {goal:.3f}")
+    sk.motion.drive_to(float(hand[0]), goal - 0.15, FACING, tol=0.03, max_steps=60)
+    sk.motion.move_tool(sk.base_point(0.35, 0.0, 1.1), None, tol=0.03, max_steps=100)
+    holding = float(sk.obs["gripper"]) > EMPTY
+    sk.look(0.0)
+    lo, hi = (d.x - d.width / 2, -np.inf, 0.6), (d.x + d.width / 2, FRONT_Y - 0.12, 0.95)
+    out = sk.see("drawer", lo, hi, tries=2)  # a closed drawer's handle stands 0.07 m proud
+    sk.note(f"drawer points still out: {len(out)}; holding {holding}")
+    return holding and len(out) < 10
+
+
+DOOR_Y = FRONT_Y - 0.021
+"""y of a hinged base-cabinet door's hinge axis (the closed door's front face) [m]."""
+DOOR_PUSH_Z = 0.55
+"""Height of the fingertips on an open door when pushing it shut [m] (its handle bar starts about 0.65 m up)."""
+DOOR_INSIDE = 0.2
+"""Push this far closer to the hinge than the door's free edge, clear of the handle [m]."""
+DOOR_CLEAR = 0.03
+"""Tool centre in front of the door's face at contact [m]."""
+DOOR_STANDOFF = 0.55
+"""Horizontal distance from the base's centre to the contact point [m]."""
+DOOR_MIN_SIDE = 0.42
+"""Least distance of the base's centre line from the hinge along the door [m]: keeps the base clear of
+the run (and of a prouder neighbour, a fridge) on the hinge side."""
+DOOR_OVERTURN = 0.15
+"""Turn past the door's estimated opening, taking up the gap to the door and pressing it shut [rad]."""
+
+
+@dataclass(frozen=True)
+class OpenDoor:
+    """An open hinged base-cabinet door seen by ``find_open_door``.
+
+    Attributes:
+        hinge: (x, y) of its hinge axis [m].
+        along: Unit (x, y) from the hinge towards the free edge.
+        out: Unit (x, y) normal of the face to push (away from its cabinet).
+        length: Hinge to free edge [m].
+        opened: Opening angle [rad] (0 closed).
+        closing: +1 when closing turns the door counter-clockwise seen from above, else -1.
+    """
+
+    hinge: np.ndarray
+    along: np.ndarray
+    out: np.ndarray
+    length: float
+    opened: float
+    closing: float
+
+
+def _door_points(sk: Skills) -> np.ndarray:
+    """Points [m] of cabinet doors standing out of the run (below the counter tops) in view now."""
+    return sk.see("cabinet door", (-np.inf, -np.inf, 0.15), (np.inf, FRONT_Y - 0.12, 0.9), tries=2)
+
+
+def _cabinet_side(sk: Skills, hinge: np.ndarray, along: np.ndarray, length: float) -> tuple[float, str]:
+    """+1 when the door's cabinet lies on the +x side of the hinge, -1 on the -x side, with the evidence.
+
+    The handle stands 3.5 cm proud of the door's outer face (away from the cabinet); failing a clear view of
+    it, the open cabinet shows its interior (depth points well behind the fronts) on its side of the hinge,
+    a closed neighbour its front."""
+    normal = np.array([-along[1], along[0]])
+    lo, hi = (-np.inf, -np.inf, 0.5), (np.inf, FRONT_Y - 0.1, 0.9)
+    handle = sk.see("cabinet handle", lo, hi, tries=2)
+    if len(handle):
+        off = (handle[:, :2] - hinge) @ normal
+        near = np.abs((handle[:, :2] - hinge) @ along - (length - 0.06)) < 0.12
+        proud = off[near & (np.abs(off) > 0.012) & (np.abs(off) < 0.08)]
+        if len(proud) >= 3 and abs(float(np.mean(np.sign(proud)))) > 0.5:
+            out_sign = float(np.sign(np.median(proud)))
+            return -float(np.sign(out_sign * normal[0])) or 1.0, f"handle ({len(proud)} points)"
+    o = sk.obs
+    pts = np.concatenate([world_points(o, cam) for cam in CAMERAS])
+    pts = in_box(pts, (-np.inf, FRONT_Y + 0.05, 0.25), (np.inf, -0.05, 0.8))
+    counts = {}
+    for side in (1.0, -1.0):
+        a, b = sorted((hinge[0] + side * 0.05, hinge[0] + side * (length - 0.05)))
+        counts[side] = int(np.sum((pts[:, 0] > a) & (pts[:, 0] < b)))
+    side = max(counts, key=counts.get)
+    return side, f"interior {counts}"
+
+
+def find_open_door(sk: Skills) -> OpenDoor | None:
+    """The hinged base-cabinet door standing open: found from the look pose (turning), then seen from in
+    front of it (base at ``LANE_Y``); its plane is the line through its points seen from above, the hinge
+    where that line meets the run's front, the face to push the one away from its cabinet."""
+    pts = np.zeros((0, 3))
+    for turn in (0.0, 0.8, -0.8, 1.3, -1.3):
+        sk.look(turn)
+        pts = _door_points(sk)
+        if len(pts) >= 30:
+            break
+    if len(pts) < 30:
+        sk.note("no open cabinet door in sight")
+        return None
+    x0 = float(np.median(pts[:, 0]))
+    sk.tuck()
+    sk.goto(x0, LANE_Y, lane=True)
+    views = [pts]
+    for turn in (0.0, 0.5, -0.5):
+        sk.look(turn)
+        views.append(_door_points(sk))
+    pts = np.concatenate(views)
+    pts = pts[np.abs(pts[:, 0] - np.median(pts[:, 0])) < 0.7]
+    xy = pts[:, :2]
+    c = xy.mean(axis=0)
+    w, v = np.linalg.eigh(np.cov((xy - c).T))
+    along = v[:, 1] if v[1, 1] < 0 else -v[:, 1]  # towards the free edge (out of the run, -y)
+    if abs(along[1]) < 0.2:
+        sk.note(f"door points do not stand out of the run (direction {np.round(along, 2)})")
+        return None
+    hinge = c + along * (DOOR_Y - c[1]) / along[1]
+    length = float(np.percentile((xy - hinge) @ along, 98))
+    sk.look(0.0)
+    side, why = _cabinet_side(sk, hinge, along, length)
+    closed = np.array([side, 0.0])  # the closed door runs from the hinge across its cabinet
+    opened = float(np.arccos(np.clip(along @ closed, -1.0, 1.0)))
+    closing = float(np.sign(along[0] * closed[1] - along[1] * closed[0]))
+    normal = np.array([-along[1], along[0]])
+    out = normal if normal @ closed < 0 else -normal
+    d = OpenDoor(hinge, along, out, length, opened, closing)
+    sk.note(
+        f"open door: hinge {np.round(hinge, 3)} along {np.round(along, 2)} length {length:.2f} opened {opened:.2f} "
+        f"cabinet side {side:+.0f} ({why}), {len(pts)} points, spread {np.round(np.sqrt(w), 3)}"
+    )
+    return d
+
+
+def close_door(sk: Skills, d: OpenDoor) -> bool:
+    """Push an open hinged door shut: stand facing its outer face, the tool pointing down (a thin hand)
+    against it below the handle, and turn the base as a rigid body about the hinge (``Motion.orbit``) by the
+    door's opening plus ``DOOR_OVERTURN``, the arm holding its pose on the base. True when the hand ended
+    near the closed door's line."""
+    reach = max(d.length - DOOR_INSIDE, 0.15)
+    contact = np.array([*(d.hinge + reach * d.along + DOOR_CLEAR * d.out), DOOR_PUSH_Z])
+    stand = d.hinge + max(reach, DOOR_MIN_SIDE) * d.along + (DOOR_STANDOFF + DOOR_CLEAR) * d.out
+    heading = float(np.arctan2(-d.out[1], -d.out[0]))
+    sk.tuck()
+    sk.goto(float(stand[0]), LANE_Y, lane=True)
+    sk.motion.drive_to(float(stand[0]), float(stand[1]), FACING, tol=0.03, max_steps=150)
+    sk.motion.drive_to(float(stand[0]), float(stand[1]), heading, tol=0.03, yaw_tol=0.05, max_steps=120)
+    sk.home()
+    tool = down_quat(heading)
+    sk.motion.close_gripper(steps=2)
+    sk.motion.move_tool([*contact[:2] + 0.1 * d.out, DOOR_PUSH_Z + 0.1], tool, tol=0.03, max_steps=120)
+    sk.motion.move_tool([*contact[:2] + 0.1 * d.out, DOOR_PUSH_Z], tool, tol=0.02, max_steps=60)
+    r = sk.motion.move_tool(contact, tool, tol=0.015, max_steps=40, speed=0.5)
+    sk.note(
+        f"door push from {np.round(sk.obs['base_pos'][:2], 3)}: hand {np.round(sk.obs['ee_pos'], 3)} ({r.reached})"
+    )
+    # about 4 s of turning; blocked by the shut door, the base stops short of the overturn
+    sk.motion.orbit(d.hinge, d.closing * (d.opened + DOOR_OVERTURN), max_steps=140)
+    hand = np.asarray(sk.obs["ee_pos"][:2], float)
+    ok = abs(float(hand[1]) - DOOR_Y) < 0.15  # the hand stays about 0.1 m out (the shut door stops the turn)
+    sk.note(f"door pushed: hand {np.round(hand, 3)}, base {np.round(sk.obs['base_pos'][:2], 3)}")
+    sk.motion.move_tool_by([0.0, -0.1, 0.0], tol=0.03, max_steps=30)
+    sk.motion.drive_to(float(sk.obs["base_pos"][0]), LANE_Y + 0.1, None, tol=0.05, max_steps=80)
+    sk.tuck()
+    return ok
+
+
 FORWARD = np.array([np.cos(-np.pi / 4), np.sin(-np.pi / 4), 0.0, 0.0])
 """Tool z along world +y (into a unit's front), fingers closing along x."""
 KNOB_STANDOFF = 0.15
@@ -415,13 +667,9 @@ def turn_knob(sk: Skills, burner: str, on: bool) -> bool:
     lo, hi = (-np.inf, -np.inf, 0.6), (np.inf, FRONT_Y + 0.02, 1.0)
     pts = sk.find(prompt, lo, hi, turns=(0.0, 0.8, -0.8, 1.3, -1.3), radius=0.04)
     if len(pts) < 3:
-        stove = sk.find(
-            "stove",
-            (-np.inf, -np.inf, 0.3),
-            (np.inf, 0.0, 1.0),
-            turns=(0.0, 0.8, -0.8, 1.3, -1.3),
-            radius=None,
-        )
+        stove = sk.find("stove", (-np.inf, -np.inf, 0.3), (np.inf, 0.0, 1.0), radius=None)
+        if len(stove) < 3:
+            stove = sk.find_far("stove", (-np.inf, -np.inf, 0.3), (np.inf, 0.0, 1.0))
         if len(stove) < 3:
             sk.note("no stove in sight")
             return False
