@@ -55,7 +55,12 @@ BASELINE_PINS: dict[str, tuple[str, float]] = {
     "baseline/reads_hidden_state": ("a7482a8c079e624311771c1064ce6af9691d68cdb0fbf1baa54d8bc0ac111516", 0.0),
 }
 """The baselines are the same files for every group (checksum, golden quick score)."""
-REFERENCE_PINS: dict[str, tuple[str, float]] = {}
+REFERENCE_PINS: dict[str, tuple[str, float]] = {
+    # quick mode runs two of the five agents (the others count 0): 2 successes -> 0.4
+    "02-group-01": ("f53176d5b31c578b4353551e1c8172dc72e41fd8b48d779e416a0914a46c6d49", 0.4),
+    "02-group-09": ("f53176d5b31c578b4353551e1c8172dc72e41fd8b48d779e416a0914a46c6d49", 0.4),
+    "02-group-12": ("f53176d5b31c578b4353551e1c8172dc72e41fd8b48d779e416a0914a46c6d49", 0.4),
+}
 """Task id -> the reference's (checksum, golden quick score under the public key)."""
 BASELINE_GROUPS = ("02-group-01", "02-group-09", "02-group-12")
 """Groups that ship the baselines (one per difficulty, beside their references)."""
