@@ -16,6 +16,30 @@ if "MUJOCO_GL" not in _os.environ:
     _os.environ["MUJOCO_GL"] = _default_gl_backend()
 _os.environ.setdefault("PYOPENGL_PLATFORM", _os.environ["MUJOCO_GL"])
 
+
+def _blas_core(cpuinfo: str = "/proc/cpuinfo") -> str | None:
+    """The OpenBLAS kernel family every x86-64 machine with AVX2 and FMA runs: ``Haswell``; else None.
+
+    OpenBLAS picks its kernels per CPU, and kernels of another vector width (AVX-512 on SkylakeX) round
+    a matrix product differently; a controller's solves feed those bits into contact physics, which
+    amplifies them, so a ledger replayed on two machines would end in different states. One kernel
+    family everywhere keeps a verifier's report the same across machines.
+    """
+    try:
+        with open(cpuinfo) as f:
+            for line in f:
+                if line.startswith("flags"):
+                    flags = set(line.split(":", 1)[1].split())
+                    return "Haswell" if {"avx2", "fma"} <= flags else None
+    except OSError:
+        return None
+    return None
+
+
+# OpenBLAS reads OPENBLAS_CORETYPE when numpy first loads it, so set it before that.
+if "OPENBLAS_CORETYPE" not in _os.environ and (_core := _blas_core()):
+    _os.environ["OPENBLAS_CORETYPE"] = _core
+
 # ruff: noqa: E402
 
 from rle_design.errors import (

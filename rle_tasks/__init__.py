@@ -1,1 +1,3 @@
 """RLE-Bench tasks: the 51 task instances of the paper, their verifiers and the shared runtime."""
+
+import rle_design  # noqa: E402,F401  (sets the BLAS kernel family and GL backend before numpy loads)

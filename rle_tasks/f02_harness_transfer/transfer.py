@@ -67,16 +67,8 @@ def connect():
 
     return LedgerClient(ADDRESS)
 '''
-_INSTRUCTION = """# One task, one kitchen
-
-Task: {instruction}
-
-You are controlling a simulated Franka Panda on a mobile base in a kitchen you have not seen. Only the
-harness in `agent_harness/` (read `agent_harness/MANUAL.md`) and the metered client (`client.py`:
-`from client import connect`) are here. Budget: {steps} steps (each reset and executed action costs one)
-and {minutes:.0f} minutes. The task's success predicate is checked after every action; observations are
-free.
-"""
+_INSTRUCTION = Path(__file__).parent / "assets" / "fresh_instruction.md"
+"""A fresh agent's ``instruction.md`` (``str.format`` fields: instruction, steps, minutes)."""
 
 
 class HarnessError(Exception):
@@ -184,7 +176,10 @@ class TransferResult:
     elapsed_s: float = 0.0
 
     def record(self) -> dict:
-        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.__dict__.items()}
+        """The report's copy: every field but the wall time (a report is the same on every run)."""
+        return {
+            k: (list(v) if isinstance(v, tuple) else v) for k, v in self.__dict__.items() if k != "elapsed_s"
+        }
 
 
 def stage_score(b: int, m: int, n: int, success: bool, recorded: bool) -> float:
@@ -331,7 +326,7 @@ def run_unit(unit: TransferUnit) -> TransferResult:
                 _CLIENT.format(address=str(server.socket_path), steps=unit.steps)
             )
             (stage / "instruction.md").write_text(
-                _INSTRUCTION.format(
+                _INSTRUCTION.read_text().format(
                     instruction=env.scene.episode.instruction, steps=unit.steps, minutes=unit.wall_time_s / 60
                 )
             )

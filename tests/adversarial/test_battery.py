@@ -72,7 +72,8 @@ def test_audit_command_prints_the_table(capsys):
     assert main(["audit-verifiers", "--filter", "ledger/"]) == 0
     out = capsys.readouterr().out
     assert "expected code" in out and "ledger/forged_key" in out
-    assert "13 cases, 13 matching" in out
+    n = sum(c.name.startswith("ledger/") for c in CASES)
+    assert n >= 13 and f"{n} cases, {n} matching" in out
 
 
 def test_leak_detector_finds_a_planted_seed(tmp_path):

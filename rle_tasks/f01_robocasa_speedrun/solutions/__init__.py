@@ -2,7 +2,7 @@
 
 A submission is a session's sealed ledger (fresh nonce and opening time), so the programs are shipped
 and ``make_ledgers`` records them under the public development key; the ledgers are committed gzipped
-(``ledgers/<task id>/<name>/ledger.jsonl.gz``) and materialised by ``gunzip``.
+(``reference/<task id>/ledger.jsonl.gz``, ``baseline/<name>/<task id>/ledger.jsonl.gz``) and materialised by ``gunzip``.
 
 | solution | tasks | expected score | why |
 |---|---|---|---|
@@ -19,7 +19,7 @@ from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
 
-__all__ = ["LEDGER", "SOLUTIONS", "gunzip", "tamper"]
+__all__ = ["LEDGER", "SOLUTIONS", "gunzip", "ledger_dir", "tamper"]
 
 LEDGER = "ledger.jsonl"
 PACKAGE = "rle_tasks.f01_robocasa_speedrun"
@@ -44,8 +44,13 @@ def tamper(directory: Path) -> None:
     path.write_bytes(b"".join(lines))
 
 
+def ledger_dir(task_id: str, name: str) -> str:
+    """Where the ledger of solution ``name`` for ``task_id`` is committed, relative to ``solutions/``."""
+    return f"{name}/{task_id}" if name == "reference" else f"baseline/{name.split('/')[-1]}/{task_id}"
+
+
 def _ledger(task_id: str, name: str) -> tuple[tuple[str, str], ...]:
-    return ((".", f"solutions/ledgers/{task_id}/{name.split('/')[-1]}"),)
+    return ((".", f"solutions/{ledger_dir(task_id, name)}"),)
 
 
 def _set(task_id: str, pins: dict[str, tuple[str, float]]) -> SolutionSet:

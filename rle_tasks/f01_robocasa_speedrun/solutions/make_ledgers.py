@@ -3,7 +3,7 @@
 Each ledger is recorded as an agent's would be: a ``LedgerServer`` serves the task's session under the
 public development key (images rendered only for the level 1-2 references, the programs that read
 them; they change neither the scenes nor their digests), the program drives it through a ``LedgerClient``, and the session is sealed. The
-ledger is written gzipped to ``ledgers/<task id>/<name>/ledger.jsonl.gz``; the script then verifies
+ledger is written gzipped to ``<ledger_dir(task id, name)>/ledger.jsonl.gz``; the script then verifies
 each solution and prints the checksum and score to pin in ``PINS``.
 """
 
@@ -105,7 +105,7 @@ def main(task_ids: list[str], only: set[str] | None = None) -> None:
     from rle_tasks.core.solutions import build
     from rle_tasks.core.task import VerifyContext
 
-    from . import SolutionSet, _set
+    from . import SolutionSet, _set, ledger_dir
 
     for kitchen in KITCHEN_TASKS:
         for level in LEVELS:
@@ -117,7 +117,7 @@ def main(task_ids: list[str], only: set[str] | None = None) -> None:
                 if only and name not in only:
                     continue
                 images = name == "reference" and level < 3
-                record(kitchen, level, program, HERE / "ledgers" / task_id / name.split("/")[-1], images)
+                record(kitchen, level, program, HERE / ledger_dir(task_id, name), images)
                 print(f"{task_id} {name}: recorded", flush=True)
             names = list(progs) + (["baseline/tampered"] if "reference" in progs else [])
             sset: SolutionSet = _set(task_id, {n: ("", 0.0) for n in names})
