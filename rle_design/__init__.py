@@ -39,6 +39,17 @@ def _blas_core(cpuinfo: str = "/proc/cpuinfo") -> str | None:
 # OpenBLAS reads OPENBLAS_CORETYPE when numpy first loads it, so set it before that.
 if "OPENBLAS_CORETYPE" not in _os.environ and (_core := _blas_core()):
     _os.environ["OPENBLAS_CORETYPE"] = _core
+    import sys as _sys
+
+    if "numpy" in _sys.modules:
+        import warnings as _warnings
+
+        _warnings.warn(
+            "numpy was imported before rle_design, so OpenBLAS kept its own kernels: ledger replays "
+            "may differ from other machines (import rle_design first)",
+            RuntimeWarning,
+            stacklevel=2,
+        )
 
 # ruff: noqa: E402
 
