@@ -11,6 +11,8 @@ import pkgutil
 import sys
 from pathlib import Path
 
+import rle_design  # noqa: F401  (pins the BLAS kernels and the GL backend before a benchmark loads numpy)
+
 
 def names() -> list[str]:
     """Benchmark module names, sorted."""

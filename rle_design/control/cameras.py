@@ -9,7 +9,7 @@ from rle_design.sensors import RgbdSensor
 
 __all__ = ["close_renderers", "render_rgb", "render_rgbd"]
 
-_SENSORS: dict[tuple[int, str, tuple[int, int]], tuple[mujoco.MjModel, RgbdSensor]] = {}
+_SENSORS: dict[tuple[int, str, tuple[int, int], int | None], tuple[mujoco.MjModel, RgbdSensor]] = {}
 
 
 def render_rgb(
@@ -21,26 +21,34 @@ def render_rgb(
 
 
 def render_rgbd(
-    model: mujoco.MjModel, data: mujoco.MjData, cameras: tuple[str, ...], size: tuple[int, int]
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    cameras: tuple[str, ...],
+    size: tuple[int, int],
+    box_quads: int | None = None,
 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
     """(camera -> (H, W, 3) uint8 colour, camera -> (H, W) float32 metric depth [m]) of the current
-    state, from one draw per camera (geoms only)."""
+    state, from one draw per camera (geoms only); ``box_quads`` as ``RgbdSensor``'s."""
     rgb, depth = {}, {}
     for name in cameras:
-        frame = _sensor(model, name, size).render(data)
+        frame = _sensor(model, name, size, box_quads).render(data)
         rgb[name], depth[name] = frame.rgb, frame.depth
     return rgb, depth
 
 
-def _sensor(model: mujoco.MjModel, name: str, size: tuple[int, int]) -> RgbdSensor:
-    key = (id(model), name, tuple(size))
+def _sensor(
+    model: mujoco.MjModel, name: str, size: tuple[int, int], box_quads: int | None = None
+) -> RgbdSensor:
+    key = (id(model), name, tuple(size), box_quads)
     entry = _SENSORS.get(key)
     if entry is None or entry[0] is not model:
         if len(_SENSORS) > 48:
             close_renderers()
         entry = _SENSORS[key] = (
             model,
-            RgbdSensor(model, name, size[1], size[0], fast=True, segmentation=False, sites=False),
+            RgbdSensor(
+                model, name, size[1], size[0], fast=True, segmentation=False, sites=False, box_quads=box_quads
+            ),
         )
     return entry[1]
 

@@ -93,6 +93,8 @@ class MobileManipulatorEnv(MeteredEnv):
         image_size: (height, width) of the camera images [px]; None renders none.
         base_speed: Base translation speed of a full-scale base action [m/s].
         yaw_speed: Base turn rate of a full-scale base action [rad/s].
+        box_quads: The cameras' ``RgbdSensor.box_quads``: 1 draws a box face as one quad (a scene built
+            of boxes renders about 20 % faster on the CPU; geometry, depth and segmentation unchanged).
     """
 
     n_substeps: int = 25
@@ -102,6 +104,7 @@ class MobileManipulatorEnv(MeteredEnv):
     image_size: tuple[int, int] | None = (128, 128)
     base_speed: float = 0.5
     yaw_speed: float = 1.0
+    box_quads: int | None = 1
 
     def _robot(self, model: mujoco.MjModel) -> _Robot:
         return _robot(model, self.names, self.gains)
@@ -214,7 +217,9 @@ class MobileManipulatorEnv(MeteredEnv):
         if self.image_size is not None:
             from rle_design.control.cameras import render_rgbd
 
-            obs["rgb"], obs["depth"] = render_rgbd(model, data, self._robot(model).cameras, self.image_size)
+            obs["rgb"], obs["depth"] = render_rgbd(
+                model, data, self._robot(model).cameras, self.image_size, self.box_quads
+            )
         for name, fn in self.observers:
             obs[name] = fn(model, data)
         return obs

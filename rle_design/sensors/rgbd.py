@@ -68,6 +68,10 @@ class RgbdSensor:
             geoms only, so cameras that stand for real ones pass False.
         cull: Leave out of the scene the geoms whose bounding sphere lies wholly outside the camera's
             view frustum (the image is unchanged; a large scene renders faster on a CPU renderer).
+        box_quads: Quads along each edge of a box face for this renderer (MuJoCo's
+            ``visual/quality/numquads``; None keeps the model's, 4 by default). 1 draws a box face as one
+            quad, which a CPU renderer draws about 20 % faster in a scene built of boxes; only the
+            lighting across large faces changes, never the geometry, depth or segmentation.
     """
 
     def __init__(
@@ -82,6 +86,7 @@ class RgbdSensor:
         max_geom: int = 10000,
         sites: bool = True,
         cull: bool = True,
+        box_quads: int | None = None,
     ) -> None:
         self._ctx = None
         self.cull = cull
@@ -101,9 +106,14 @@ class RgbdSensor:
                 code="render.size",
             )
         self._ctx, self.backend = create_context(self.width, self.height)
-        samples = int(model.vis.quality.offsamples)
+        if box_quads is not None and int(box_quads) < 1:
+            raise ValueError(f"box_quads must be >= 1, got {box_quads}")
+        quality = model.vis.quality
+        samples, quads = int(quality.offsamples), int(quality.numquads)
         if fast:
-            model.vis.quality.offsamples = 0  # read once by MjrContext, restored right after
+            quality.offsamples = 0  # read once by MjrContext, restored right after
+        if box_quads is not None:
+            quality.numquads = int(box_quads)  # likewise: the box display lists are built by MjrContext
         try:
             self._con = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_100)
             mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._con)
@@ -112,7 +122,7 @@ class RgbdSensor:
             self.close()  # do not leak the GL context
             raise
         finally:
-            model.vis.quality.offsamples = samples
+            quality.offsamples, quality.numquads = samples, quads
         self._scene = mujoco.MjvScene(model, maxgeom=max_geom)
         self._option = mujoco.MjvOption()
         if not sites:

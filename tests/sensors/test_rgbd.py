@@ -195,3 +195,32 @@ def test_frustum_culling_leaves_the_image_unchanged():
         a, b = full.render(data), culled.render(data)
     assert np.array_equal(a.rgb, b.rgb) and np.array_equal(a.depth, b.depth)
     assert np.array_equal(a.segmentation, b.segmentation)
+
+
+def test_one_quad_per_box_face_keeps_geometry_depth_and_segmentation():
+    """``box_quads=1`` changes only the lighting across box faces: depth and segmentation are identical
+    and the model's own setting is restored after the renderer is built."""
+    xml = """
+    <mujoco>
+      <visual><global offwidth="64" offheight="48"/></visual>
+      <worldbody>
+        <light pos="0.3 0.2 1.5" dir="0 0 -1"/>
+        <geom type="plane" size="5 5 0.1" rgba="0.5 0.5 0.5 1"/>
+        <geom name="counter" type="box" size="0.6 0.3 0.45" pos="1.2 0 0.45" rgba="0.8 0.8 0.7 1"/>
+        <camera name="cam" pos="0 0 1.2" xyaxes="0 -1 0 0.6 0 1" fovy="60"/>
+      </worldbody>
+    </mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    with (
+        RgbdSensor(model, "cam", 64, 48) as fine,
+        RgbdSensor(model, "cam", 64, 48, box_quads=1) as coarse,
+    ):
+        assert model.vis.quality.numquads == 4  # restored
+        a, b = fine.render(data), coarse.render(data)
+    assert np.allclose(a.depth, b.depth, rtol=1e-5, atol=1e-6)
+    assert np.array_equal(a.segmentation, b.segmentation) and np.array_equal(a.valid, b.valid)
+    assert np.abs(a.rgb.astype(int) - b.rgb.astype(int)).mean() < 20  # the same picture, other shading
+    with pytest.raises(ValueError, match="box_quads"):
+        RgbdSensor(model, "cam", 64, 48, box_quads=0)

@@ -158,7 +158,9 @@ def _segmenter(model: mujoco.MjModel, camera: str, size: tuple[int, int]) -> Rgb
             _SEGMENTERS.clear()
         entry = _SEGMENTERS[key] = (
             model,
-            RgbdSensor(model, camera, size[1], size[0], fast=True, segmentation=True, sites=False),
+            RgbdSensor(
+                model, camera, size[1], size[0], fast=True, segmentation=True, sites=False, box_quads=1
+            ),
         )
     return entry[1]
 
