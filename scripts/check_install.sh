@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Non-editable install check (not part of `make test`): install this checkout with `pip install .` into
-# a fresh virtual environment, then, from outside the checkout, materialise the 09-gello reference,
-# verify it with `rle verify` (quick mode, public development key) and compare the score with the
-# golden table; run a slice of `rle audit-verifiers` (its corpus ships with the package).
+# a fresh virtual environment, then, from outside the checkout, materialise the 09-gello, 03-cantilever
+# and 01-turn-on-stove-l3 references, verify them with `rle verify` (quick mode, public development key)
+# and compare the scores with the golden table; run a slice of `rle audit-verifiers` (its corpus ships
+# with the package).
 #
 # Usage: scripts/check_install.sh [VENV] (default /tmp/venv-wheel; reused if it exists)
 set -euo pipefail
@@ -46,13 +47,14 @@ for mod in (rle_design, rle_tasks):
 print(f"installed packages: {Path(rle_tasks.__file__).parent.parent}")
 print(f"catalogs: {CATALOG_DIR} ({len(list(CATALOG_DIR.glob('*.yaml')))} yaml files)")
 PY
-REF="$("$VENV/bin/python" -c 'from rle_tasks.core.solutions import materialise; print(materialise("09-gello", "reference"))')"
-echo "materialised reference: $REF"
-
-t0=$(date +%s)
-"$VENV/bin/rle" verify 09-gello "$REF" --quick --json "$WORK/quick.json"
-echo "rle verify --quick: $(( $(date +%s) - t0 )) s"
-"$VENV/bin/python" - "$WORK/quick.json" <<'PY'
+# One solution per kind of shipped file: 09's STL/XML, 03's ledger (.jsonl), 01's gzipped ledger (.gz).
+for TASK in 09-gello 03-cantilever 01-turn-on-stove-l3; do
+    REF="$("$VENV/bin/python" -c "from rle_tasks.core.solutions import materialise; print(materialise('$TASK', 'reference'))")"
+    echo "materialised $TASK reference: $REF"
+    t0=$(date +%s)
+    "$VENV/bin/rle" verify "$TASK" "$REF" --quick --json "$WORK/$TASK.json"
+    echo "rle verify $TASK --quick: $(( $(date +%s) - t0 )) s"
+    "$VENV/bin/python" - "$WORK/$TASK.json" "$TASK" <<'PY'
 import json
 import sys
 
@@ -60,12 +62,13 @@ from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import declaration
 
 report = json.load(open(sys.argv[1]))
-sol = declaration(get_task("09-gello")).get("reference")
+sol = declaration(get_task(sys.argv[2])).get("reference")
 print(f"score {report['score']!r} (golden {sol.quick_score!r}), secret {report['secret']}, "
       f"artifact {report['artifact_sha256'][:16]} (pinned {sol.sha256[:16]})")
 if abs(report["score"] - sol.quick_score) > 1e-9 or report["artifact_sha256"] != sol.sha256:
     sys.exit("the installed package does not reproduce the golden score")
 PY
+done
 
 "$VENV/bin/rle" audit-verifiers --filter ledger/
 "$VENV/bin/rle" audit-verifiers --filter xml/09-include_dotdot
