@@ -93,6 +93,14 @@ def _local(fn: Callable[[T], R], items: list[T], jobs: int, progress: Progress |
         return [f.result() for f in futures]
 
 
+def ray_runtime_env() -> dict[str, Any]:
+    """Ray's ``runtime_env`` for the workers: the driver's BLAS kernel family (``OPENBLAS_CORETYPE``,
+    set by ``import rle_design``). A Ray worker loads numpy before it unpickles a task, so the pin must
+    be in its environment when it starts, or replays on the cluster round differently."""
+    core = os.environ.get("OPENBLAS_CORETYPE")
+    return {"env_vars": {"OPENBLAS_CORETYPE": core}} if core else {}
+
+
 def _ray(
     fn: Callable[[T], R], items: list[T], jobs: int, address: str | None, progress: Progress | None
 ) -> list[R]:
@@ -107,9 +115,11 @@ def _ray(
     started = False
     if not ray.is_initialized():
         if address:
-            ray.init(address=address, log_to_driver=False)
+            ray.init(address=address, log_to_driver=False, runtime_env=ray_runtime_env())
         else:
-            ray.init(num_cpus=jobs, include_dashboard=False, log_to_driver=False)
+            ray.init(
+                num_cpus=jobs, include_dashboard=False, log_to_driver=False, runtime_env=ray_runtime_env()
+            )
         started = True
     try:
         remote = ray.remote(fn)

@@ -83,3 +83,28 @@ else:
         with pytest.raises(ValueError, match="Expecting property name") as exc:
             run_parallel(json.loads, ["1", "4", "{"], jobs=2, executor="ray")
         assert exc.value.__notes__[-1] == "raised by run_parallel item 2: '{'"
+
+
+def test_ray_workers_get_the_drivers_blas_kernel_family(monkeypatch):
+    """A Ray worker imports numpy before it unpickles a task, so the pin travels in its environment."""
+    import json
+    import sys
+    import types
+
+    from rle_tasks.core.runner import ray_runtime_env
+
+    calls = []
+    fake = types.SimpleNamespace(
+        is_initialized=lambda: False,
+        init=lambda **kw: calls.append(kw),
+        shutdown=lambda: None,
+        remote=lambda fn: types.SimpleNamespace(remote=lambda item: ("ref", item)),
+        wait=lambda pending, num_returns: (pending[:1], pending[1:]),
+        get=lambda ref: json.loads(ref[1]),
+    )
+    monkeypatch.setitem(sys.modules, "ray", fake)
+    monkeypatch.setenv("OPENBLAS_CORETYPE", "Haswell")
+    assert run_parallel(json.loads, ["1", "[2]"], jobs=2, executor="ray") == [1, [2]]
+    assert calls[0]["runtime_env"] == {"env_vars": {"OPENBLAS_CORETYPE": "Haswell"}}
+    monkeypatch.delenv("OPENBLAS_CORETYPE")
+    assert ray_runtime_env() == {}
