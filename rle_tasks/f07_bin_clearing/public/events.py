@@ -113,26 +113,29 @@ class EventCounter:
             fn = np.abs(data.efc_force[data.contact.efc_address[:n]])
             fn = np.where(data.contact.efc_address[:n] >= 0, fn, 0.0)
             p1, p2 = self.part_of[g1], self.part_of[g2]
-            for p in np.concatenate([p1[self.floor[g2]], p2[self.floor[g1]]]):
-                if p >= 0:
-                    c.floor.add(int(p))
-            for p, f in zip(np.concatenate([p1, p2]), np.concatenate([fn, fn])):
-                if p >= 0:
-                    c.peak_part_n = max(c.peak_part_n, float(f))
-                    if f > PART_IMPACT_N:
-                        c.damaged_parts.add(int(p))
-            rob = self.robot[g1] ^ self.robot[g2]
-            other_part = np.where(self.robot[g1], p2, p1) >= 0
-            other_bin = np.where(self.robot[g1], self.bin[g2], self.bin[g1])
-            f_bin = float(fn[rob & other_bin].max(initial=0.0))
-            f_rob = float(fn[rob & ~other_bin & ~other_part].max(initial=0.0))
-            c.peak_bin_n, c.peak_robot_n = max(c.peak_bin_n, f_bin), max(c.peak_robot_n, f_rob)
-            if f_bin > BIN_IMPACT_N and t - self._last_bin >= DEBOUNCE_S:
-                c.bin_impacts += 1
-                self._last_bin = t
-            if f_rob > ROBOT_IMPACT_N and t - self._last_robot >= DEBOUNCE_S:
-                c.robot_impacts += 1
-                self._last_robot = t
+            on_floor = np.concatenate([p1[self.floor[g2]], p2[self.floor[g1]]])
+            c.floor.update(int(p) for p in on_floor[on_floor >= 0])
+            parts, forces = np.concatenate([p1, p2]), np.concatenate([fn, fn])
+            mine = parts >= 0  # contacts of a bracket, one row per bracket side (vectorised: every step)
+            if mine.any():
+                c.peak_part_n = max(c.peak_part_n, float(forces[mine].max()))
+                hard = mine & (forces > PART_IMPACT_N)
+                if hard.any():
+                    c.damaged_parts.update(int(p) for p in np.unique(parts[hard]))
+            r1 = self.robot[g1]
+            rob = r1 ^ self.robot[g2]
+            if rob.any():  # most steps have no robot contact: forces 0, nothing to count
+                other_part = np.where(r1, p2, p1) >= 0
+                other_bin = np.where(r1, self.bin[g2], self.bin[g1])
+                f_bin = float(fn[rob & other_bin].max(initial=0.0))
+                f_rob = float(fn[rob & ~other_bin & ~other_part].max(initial=0.0))
+                c.peak_bin_n, c.peak_robot_n = max(c.peak_bin_n, f_bin), max(c.peak_robot_n, f_rob)
+                if f_bin > BIN_IMPACT_N and t - self._last_bin >= DEBOUNCE_S:
+                    c.bin_impacts += 1
+                    self._last_bin = t
+                if f_rob > ROBOT_IMPACT_N and t - self._last_robot >= DEBOUNCE_S:
+                    c.robot_impacts += 1
+                    self._last_robot = t
         if self._steps % self.control_every == 0:
             k = len(nest_members(model, data, self.n_parts))
             if k >= 2 and self._nest_prev < 2:
