@@ -168,24 +168,27 @@ def test_default_backend_prefers_egl_and_falls_back_to_osmesa():
     assert rle_design._default_gl_backend({}.get) == "egl"
 
 
-def test_frustum_culling_leaves_the_image_unchanged():
-    """Geoms behind the camera or beside its view are left out of the scene; what it sees is identical."""
-    xml = """
+def _on_floor(body: str, light: str = "0 0 3"):
+    """A 64 x 48 scene: a light above ``light`` [m] pointing down, a floor plane, then ``body``."""
+    return _setup(f"""
     <mujoco>
       <visual><global offwidth="64" offheight="48"/></visual>
       <worldbody>
-        <light pos="0 0 3" dir="0 0 -1"/>
+        <light pos="{light}" dir="0 0 -1"/>
         <geom type="plane" size="5 5 0.1" rgba="0.5 0.5 0.5 1"/>
+        {body}
+      </worldbody>
+    </mujoco>""")
+
+
+def test_frustum_culling_leaves_the_image_unchanged():
+    """Geoms behind the camera or beside its view are left out of the scene; what it sees is identical."""
+    model, data = _on_floor("""
         <geom name="seen" type="box" size="0.1 0.1 0.1" pos="1 0 0.1" rgba="0.8 0.2 0.2 1"/>
         <geom name="edge" type="sphere" size="0.3" pos="1 0.75 0.3" rgba="0.2 0.8 0.2 1"/>
         <geom name="behind" type="box" size="0.1 0.1 0.1" pos="-1 0 0.1"/>
         <geom name="aside" type="box" size="0.1 0.1 0.1" pos="0 3 0.1"/>
-        <camera name="cam" pos="0 0 0.5" xyaxes="0 -1 0 0.3 0 1" fovy="60"/>
-      </worldbody>
-    </mujoco>"""
-    model = mujoco.MjModel.from_xml_string(xml)
-    data = mujoco.MjData(model)
-    mujoco.mj_forward(model, data)
+        <camera name="cam" pos="0 0 0.5" xyaxes="0 -1 0 0.3 0 1" fovy="60"/>""")
     with (
         RgbdSensor(model, "cam", 64, 48, cull=False) as full,
         RgbdSensor(model, "cam", 64, 48, cull=True) as culled,
@@ -200,19 +203,12 @@ def test_frustum_culling_leaves_the_image_unchanged():
 def test_one_quad_per_box_face_keeps_geometry_depth_and_segmentation():
     """``box_quads=1`` changes only the lighting across box faces: depth and segmentation are identical
     and the model's own setting is restored after the renderer is built."""
-    xml = """
-    <mujoco>
-      <visual><global offwidth="64" offheight="48"/></visual>
-      <worldbody>
-        <light pos="0.3 0.2 1.5" dir="0 0 -1"/>
-        <geom type="plane" size="5 5 0.1" rgba="0.5 0.5 0.5 1"/>
+    model, data = _on_floor(
+        """
         <geom name="counter" type="box" size="0.6 0.3 0.45" pos="1.2 0 0.45" rgba="0.8 0.8 0.7 1"/>
-        <camera name="cam" pos="0 0 1.2" xyaxes="0 -1 0 0.6 0 1" fovy="60"/>
-      </worldbody>
-    </mujoco>"""
-    model = mujoco.MjModel.from_xml_string(xml)
-    data = mujoco.MjData(model)
-    mujoco.mj_forward(model, data)
+        <camera name="cam" pos="0 0 1.2" xyaxes="0 -1 0 0.6 0 1" fovy="60"/>""",
+        light="0.3 0.2 1.5",
+    )
     with (
         RgbdSensor(model, "cam", 64, 48) as fine,
         RgbdSensor(model, "cam", 64, 48, box_quads=1) as coarse,
