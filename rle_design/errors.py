@@ -70,6 +70,13 @@ class UnsafeArtifact(MjcfError):
     code = "artifact.unsafe"
 
 
+def _plural(noun: str) -> str:
+    """English plural of an element kind: body -> bodies, mesh -> meshes, site -> sites."""
+    if noun.endswith("y") and noun[-2:-1] not in ("a", "e", "o", "u"):
+        return noun[:-1] + "ies"
+    return noun + ("es" if noun.endswith(("s", "sh", "ch", "x")) else "s")
+
+
 class MissingElement(RleError):
     """A required named element is absent; the message lists the available names."""
 
@@ -78,7 +85,7 @@ class MissingElement(RleError):
     def __init__(self, kind: str, name: str, available: Iterable[str] = (), **kw) -> None:
         avail = sorted(a for a in available if a)
         shown = ", ".join(avail[:30]) + (" ..." if len(avail) > 30 else "")
-        msg = f"{kind} '{name}' does not exist. Available {kind}s: {shown or '(none)'}"
+        msg = f"{kind} '{name}' does not exist. Available {_plural(kind)}: {shown or '(none)'}"
         super().__init__(msg, **kw)
         self.kind = kind
         self.name = name

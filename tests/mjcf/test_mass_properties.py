@@ -120,7 +120,7 @@ def test_invalid_inertia_is_reported(artifact):
     assert audit_model(model).body("mast").reason == "non-positive principal moment in [0.0, 1.0, 1.0]"
     with pytest.raises(MissingElement) as info:
         audit.body("nope")
-    assert str(info.value) == "body 'nope' does not exist. Available bodys: chassis, mast"
+    assert str(info.value) == "body 'nope' does not exist. Available bodies: chassis, mast"
 
 
 def test_audit_uses_qpos0(artifact):

@@ -153,7 +153,7 @@ def test_camera_and_site_errors_name_the_element():
         CameraConfig(name="overview").edit_spec(spec)
     with pytest.raises(MissingElement) as err:
         SiteConfig(name="s", body="lid").edit_spec(spec)
-    assert str(err.value) == "body 'lid' does not exist. Available bodys: box, world"
+    assert str(err.value) == "body 'lid' does not exist. Available bodies: box, world"
 
 
 def test_site_on_a_body():

@@ -87,3 +87,12 @@ def test_spec_lookups_list_the_alternatives():
         find_site(spec, "mount")
     assert str(err.value) == "site 'mount' does not exist. Available sites: elbow_site, tool"
     assert err.value.code == "contract.missing_site"
+
+
+@pytest.mark.parametrize(
+    ("kind", "plural"),
+    [("body", "bodies"), ("mesh", "meshes"), ("site", "sites"), ("key", "keys"), ("actuator", "actuators")],
+)
+def test_missing_element_names_the_kind_in_the_plural(kind, plural):
+    err = MissingElement(kind, "x", ["a"])
+    assert str(err) == f"{kind} 'x' does not exist. Available {plural}: a"
