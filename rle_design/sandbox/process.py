@@ -52,6 +52,8 @@ class Sandbox:
         limits: Resource limits.
         workdir_files: Extra files copied into the working directory, ``{relative name: source}``.
         name: Module name in the child, used in fault messages.
+        interpreter: Python of the child (default: this one), e.g. that of a side virtual environment
+            whose packages this one cannot import; it needs numpy for the wire format.
     """
 
     def __init__(
@@ -61,12 +63,14 @@ class Sandbox:
         limits: SandboxLimits = SandboxLimits(),  # noqa: B008 - frozen dataclass
         workdir_files: Mapping[str, Path] = {},  # noqa: B006 - read only
         name: str = "submission",
+        interpreter: str | Path | None = None,
     ) -> None:
         if not name.isidentifier():
             raise ValueError(f"sandbox module name must be an identifier, got {name!r}")
         self.module_path = Path(module_path)
         self.limits = limits
         self.name = name
+        self.interpreter = str(interpreter) if interpreter is not None else sys.executable
         self.layers: dict[str, bool] = {}
         self._workdir_files = dict(workdir_files)
         self._proc: subprocess.Popen | None = None
@@ -122,13 +126,18 @@ class Sandbox:
 
         Raises:
             ParticipantFault: ``sandbox.import_error`` (or the code of the death) when the import fails.
-            RleError: ``sandbox.setup`` when the isolation itself cannot be established (our fault).
+            RleError: ``sandbox.setup`` when the isolation itself cannot be established, or the
+                interpreter is not an executable (our fault).
         """
         if self._proc is not None:
             return
         if not self.module_path.is_file():
             raise ParticipantFault(
                 "sandbox.import_error", f"{self.name}: module file {self.module_path.name} does not exist"
+            )
+        if not os.access(self.interpreter, os.X_OK):
+            raise RleError(
+                f"sandbox interpreter {self.interpreter} is not an executable", code="sandbox.setup"
             )
         self._workdir = Path(tempfile.mkdtemp(prefix="rle-sandbox-"))
         copy_tree(self.module_path.parent, self._workdir)
@@ -165,7 +174,7 @@ class Sandbox:
         }
         try:
             self._proc = subprocess.Popen(
-                [sys.executable, "-I", "-B", str(_BOOTSTRAP), json.dumps(config)],
+                [self.interpreter, "-I", "-B", str(_BOOTSTRAP), json.dumps(config)],
                 stdin=subprocess.DEVNULL,
                 stdout=subprocess.PIPE,
                 stderr=subprocess.STDOUT,

