@@ -128,6 +128,12 @@ class LiberoEnv:
         obs, success = self._box.call("step", a)
         return obs, bool(success)
 
+    def scene(self) -> dict:
+        """Simulator state for state-based experts (never for a served policy): ``eef_pos``, ``eef_rot``,
+        ``gripper_qpos``, ``objects`` (pose and collision box in the body frame), ``sites`` (pose and
+        half-size), ``joints`` (articulated fixtures) and the BDDL ``goal``."""
+        return self._box.call("scene")
+
     def object_positions(self) -> dict[str, np.ndarray]:
         """Object positions in the world [m] (for scripted experts; never for a served policy)."""
         return self._box.call("object_positions")

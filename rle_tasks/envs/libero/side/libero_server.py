@@ -90,6 +90,85 @@ def step(action):
     return _obs(raw), bool(_S["env"].check_success())
 
 
+def _body_box(sim, body_id):
+    """Axis-aligned box of a body's collision geoms in the body frame: (lower, upper) corners [m]."""
+    m = sim.model
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    body_rot = sim.data.body_xmat[body_id].reshape(3, 3)
+    body_pos = sim.data.body_xpos[body_id]
+    # the object's geoms may sit on child bodies: take every geom whose root chain reaches body_id
+    for g in range(m.ngeom):
+        b = int(m.geom_bodyid[g])
+        while b not in (0, body_id):
+            b = int(m.body_parentid[b])
+        if b != body_id or m.geom_contype[g] == 0 and m.geom_conaffinity[g] == 0:
+            continue
+        center, half = m.geom_aabb[g][:3], m.geom_aabb[g][3:]
+        rot = sim.data.geom_xmat[g].reshape(3, 3)
+        corners = np.array([[a, b_, c] for a in (-1, 1) for b_ in (-1, 1) for c in (-1, 1)]) * half + center
+        world = sim.data.geom_xpos[g] + corners @ rot.T
+        local = (world - body_pos) @ body_rot
+        lo, hi = np.minimum(lo, local.min(0)), np.maximum(hi, local.max(0))
+    return lo, hi
+
+
+def scene():
+    """Simulator state for state-based experts (never served to a policy): the end effector, the
+    gripper, every object's pose and collision box, every region site and articulated joint."""
+    env = _S["env"].env
+    sim = env.sim
+    robot = env.robots[0]
+    out = {
+        "eef_pos": np.array(sim.data.site_xpos[robot.eef_site_id], dtype=np.float64),
+        "eef_rot": np.array(sim.data.site_xmat[robot.eef_site_id], dtype=np.float64).reshape(3, 3),
+        "gripper_qpos": np.array([sim.data.qpos[i] for i in robot._ref_gripper_joint_pos_indexes]),
+        "objects": {},
+        "sites": {},
+        "joints": {},
+        "goal": [[str(w) for w in p] for p in env.parsed_problem["goal_state"]],
+    }
+    names = dict(env.obj_body_id)
+    for name in getattr(env, "fixtures_dict", {}):
+        if name not in names:
+            names[name] = sim.model.body_name2id(env.fixtures_dict[name].root_body)
+    for name, bid in names.items():
+        lo, hi = _body_box(sim, bid)
+        out["objects"][name] = {
+            "pos": np.array(sim.data.body_xpos[bid], dtype=np.float64),
+            "rot": np.array(sim.data.body_xmat[bid], dtype=np.float64).reshape(3, 3),
+            "box_lo": lo,
+            "box_hi": hi,
+        }
+    for name in env.object_sites_dict:
+        try:
+            sid = sim.model.site_name2id(name)
+        except ValueError:
+            continue
+        pos = np.array(sim.data.site_xpos[sid], dtype=np.float64)
+        rot = np.array(sim.data.site_xmat[sid], dtype=np.float64).reshape(3, 3)
+        site = env.object_sites_dict[name]
+        size = getattr(site, "size", None)
+        size = np.array(sim.model.site_size[sid] if size is None else size, dtype=np.float64)
+        # the box LIBERO's ``in`` predicate tests an object's body position against (SiteObject.in_box)
+        half = np.abs(rot @ size)
+        lb, ub = pos - half, pos + half
+        lb[2] -= 0.01
+        out["sites"][name] = {"pos": pos, "rot": rot, "size": size, "in_lb": lb, "in_ub": ub}
+    for j in range(sim.model.njnt):
+        name = sim.model.joint_id2name(j)
+        if (
+            name
+            and not name.startswith("robot0_")
+            and not name.startswith("gripper0_")
+            and sim.model.jnt_type[j] in (2, 3)
+        ):
+            out["joints"][name] = {
+                "qpos": float(sim.data.qpos[sim.model.jnt_qposadr[j]]),
+                "range": np.array(sim.model.jnt_range[j], dtype=np.float64),
+            }
+    return out
+
+
 def object_positions():
     """World positions of the task's objects [m] (state-based experts only; never served to a policy)."""
     env = _S["env"].env
