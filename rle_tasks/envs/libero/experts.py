@@ -32,6 +32,16 @@ ROT_STEP = 0.5
 OPEN, CLOSED = -1.0, 1.0
 FINGER_AXIS = 0
 """Axis of the end-effector site frame along which the Panda's fingers close."""
+MAX_GRASP_WIDTH = 0.07
+"""Widest object span the open fingers take with room to spare [m] (the Panda opens to 0.08 m)."""
+HAND_HALF, HAND_WIDTH = 0.11, 0.07
+"""Footprint of the Panda hand with open fingers: half-length along the fingers, width across [m]."""
+HAND_LIFT = 0.005
+"""Height of the hand's collision body above the grasp point (the finger pads' centre) [m]."""
+WALL_IN, RIM_DEPTH = 0.006, 0.025
+"""A rim grasp holds the wall this far inside the outer surface and this far below the top [m]."""
+GRASP_TRIES = 3
+"""Attempts at one grasp before the expert moves on."""
 SETTLE_STEPS = 20
 """Steps held after the last skill for released objects to come to rest (success is checked per step)."""
 
@@ -76,6 +86,7 @@ class _Driver:
         self.actions: list[np.ndarray] = []
         self.success = False
         self.log: list[str] = []
+        self.grasp: tuple = ()
 
     @property
     def done(self) -> bool:
@@ -115,7 +126,8 @@ def _descend(
         if np.linalg.norm(e) < 0.005:
             return
         target = point.copy()
-        if np.hypot(e[0], e[1]) > 0.004:
+        # centred within 4 mm for the last 3 cm; higher up a larger error is corrected on the way down
+        if np.hypot(e[0], e[1]) > 0.004 + 0.1 * max(0.0, -e[2] - 0.03):
             target[2] = d.scene["eef_pos"][2]  # hold the height until centred
             heights.clear()
         else:
@@ -137,57 +149,147 @@ def _hold(d: _Driver, grip: float, steps: int) -> Iterator[None]:
         yield
 
 
-def _grasp_frame(d: _Driver, obj: dict, yaw_jitter: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """(grasp point, gripper rotation, object height) of a top-down grasp across the narrower side."""
+def _world_box(obj: dict) -> tuple[np.ndarray, np.ndarray]:
+    """World axis-aligned bounds of an object's collision box."""
+    lo, hi = obj["box_lo"], obj["box_hi"]
+    corners = np.array([[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1]) for c in (lo[2], hi[2])])
+    world = obj["pos"] + corners @ obj["rot"].T
+    return world.min(0), world.max(0)
+
+
+def _hand_overlap(center: np.ndarray, finger_dir: np.ndarray, z_bottom: float, others: list[dict]) -> float:
+    """Summed overlap [m^2] of the hand's footprint (HAND_HALF along the fingers, HAND_WIDTH/2 across)
+    with the horizontal boxes of the objects whose tops rise above the hand's lower face."""
+    across = np.array([-finger_dir[1], finger_dir[0]])
+    corners = np.array(
+        [
+            center[:2] + a * HAND_HALF * finger_dir[:2] + b * HAND_WIDTH / 2 * across
+            for a in (-1, 1)
+            for b in (-1, 1)
+        ]
+    )
+    lo, hi = corners.min(0), corners.max(0)
+    total = 0.0
+    for o in others:
+        olo, ohi = _world_box(o)
+        if ohi[2] < z_bottom:
+            continue
+        w = min(hi[0], ohi[0]) - max(lo[0], olo[0])
+        h = min(hi[1], ohi[1]) - max(lo[1], olo[1])
+        if w > 0 and h > 0:
+            total += w * h
+    return total
+
+
+def _rim_grasp(point, top, narrow, width, others) -> tuple[float, np.ndarray, np.ndarray]:
+    """(cost, finger direction, grasp point) pinching the wall of a hollow object at the end of its
+    narrower axis: fingers close radially across the wall, RIM_DEPTH below the top."""
+    u = np.array([narrow[0], narrow[1], 0.0]) / max(1e-9, np.hypot(narrow[0], narrow[1]))
+    best = None
+    for sign in (1.0, -1.0):
+        p = point + sign * (width / 2 - WALL_IN) * u
+        p[2] = top - RIM_DEPTH
+        cost = _hand_overlap(p, u, p[2] + HAND_LIFT, others)
+        if best is None or cost < best[0]:
+            best = (cost, u, p)
+    return best
+
+
+def _grasp_frame(d: _Driver, name: str, yaw_jitter: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """(grasp point, gripper rotation, object height) of a top-down grasp.
+
+    The fingers close across the object's narrower side, or at an angle to it (steps of 15 degrees)
+    at which the object still fits between them, and the grasp may move along the object's long side
+    (up to 3 cm): the choice keeps the hand's footprint clear of the neighbouring objects that rise
+    above its lower face, and otherwise stays closest to a centred grasp across the narrower side.
+    """
+    sc = d.scene
+    obj = sc["objects"][name]
     lo, hi = obj["box_lo"], obj["box_hi"]
     rot = obj["rot"]
     center = obj["pos"] + rot @ ((lo + hi) / 2.0)
     ext = hi - lo
-    # the object's horizontal axes in the world; fingers (gripper y axis) close along the narrower one
-    ax_x, ax_y = rot[:, 0], rot[:, 1]
-    narrow = ax_x if ext[0] <= ext[1] else ax_y
-    yaw_obj = np.arctan2(narrow[1], narrow[0])
-    finger = d.down[:, FINGER_AXIS]
-    yaw_now = np.arctan2(finger[1], finger[0])
-    dyaw = (yaw_obj - yaw_now + np.pi / 2) % np.pi - np.pi / 2 + yaw_jitter  # fingers are symmetric
-    grip_rot = _rz(dyaw) @ d.down
+    narrow_i = 0 if ext[0] <= ext[1] else 1
+    narrow, wide = rot[:, narrow_i], rot[:, 1 - narrow_i]
+    a, b = float(ext[narrow_i]), float(ext[1 - narrow_i])
     top = max(center[2] + abs(rot[2] @ ((hi - lo) / 2.0)), center[2])
     height = float(ext[2])
     point = center.copy()
     point[2] = max(top - min(0.03, 0.5 * height), center[2] - 0.5 * height + 0.01)
-    return point, grip_rot, height
+    others = [o for n, o in sc["objects"].items() if n != name]
+    wide_h = np.array([wide[0], wide[1], 0.0]) / max(1e-9, np.hypot(wide[0], wide[1]))
+    reach = max(0.0, b / 2 - 0.02)  # the fingers stay 2 cm inside the object's ends
+    best = None
+    for k in (0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6):
+        th = k * np.pi / 12
+        if a * abs(np.cos(th)) + b * abs(np.sin(th)) > MAX_GRASP_WIDTH:
+            continue
+        fdir = np.cos(th) * narrow + np.sin(th) * wide
+        fdir = np.array([fdir[0], fdir[1], 0.0]) / max(1e-9, np.hypot(fdir[0], fdir[1]))
+        for shift in (0.0, 0.015, -0.015, 0.03, -0.03):
+            if abs(shift) > reach:
+                continue
+            p = point + shift * wide_h
+            cost = _hand_overlap(p, fdir, p[2] + HAND_LIFT, others) + 1e-5 * (abs(k) + 100 * abs(shift))
+            if best is None or cost < best[0]:
+                best = (cost, fdir, p)
+    if best is None:  # wider than the open fingers everywhere (a mug, a bowl): pinch the rim
+        best = _rim_grasp(point, top, narrow, a, others)
+    fdir, point = best[1], best[2]
+    finger = d.down[:, FINGER_AXIS]
+    yaw_now = np.arctan2(finger[1], finger[0])
+    dyaw = (np.arctan2(fdir[1], fdir[0]) - yaw_now + np.pi / 2) % np.pi - np.pi / 2 + yaw_jitter
+    return point, _rz(dyaw) @ d.down, height
+
+
+def _grasp(d: _Driver, name: str, rng: np.random.Generator) -> Iterator[None]:
+    """Pick ``name`` from above and lift it; up to ``GRASP_TRIES`` attempts (an attempt that leaves
+    the object on the table opens, rises and aims again). Sets ``d.grasp`` = (grasp point, gripper
+    rotation, lift height, lifted [m])."""
+    lifted, safe_z = 0.0, d.scene["eef_pos"][2]
+    for _ in range(GRASP_TRIES):
+        yaw, offset = float(rng.normal(0.0, 0.05)), rng.normal(0.0, 0.003, 2)
+        point, grip_rot, _ = _grasp_frame(d, name, yaw)
+        point[:2] += offset
+        safe_z = max(point[2] + 0.12, d.scene["eef_pos"][2])
+        above = point.copy()
+        above[2] = safe_z
+        yield from _move(d, above, grip_rot, OPEN, tol=0.015)
+        # the object may have moved (settling, a neighbour's release): aim at where it is now
+        point, grip_rot, _ = _grasp_frame(d, name, yaw)
+        point[:2] += offset
+        above = point.copy()
+        above[2] = safe_z
+        yield from _move(d, above, grip_rot, OPEN, tol=0.008, max_steps=20)
+        yield from _descend(d, point, grip_rot, OPEN)
+        yield from _hold(d, CLOSED, 12)
+        z_grasp = d.scene["objects"][name]["pos"][2]
+        lift = d.scene["eef_pos"].copy()
+        lift[2] = safe_z + 0.05
+        yield from _move(d, lift, grip_rot, CLOSED, tol=0.02)
+        held = d.scene["objects"][name]
+        lifted = float(held["pos"][2] - z_grasp)
+        # where the hand holds the object: the object's box centre relative to the end effector
+        center = held["pos"] + held["rot"] @ ((held["box_lo"] + held["box_hi"]) / 2.0)
+        d.grasp = (point, grip_rot, lift[2], lifted, center - d.scene["eef_pos"])
+        if lifted > 0.03 or d.done:
+            return
+        yield from _hold(d, OPEN, 6)
 
 
 def _pick_place(d: _Driver, name: str, target: str, rng: np.random.Generator) -> Iterator[None]:
-    sc = d.scene
-    obj = sc["objects"][name]
-    yaw, offset = float(rng.normal(0.0, 0.05)), rng.normal(0.0, 0.003, 2)
-    point, grip_rot, height = _grasp_frame(d, obj, yaw)
-    point[:2] += offset
-    safe_z = max(point[2] + 0.12, sc["eef_pos"][2])
-    above = point.copy()
-    above[2] = safe_z
-    yield from _move(d, above, grip_rot, OPEN, tol=0.015)
-    # the object may have moved (settling, a neighbour's release): aim at where it is now
-    point, grip_rot, height = _grasp_frame(d, d.scene["objects"][name], yaw)
-    point[:2] += offset
-    above = point.copy()
-    above[2] = safe_z
-    yield from _move(d, above, grip_rot, OPEN, tol=0.008, max_steps=20)
-    yield from _descend(d, point, grip_rot, OPEN)
-    yield from _hold(d, CLOSED, 12)
-    z_grasp = d.scene["objects"][name]["pos"][2]
-    lift = d.scene["eef_pos"].copy()
-    lift[2] = safe_z + 0.05
-    yield from _move(d, lift, grip_rot, CLOSED, tol=0.02)
-    lifted = d.scene["objects"][name]["pos"][2] - z_grasp
+    obj = d.scene["objects"][name]
+    bottom = obj["pos"][2] + obj["box_lo"][2]
+    yield from _grasp(d, name, rng)
+    point, grip_rot, lift_z, lifted, held = d.grasp
     goal = _target_point(d.scene, target)
     drop = goal.copy()
-    # release with the object's bottom a little above the target's top (the grasp point sat below the
-    # object's top by the same amount as now below the gripper)
-    drop[2] = goal[2] + (point[2] - (obj["pos"][2] + obj["box_lo"][2])) + 0.03
+    drop[:2] -= held[:2]  # the object's centre, not the hand, over the target
+    # release with the object's bottom a little above the target's top (the grasp point sat above the
+    # object's bottom by the same amount as now below the gripper)
+    drop[2] = goal[2] + (point[2] - bottom) + 0.03
     over = drop.copy()
-    over[2] = max(drop[2] + 0.05, lift[2])
+    over[2] = max(drop[2] + 0.05, lift_z)
     yield from _move(d, over, grip_rot, CLOSED, tol=0.015)
     yield from _descend(d, drop, grip_rot, CLOSED)
     yield from _hold(d, OPEN, 10)
@@ -228,13 +330,23 @@ def _skills(d: _Driver, rng: np.random.Generator) -> Iterator[None]:
             raise NotImplementedError(f"no expert skill for predicate {pred}")
 
 
+def _settle(d: _Driver, max_steps: int = 40) -> None:
+    """Hold still until no object moves by 1 mm in a step: LIBERO's official initial states leave
+    objects slightly interpenetrating, and some pop up to a metre high before they come to rest."""
+    before = {n: o["pos"].copy() for n, o in d.scene["objects"].items()}
+    for _ in _hold(d, OPEN, max_steps):
+        now = {n: o["pos"].copy() for n, o in d.scene["objects"].items()}
+        if max(float(np.linalg.norm(now[n] - before[n])) for n in now) < 0.001:
+            return
+        before = now
+
+
 def run_expert(env: LiberoEnv, init_index: int, rng: np.random.Generator) -> ExpertResult:
     """One demonstration from the official initial state ``init_index`` (``env`` started)."""
     env.reset(init_index)
     task = env.start()
     d = _Driver(env, task.max_steps)
-    for _ in _hold(d, OPEN, SETTLE_STEPS // 2):  # official initial states drop objects from above
-        pass
+    _settle(d)
     for _ in _skills(d, rng):
         if d.done:
             break

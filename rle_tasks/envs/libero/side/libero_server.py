@@ -169,6 +169,22 @@ def scene():
     return out
 
 
+def robot_contacts():
+    """(robot geom, other geom) name pairs of the robot's current contacts (experts' diagnostics)."""
+    sim = _S["env"].env.sim
+    m, d = sim.model, sim.data
+    out = []
+    for i in range(d.ncon):
+        c = d.contact[i]
+        n1, n2 = m.geom_id2name(c.geom1) or str(c.geom1), m.geom_id2name(c.geom2) or str(c.geom2)
+        b1 = m.body_id2name(m.geom_bodyid[c.geom1]) or ""
+        b2 = m.body_id2name(m.geom_bodyid[c.geom2]) or ""
+        r1, r2 = b1.startswith(("robot0_", "gripper0_")), b2.startswith(("robot0_", "gripper0_"))
+        if r1 != r2:
+            out.append([f"{b1}/{n1}", f"{b2}/{n2}"] if r1 else [f"{b2}/{n2}", f"{b1}/{n1}"])
+    return out
+
+
 def object_positions():
     """World positions of the task's objects [m] (state-based experts only; never served to a policy)."""
     env = _S["env"].env
