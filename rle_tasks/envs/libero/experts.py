@@ -40,6 +40,12 @@ HAND_LIFT = 0.005
 """Height of the hand's collision body above the grasp point (the finger pads' centre) [m]."""
 WALL_IN, RIM_DEPTH = 0.006, 0.025
 """A rim grasp holds the wall this far inside the outer surface and this far below the top [m]."""
+PUSH_GAP = 0.03
+"""Gap between the fingers and a drawer's face before a push [m]."""
+PUSH_TILT = 0.6
+"""Tilt of the fingers towards a push from pointing down [rad]."""
+PUSH_TRIES = 3
+"""Pushes at a drawer before the expert moves on."""
 GRASP_TRIES = 3
 """Attempts at one grasp before the expert moves on."""
 SETTLE_STEPS = 20
@@ -69,6 +75,12 @@ def _axis_angle(rot: np.ndarray) -> np.ndarray:
         axis = v[:, np.argmax(w)]
         return axis * angle
     return axis / n * angle
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rotation matrix about a unit ``axis`` (Rodrigues)."""
+    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
 
 
 def _rz(yaw: float) -> np.ndarray:
@@ -320,12 +332,71 @@ def _target_point(sc: dict, target: str) -> np.ndarray:
     return p
 
 
+def _joint_of(sc: dict, target: str) -> str:
+    """The articulated joint a ``close``/``turnon`` predicate's argument refers to: the object's only
+    joint, or for a region the joint of the same level (``white_cabinet_1_bottom_region`` ->
+    ``white_cabinet_1_bottom_level``)."""
+    names = list(sc["joints"])
+    stem = target[: -len("_region")] if target.endswith("_region") else target
+    for j in names:
+        if j.startswith(stem):
+            return j
+    owner = [j for j in names if j.startswith(stem.rsplit("_", 1)[0])]
+    if len(owner) == 1:
+        return owner[0]
+    raise NotImplementedError(f"no articulated joint for '{target}' among {names}")
+
+
+def _close_slide(d: _Driver, target: str) -> Iterator[None]:
+    """Push a drawer shut: fingers closed, lowered in front of its face, pushed along the slide to the
+    closed end of its range (LIBERO's cabinets close towards the top of the range)."""
+    name = _joint_of(d.scene, target)
+    q0 = d.scene["joints"][name]["qpos"]
+    # the hand's thin side leads: its long axis (along the fingers) across the push
+    ax = d.scene["joints"][name]["axis"]
+    finger = d.down[:, FINGER_AXIS]
+    dyaw = (np.arctan2(ax[0], -ax[1]) - np.arctan2(finger[1], finger[0]) + np.pi / 2) % np.pi - np.pi / 2
+    rot = _rz(dyaw) @ d.down
+    # fingers tilted towards the push: the forearm stays clear of the cabinet's face
+    tilt = np.cross(ax / np.linalg.norm(ax), [0.0, 0.0, 1.0])
+    rot = _rotation(tilt / max(1e-9, np.linalg.norm(tilt)), PUSH_TILT) @ rot
+    for _ in range(PUSH_TRIES):
+        j = d.scene["joints"][name]
+        travel = float(j["range"][1] - j["qpos"])
+        if travel <= 0.003 or d.done:
+            break
+        axis = j["axis"] / np.linalg.norm(j["axis"])
+        lo, hi = j["part_lo"], j["part_hi"]
+        center = (lo + hi) / 2.0
+        half = float(np.abs(axis) @ ((hi - lo) / 2.0))
+        start = center - axis * (half + PUSH_GAP)
+        start[2] = lo[2] + 0.6 * (hi[2] - lo[2])
+        above = start.copy()
+        above[2] = max(hi[2] + 0.08, d.scene["eef_pos"][2])
+        yield from _move(d, above, rot, CLOSED, tol=0.015)
+        yield from _descend(d, start, rot, CLOSED)
+        end = start + axis * (travel + PUSH_GAP + 0.01)
+        yield from _move(d, end, rot, CLOSED, tol=0.01, gain=0.5, max_steps=80)
+        back = d.scene["eef_pos"] - axis * 0.03
+        back[2] += 0.1
+        yield from _move(d, back, rot, CLOSED, tol=0.02, max_steps=15)
+    q = d.scene["joints"][name]["qpos"]
+    d.log.append(
+        f"close {name}: q {q0:.3f} -> {q:.3f} (range {np.round(d.scene['joints'][name]['range'], 3).tolist()})"
+    )
+
+
+_ORDER = {"in": 0, "on": 0, "turnon": 1, "close": 2}
+"""Skills run in this order: objects go into a drawer before it is closed."""
+
+
 def _skills(d: _Driver, rng: np.random.Generator) -> Iterator[None]:
-    goal = d.scene["goal"]
-    for pred in goal:
+    for pred in sorted(d.scene["goal"], key=lambda p: _ORDER.get(p[0], 9)):
         kind = pred[0]
         if kind in ("in", "on"):
             yield from _pick_place(d, pred[1], pred[2], rng)
+        elif kind == "close" and not d.scene["joints"][_joint_of(d.scene, pred[1])]["hinge"]:
+            yield from _close_slide(d, pred[1])
         else:
             raise NotImplementedError(f"no expert skill for predicate {pred}")
 

@@ -162,9 +162,21 @@ def scene():
             and not name.startswith("gripper0_")
             and sim.model.jnt_type[j] in (2, 3)
         ):
+            body = int(sim.model.jnt_bodyid[j])
+            lo, hi = _body_box(sim, body)
+            rot = np.array(sim.data.body_xmat[body], dtype=np.float64).reshape(3, 3)
+            corners = np.array(
+                [[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1]) for c in (lo[2], hi[2])]
+            )
+            world = sim.data.body_xpos[body] + corners @ rot.T
             out["joints"][name] = {
                 "qpos": float(sim.data.qpos[sim.model.jnt_qposadr[j]]),
                 "range": np.array(sim.model.jnt_range[j], dtype=np.float64),
+                "hinge": bool(sim.model.jnt_type[j] == 3),
+                "axis": np.array(sim.data.xaxis[j], dtype=np.float64),
+                "anchor": np.array(sim.data.xanchor[j], dtype=np.float64),
+                "part_lo": world.min(0),  # world box of the moving part (and what it carries)
+                "part_hi": world.max(0),
             }
     return out
 
