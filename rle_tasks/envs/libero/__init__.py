@@ -128,6 +128,15 @@ class LiberoEnv:
         obs, success = self._box.call("step", a)
         return obs, bool(success)
 
+    def sim_state(self) -> np.ndarray:
+        """The flattened MuJoCo state of the side simulator (time, qpos, qvel)."""
+        return self._box.call("sim_state")
+
+    def render_states(self, states: np.ndarray) -> dict[str, np.ndarray]:
+        """The observations (``state`` and, when rendering, both views) of recorded MuJoCo states,
+        stacked; the episode in progress is left unchanged."""
+        return self._box.call("render_states", np.asarray(states, dtype=np.float64))
+
     def scene(self) -> dict:
         """Simulator state for state-based experts (never for a served policy): ``eef_pos``, ``eef_rot``,
         ``gripper_qpos``, ``objects`` (pose and collision box in the body frame), ``sites`` (pose and

@@ -23,7 +23,7 @@ import numpy as np
 
 from rle_tasks.envs.libero import LiberoEnv
 
-__all__ = ["ExpertResult", "run_expert"]
+__all__ = ["ExpertResult", "run_expert", "supported"]
 
 POS_STEP = 0.05
 """Largest end-effector displacement of one action unit [m] (robosuite OSC ``output_max``)."""
@@ -60,6 +60,10 @@ class ExpertResult:
     """(steps, 7) the actions sent."""
     log: tuple[str, ...] = ()
     """One line per skill: what it did and what it left (for statistics and debugging)."""
+    sim_states: np.ndarray | None = None
+    """(steps + 1, n) MuJoCo states before each action and after the last (when recorded)."""
+    observations: np.ndarray | None = None
+    """(steps + 1, 8) the policy's ``state`` observation at the same instants (when recorded)."""
 
 
 def _axis_angle(rot: np.ndarray) -> np.ndarray:
@@ -91,9 +95,11 @@ def _rz(yaw: float) -> np.ndarray:
 class _Driver:
     """Closes the loop between skills and the environment, one action per control step."""
 
-    def __init__(self, env: LiberoEnv, horizon: int) -> None:
-        self.env, self.horizon = env, horizon
+    def __init__(self, env: LiberoEnv, horizon: int, first_obs: dict, record: bool = False) -> None:
+        self.env, self.horizon, self.record = env, horizon, record
         self.scene = env.scene()
+        self.sim_states: list[np.ndarray] = [env.sim_state()] if record else []
+        self.observations: list[np.ndarray] = [first_obs["state"]] if record else []
         self.down = self.scene["eef_rot"].copy()  # the start orientation: fingers down
         self.actions: list[np.ndarray] = []
         self.success = False
@@ -105,9 +111,12 @@ class _Driver:
         return self.success or len(self.actions) >= self.horizon
 
     def act(self, action: np.ndarray) -> None:
-        _, self.success = self.env.step(action)
+        obs, self.success = self.env.step(action)
         self.actions.append(np.asarray(action, dtype=np.float64))
         self.scene = self.env.scene()
+        if self.record:
+            self.sim_states.append(self.env.sim_state())
+            self.observations.append(obs["state"])
 
     def toward(self, pos: np.ndarray, rot: np.ndarray, grip: float, gain: float = 1.0) -> np.ndarray:
         sc = self.scene
@@ -386,6 +395,21 @@ def _close_slide(d: _Driver, target: str) -> Iterator[None]:
     )
 
 
+def supported(scene: dict) -> bool:
+    """Whether every predicate of the scene's goal has a skill: ``in``/``on`` always, ``close`` for
+    drawers (slides; a hinged door has none yet), ``turnon`` not yet."""
+    for p in scene["goal"]:
+        if p[0] == "close":
+            try:
+                if scene["joints"][_joint_of(scene, p[1])]["hinge"]:
+                    return False
+            except NotImplementedError:
+                return False
+        elif p[0] not in ("in", "on"):
+            return False
+    return True
+
+
 _ORDER = {"in": 0, "on": 0, "turnon": 1, "close": 2}
 """Skills run in this order: objects go into a drawer before it is closed."""
 
@@ -412,15 +436,25 @@ def _settle(d: _Driver, max_steps: int = 40) -> None:
         before = now
 
 
-def run_expert(env: LiberoEnv, init_index: int, rng: np.random.Generator) -> ExpertResult:
-    """One demonstration from the official initial state ``init_index`` (``env`` started)."""
-    env.reset(init_index)
+def run_expert(
+    env: LiberoEnv, init_index: int, rng: np.random.Generator, *, record: bool = False
+) -> ExpertResult:
+    """One demonstration from the official initial state ``init_index`` (``env`` started); with
+    ``record`` the MuJoCo state and the policy's state observation of every step are kept."""
+    first = env.reset(init_index)
     task = env.start()
-    d = _Driver(env, task.max_steps)
+    d = _Driver(env, task.max_steps, first, record)
     _settle(d)
     for _ in _skills(d, rng):
         if d.done:
             break
     for _ in _hold(d, OPEN, SETTLE_STEPS):  # objects released last may need a moment to come to rest
         pass
-    return ExpertResult(d.success, len(d.actions), np.asarray(d.actions), tuple(d.log))
+    return ExpertResult(
+        d.success,
+        len(d.actions),
+        np.asarray(d.actions).reshape(-1, 7),
+        tuple(d.log),
+        np.asarray(d.sim_states) if record else None,
+        np.asarray(d.observations) if record else None,
+    )

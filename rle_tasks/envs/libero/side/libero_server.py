@@ -84,6 +84,24 @@ def reset(init_index):
     return _obs(raw)
 
 
+def sim_state():
+    """The flattened MuJoCo state (time, qpos, qvel): a demonstration's frame, rendered later."""
+    return np.asarray(_S["env"].get_sim_state(), dtype=np.float64)
+
+
+def render_states(states):
+    """Observations of recorded states (rendering environments only); the live episode is left as it
+    was. Each state is restored, its views rendered, and the state before the call put back."""
+    env = _S["env"]
+    keep = env.get_sim_state()
+    out = []
+    for st in np.asarray(states, dtype=np.float64):
+        out.append(_obs(env.regenerate_obs_from_state(st)))
+    env.regenerate_obs_from_state(keep)
+    keys = out[0].keys() if out else ()
+    return {k: np.stack([o[k] for o in out]) for k in keys}
+
+
 def step(action):
     """One 20 Hz control step with a 7-D action; returns (observation, success)."""
     raw, _, _, _ = _S["env"].step(np.asarray(action, dtype=np.float64))
