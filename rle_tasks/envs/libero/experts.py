@@ -42,6 +42,8 @@ WALL_IN, RIM_DEPTH = 0.006, 0.025
 """A rim grasp holds the wall this far inside the outer surface and this far below the top [m]."""
 PUSH_GAP = 0.03
 """Gap between the fingers and a drawer's face before a push [m]."""
+DRAWER_FRONT_SHIFT = 0.025
+"""How far in front of a drawer region's centre objects are released [m]."""
 PUSH_TILT = 0.6
 """Tilt of the fingers towards a push from pointing down [rad]."""
 PUSH_TRIES = 3
@@ -111,6 +113,8 @@ class _Driver:
         return self.success or len(self.actions) >= self.horizon
 
     def act(self, action: np.ndarray) -> None:
+        # float32 as stored in demonstrations (and as a policy serves): a replay is then exact
+        action = np.asarray(action, dtype=np.float32).astype(np.float64)
         obs, self.success = self.env.step(action)
         self.actions.append(np.asarray(action, dtype=np.float64))
         self.scene = self.env.scene()
@@ -306,6 +310,9 @@ def _pick_place(d: _Driver, name: str, target: str, rng: np.random.Generator) ->
     goal = _target_point(d.scene, target)
     drop = goal.copy()
     drop[:2] -= held[:2]  # the object's centre, not the hand, over the target
+    drawer = _slide_of(d.scene, target)
+    if drawer is not None:  # an open drawer runs under its cabinet's face: release towards its front
+        drop[:2] -= DRAWER_FRONT_SHIFT * drawer["axis"][:2]
     # release with the object's bottom a little above the target's top (the grasp point sat above the
     # object's bottom by the same amount as now below the gripper)
     drop[2] = goal[2] + (point[2] - bottom) + 0.03
@@ -354,6 +361,17 @@ def _joint_of(sc: dict, target: str) -> str:
     if len(owner) == 1:
         return owner[0]
     raise NotImplementedError(f"no articulated joint for '{target}' among {names}")
+
+
+def _slide_of(sc: dict, target: str) -> dict | None:
+    """The slide joint (a drawer) a target region belongs to, or None."""
+    if not target.endswith("_region"):
+        return None
+    try:
+        j = sc["joints"][_joint_of(sc, target)]
+    except NotImplementedError:
+        return None
+    return None if j["hinge"] else j
 
 
 def _close_slide(d: _Driver, target: str) -> Iterator[None]:

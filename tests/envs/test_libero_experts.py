@@ -1,0 +1,75 @@
+"""Scripted LIBERO experts and their demonstrations: geometry helpers in closed form, and one real
+demonstration of LIBERO-10 task 0 built, verified and replayed across the process boundary."""
+
+import json
+
+import numpy as np
+import pytest
+
+from rle_design.errors import RleError
+from rle_tasks.envs.libero import LiberoEnv, libero_python
+from rle_tasks.envs.libero.demos import build_demos, verify_demos
+from rle_tasks.envs.libero.experts import _axis_angle, _hand_overlap, _rotation, _rz
+
+try:
+    libero_python()
+    _MISSING = ""
+except RleError as exc:
+    _MISSING = str(exc)
+needs_side_env = pytest.mark.skipif(bool(_MISSING), reason=_MISSING or "side environment present")
+
+
+def test_axis_angle_of_known_rotations():
+    # a rotation by theta about a unit axis k has the rotation vector theta k
+    for theta in (0.3, 1.2, 3.0):
+        assert np.allclose(_axis_angle(_rz(theta)), [0.0, 0.0, theta], atol=1e-9)
+        k = np.array([1.0, 2.0, 2.0]) / 3.0
+        assert np.allclose(_axis_angle(_rotation(k, theta)), theta * k, atol=1e-9)
+    assert np.allclose(_axis_angle(np.eye(3)), 0.0)
+
+
+def test_hand_footprint_overlap_in_closed_form():
+    # hand centred at the origin, fingers along x: footprint [-0.11, 0.11] x [-0.035, 0.035]
+    box = {"pos": np.zeros(3), "rot": np.eye(3)}
+    tall = dict(box, box_lo=np.array([0.05, 0.0, 0.0]), box_hi=np.array([0.2, 0.1, 0.3]))
+    # overlap (0.11 - 0.05) x (0.035 - 0.0) = 0.0021 m^2
+    assert _hand_overlap(np.zeros(3), np.array([1.0, 0.0, 0.0]), 0.1, [tall]) == pytest.approx(0.0021)
+    # fingers along y: footprint [-0.035, 0.035] x [-0.11, 0.11]: no overlap with x >= 0.05
+    assert _hand_overlap(np.zeros(3), np.array([0.0, 1.0, 0.0]), 0.1, [tall]) == 0.0
+    # an object whose top stays below the hand's lower face does not count
+    low = dict(box, box_lo=np.array([0.05, 0.0, 0.0]), box_hi=np.array([0.2, 0.1, 0.05]))
+    assert _hand_overlap(np.zeros(3), np.array([1.0, 0.0, 0.0]), 0.1, [low]) == 0.0
+
+
+@needs_side_env
+def test_demonstration_is_built_verified_and_replays(tmp_path):
+    """The expert solves LIBERO-10 task 0 from its first official initial state; the stored episode
+    passes its checksum, an altered one is named, and replaying the stored actions in a fresh side
+    process ends in the stored final state and in success."""
+    lines = []
+    manifest = build_demos(tmp_path, tasks=[0], per_task=1, seed=0, progress=lines.append)
+    entry = manifest["tasks"]["0"]
+    assert entry["attempts"][0]["success"] and entry["kept"] == 1, lines
+    name = "task00_init00.npz"
+    assert list(manifest["files"]) == [name] and verify_demos(tmp_path) == []
+    ep = np.load(tmp_path / name)
+    steps = len(ep["actions"])
+    assert ep["state"].shape == (steps + 1, 8) and ep["sim_states"].shape[0] == steps + 1
+    assert str(ep["language"]) == entry["language"] and steps < 520
+    with LiberoEnv("libero_10", 0, render=False) as env:
+        env.reset(0)
+        success = False
+        for a in ep["actions"]:
+            _, success = env.step(a.astype(np.float64))
+        final = env.sim_state()
+    assert success
+    np.testing.assert_allclose(final[1:], ep["sim_states"][-1][1:], atol=1e-6)
+    # a resumed build keeps the stored episode; an altered file is named by the check
+    again = build_demos(tmp_path, tasks=[0], per_task=1, seed=0, progress=lines.append)
+    assert again["tasks"]["0"]["attempts"] == [{"init": 0, "success": True, "cached": True}]
+    data = dict(np.load(tmp_path / name))
+    data["actions"] = data["actions"] + 0.01
+    np.savez_compressed(tmp_path / name, **data)
+    assert verify_demos(tmp_path) == [f"{name} was altered"]
+    text = json.loads((tmp_path / "manifest.json").read_text())
+    assert text["tasks"]["0"]["kept"] == 1
