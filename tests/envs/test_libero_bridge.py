@@ -7,14 +7,7 @@ import numpy as np
 import pytest
 
 from rle_design.errors import RleError
-from rle_tasks.envs.libero import MAX_STEPS, LiberoEnv, libero_python
-
-try:
-    libero_python()
-    _MISSING = ""
-except RleError as exc:
-    _MISSING = str(exc)
-needs_side_env = pytest.mark.skipif(bool(_MISSING), reason=_MISSING or "side environment present")
+from rle_tasks.envs.libero import MAX_STEPS, LiberoEnv
 
 
 def test_missing_side_environment_is_named(monkeypatch, tmp_path):
@@ -24,7 +17,7 @@ def test_missing_side_environment_is_named(monkeypatch, tmp_path):
     assert err.value.code == "libero.missing"
 
 
-@needs_side_env
+@pytest.mark.usefixtures("libero_side_env")
 def test_one_libero_10_episode_to_its_horizon():
     """Task 0 of LIBERO-10 from its first official initial state, state only, for the whole 520-step
     horizon: the end effector follows the OSC's delta commands, and nothing is placed by itself."""
@@ -57,7 +50,7 @@ def test_one_libero_10_episode_to_its_horizon():
         assert {"alphabet_soup_1", "tomato_sauce_1", "basket_1"} <= set(objects)
 
 
-@needs_side_env
+@pytest.mark.usefixtures("libero_side_env")
 def test_rendered_views_are_upright_images():
     with LiberoEnv("libero_10", 0, image_size=64) as env:
         obs = env.reset(0)
@@ -71,7 +64,7 @@ def test_rendered_views_are_upright_images():
     assert agent[:16].mean() > agent[48:].mean() + 10.0
 
 
-@needs_side_env
+@pytest.mark.usefixtures("libero_side_env")
 def test_bad_actions_and_init_indices_are_refused():
     with LiberoEnv("libero_10", 0, render=False) as env:
         with pytest.raises(ValueError, match="init_index"):

@@ -6,17 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from rle_design.errors import RleError
-from rle_tasks.envs.libero import LiberoEnv, libero_python
+from rle_tasks.envs.libero import LiberoEnv
 from rle_tasks.envs.libero.demos import build_demos, verify_demos
 from rle_tasks.envs.libero.experts import _axis_angle, _hand_overlap, _rotation, _rz
-
-try:
-    libero_python()
-    _MISSING = ""
-except RleError as exc:
-    _MISSING = str(exc)
-needs_side_env = pytest.mark.skipif(bool(_MISSING), reason=_MISSING or "side environment present")
 
 
 def test_axis_angle_of_known_rotations():
@@ -41,7 +33,7 @@ def test_hand_footprint_overlap_in_closed_form():
     assert _hand_overlap(np.zeros(3), np.array([1.0, 0.0, 0.0]), 0.1, [low]) == 0.0
 
 
-@needs_side_env
+@pytest.mark.usefixtures("libero_side_env")
 def test_demonstration_is_built_verified_and_replays(tmp_path):
     """The expert solves LIBERO-10 task 0 from its first official initial state; the stored episode
     passes its checksum, an altered one is named, and replaying the stored actions in a fresh side
