@@ -5,8 +5,11 @@ boxes, region sites, articulated joints, the BDDL goal), never an image, and dri
 the policy interface: 7-D OSC actions at 20 Hz. It turns each goal predicate into a skill:
 
 - ``in``/``on`` object, region-or-object: pick the object from above (fingers across its narrower
-  side, grasp below its top) and release it above the target;
-- ``turnon`` stove: turn the knob; ``close`` drawer or door: push it shut.
+  side where the hand fits, else at an angle or at its rim) and release it above the target;
+- ``close`` a drawer: push it shut along its slide.
+
+``turnon`` (a stove knob) and hinged doors have no skill yet; ``supported(scene)`` tells whether a
+task's goal is covered (LIBERO-10 tasks 0, 1, 3, 4, 6 and 7 are).
 
 Each skill is a generator of actions; ``run_expert`` chains the skills of the goal in an order that
 keeps them feasible (a drawer is filled before it is closed) and stops at success or the horizon.
