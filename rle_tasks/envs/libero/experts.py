@@ -9,7 +9,7 @@ the policy interface: 7-D OSC actions at 20 Hz. It turns each goal predicate int
 - ``close`` a drawer: push it shut along its slide.
 
 ``turnon`` (a stove knob) and hinged doors have no skill yet; ``supported(scene)`` tells whether a
-task's goal is covered (LIBERO-10 tasks 0, 1, 3, 4, 6 and 7 are).
+task's goal is covered (LIBERO-10 tasks 0, 1, 3, 4, 5, 6 and 7 are).
 
 Each skill is a generator of actions; ``run_expert`` chains the skills of the goal in an order that
 keeps them feasible (a drawer is filled before it is closed) and stops at success or the horizon.
