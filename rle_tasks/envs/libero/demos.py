@@ -30,7 +30,10 @@ import numpy as np
 from rle_tasks.envs.libero import LiberoEnv
 from rle_tasks.envs.libero.experts import run_expert, supported
 
-__all__ = ["build_demos", "default_dir", "verify_demos"]
+__all__ = ["MAX_FAILURES_IN_A_ROW", "build_demos", "default_dir", "verify_demos"]
+
+MAX_FAILURES_IN_A_ROW = 10
+"""A task whose expert fails this many initial states in a row is left (its attempts are listed)."""
 
 
 def default_dir(suite: str, seed: int, per_task: int) -> Path:
@@ -73,9 +76,13 @@ def build_demos(
                 entry["skipped"] = "no expert skill for every predicate of the goal"
                 progress(f"task {task_id}: skipped ({entry['skipped']}: {goal})")
                 continue
-            kept = 0
+            kept, failures = 0, 0
             for init in range(task.n_init_states):
                 if kept >= per_task:
+                    break
+                if failures >= MAX_FAILURES_IN_A_ROW:
+                    entry["stopped"] = f"{failures} failures in a row"
+                    progress(f"task {task_id}: stopped after {failures} failures in a row")
                     break
                 name = f"task{task_id:02d}_init{init:02d}.npz"
                 prior = old.get("files", {}).get(name)
@@ -92,7 +99,9 @@ def build_demos(
                     f"({time.perf_counter() - t0:.1f} s); kept {kept + res.success}/{per_task}"
                 )
                 if not res.success:
+                    failures += 1
                     continue
+                failures = 0
                 np.savez_compressed(
                     out / name,
                     actions=res.actions.astype(np.float32),

@@ -130,6 +130,26 @@ def _body_box(sim, body_id):
     return lo, hi
 
 
+def _handle(sim, body_id):
+    """The part's highest-reaching box geom (a knob's bar): centre, rotation, half-sizes [m]."""
+    m = sim.model
+    best, top = None, -np.inf
+    for g in range(m.ngeom):
+        if m.geom_bodyid[g] != body_id or m.geom_type[g] != 6 or m.geom_contype[g] == 0:
+            continue
+        rot = sim.data.geom_xmat[g].reshape(3, 3)
+        reach = sim.data.geom_xpos[g][2] + float(np.abs(rot[2]) @ m.geom_size[g])
+        if reach > top:
+            best, top = g, reach
+    if best is None:
+        return {"pos": np.zeros(3), "rot": np.eye(3), "half": np.zeros(3)}
+    return {
+        "pos": np.array(sim.data.geom_xpos[best], dtype=np.float64),
+        "rot": np.array(sim.data.geom_xmat[best], dtype=np.float64).reshape(3, 3),
+        "half": np.array(m.geom_size[best], dtype=np.float64),
+    }
+
+
 def scene():
     """Simulator state for state-based experts (never served to a policy): the end effector, the
     gripper, every object's pose and collision box, every region site and articulated joint."""
@@ -195,6 +215,7 @@ def scene():
                 "anchor": np.array(sim.data.xanchor[j], dtype=np.float64),
                 "part_lo": world.min(0),  # world box of the moving part (and what it carries)
                 "part_hi": world.max(0),
+                "handle": _handle(sim, body),
             }
     return out
 
