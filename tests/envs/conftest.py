@@ -14,3 +14,12 @@ def libero_side_env():
         return libero_python()
     except RleError as exc:
         pytest.skip(str(exc))
+
+
+@pytest.fixture(scope="session")
+def libero10_task0(libero_side_env):
+    """LIBERO-10 task 0, state only, in one side process shared by the tests that need no other."""
+    from rle_tasks.envs.libero import LiberoEnv
+
+    with LiberoEnv("libero_10", 0, render=False) as env:
+        yield env

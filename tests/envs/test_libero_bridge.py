@@ -17,37 +17,36 @@ def test_missing_side_environment_is_named(monkeypatch, tmp_path):
     assert err.value.code == "libero.missing"
 
 
-@pytest.mark.usefixtures("libero_side_env")
-def test_one_libero_10_episode_to_its_horizon():
+def test_one_libero_10_episode_to_its_horizon(libero10_task0):
     """Task 0 of LIBERO-10 from its first official initial state, state only, for the whole 520-step
     horizon: the end effector follows the OSC's delta commands, and nothing is placed by itself."""
-    with LiberoEnv("libero_10", 0, render=False) as env:
-        task = env.task  # the simulator runs in the side process, never in this one
-        assert "libero" not in sys.modules and "robosuite" not in sys.modules
-        assert task.language == "put both the alphabet soup and the tomato sauce in the basket"
-        assert task.n_init_states == 50 and task.action_dim == 7 and task.max_steps == MAX_STEPS["libero_10"]
-        obs = env.reset(0)
-        assert set(obs) == {"state"} and obs["state"].shape == (8,)
-        z0 = obs["state"][2]
-        up = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1.0])
-        steps, success = 0, False
-        for _ in range(20):  # 1 s of +z commands
-            obs, success = env.step(up)
-            steps += 1
-        # robosuite's OSC maps +1 to 5 cm per 20 Hz step at most; the arm lags but must clearly rise
-        assert obs["state"][2] - z0 > 0.05
-        x0 = obs["state"][0]
-        for _ in range(20):
-            obs, success = env.step(np.array([1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]))
-            steps += 1
-        assert obs["state"][0] - x0 > 0.05
-        while steps < task.max_steps and not success:
-            obs, success = env.step(np.zeros(7))
-            steps += 1
-        assert steps == task.max_steps and not success
-        assert np.all(np.isfinite(obs["state"]))
-        objects = env.object_positions()
-        assert {"alphabet_soup_1", "tomato_sauce_1", "basket_1"} <= set(objects)
+    env = libero10_task0
+    task = env.task  # the simulator runs in the side process, never in this one
+    assert "libero" not in sys.modules and "robosuite" not in sys.modules
+    assert task.language == "put both the alphabet soup and the tomato sauce in the basket"
+    assert task.n_init_states == 50 and task.action_dim == 7 and task.max_steps == MAX_STEPS["libero_10"]
+    obs = env.reset(0)
+    assert set(obs) == {"state"} and obs["state"].shape == (8,)
+    z0 = obs["state"][2]
+    up = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1.0])
+    steps, success = 0, False
+    for _ in range(20):  # 1 s of +z commands
+        obs, success = env.step(up)
+        steps += 1
+    # robosuite's OSC maps +1 to 5 cm per 20 Hz step at most; the arm lags but must clearly rise
+    assert obs["state"][2] - z0 > 0.05
+    x0 = obs["state"][0]
+    for _ in range(20):
+        obs, success = env.step(np.array([1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]))
+        steps += 1
+    assert obs["state"][0] - x0 > 0.05
+    while steps < task.max_steps and not success:
+        obs, success = env.step(np.zeros(7))
+        steps += 1
+    assert steps == task.max_steps and not success
+    assert np.all(np.isfinite(obs["state"]))
+    objects = env.object_positions()
+    assert {"alphabet_soup_1", "tomato_sauce_1", "basket_1"} <= set(objects)
 
 
 @pytest.mark.usefixtures("libero_side_env")
@@ -64,13 +63,12 @@ def test_rendered_views_are_upright_images():
     assert agent[:16].mean() > agent[48:].mean() + 10.0
 
 
-@pytest.mark.usefixtures("libero_side_env")
-def test_bad_actions_and_init_indices_are_refused():
-    with LiberoEnv("libero_10", 0, render=False) as env:
-        with pytest.raises(ValueError, match="init_index"):
-            env.reset(50)
-        env.reset(0)
-        with pytest.raises(ValueError, match="7-vector"):
-            env.step(np.array([np.nan] * 7))
-        with pytest.raises(ValueError, match="7-vector"):
-            env.step(np.zeros(6))
+def test_bad_actions_and_init_indices_are_refused(libero10_task0):
+    env = libero10_task0
+    with pytest.raises(ValueError, match="init_index"):
+        env.reset(50)
+    env.reset(0)
+    with pytest.raises(ValueError, match="7-vector"):
+        env.step(np.array([np.nan] * 7))
+    with pytest.raises(ValueError, match="7-vector"):
+        env.step(np.zeros(6))

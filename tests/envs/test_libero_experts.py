@@ -6,7 +6,6 @@ import json
 import numpy as np
 import pytest
 
-from rle_tasks.envs.libero import LiberoEnv
 from rle_tasks.envs.libero.demos import build_demos, verify_demos
 from rle_tasks.envs.libero.experts import _axis_angle, _hand_overlap, _rotation, _rz
 
@@ -33,8 +32,7 @@ def test_hand_footprint_overlap_in_closed_form():
     assert _hand_overlap(np.zeros(3), np.array([1.0, 0.0, 0.0]), 0.1, [low]) == 0.0
 
 
-@pytest.mark.usefixtures("libero_side_env")
-def test_demonstration_is_built_verified_and_replays(tmp_path):
+def test_demonstration_is_built_verified_and_replays(tmp_path, libero10_task0):
     """The expert solves LIBERO-10 task 0 from its first official initial state; the stored episode
     passes its checksum, an altered one is named, and replaying the stored actions in a fresh side
     process ends in the stored final state and in success."""
@@ -48,17 +46,17 @@ def test_demonstration_is_built_verified_and_replays(tmp_path):
     steps = len(ep["actions"])
     assert ep["state"].shape == (steps + 1, 8) and ep["sim_states"].shape[0] == steps + 1
     assert str(ep["language"]) == entry["language"] and steps < 520
-    with LiberoEnv("libero_10", 0, render=False) as env:
-        env.reset(0)
-        success = False
-        for a in ep["actions"]:
-            _, success = env.step(a.astype(np.float64))
-        final = env.sim_state()
+    env = libero10_task0  # another side process than the builder's
+    env.reset(0)
+    success = False
+    for a in ep["actions"]:
+        _, success = env.step(a.astype(np.float64))
+    final = env.sim_state()
     assert success
     np.testing.assert_allclose(final[1:], ep["sim_states"][-1][1:], atol=1e-6)
-    # a resumed build keeps the stored episode; an altered file is named by the check
+    # a second build finds the task complete and simulates nothing; an altered file is named
     again = build_demos(tmp_path, tasks=[0], per_task=1, seed=0, progress=lines.append)
-    assert again["tasks"]["0"]["attempts"] == [{"init": 0, "success": True, "cached": True}]
+    assert again == manifest and lines[-1] == "task 0: 1 episodes already built"
     data = dict(np.load(tmp_path / name))
     data["actions"] = data["actions"] + 0.01
     np.savez_compressed(tmp_path / name, **data)

@@ -66,6 +66,12 @@ def build_demos(
     files: dict[str, str] = {}
     report: dict[str, dict] = {}
     for task_id in range(10) if tasks is None else tasks:
+        done = _complete(out, old, task_id, per_task)
+        if done is not None:  # every episode of this task is present and intact: nothing to simulate
+            files.update(done[1])
+            report[str(task_id)] = done[0]
+            progress(f"task {task_id}: {done[0]['kept']} episodes already built")
+            continue
         with LiberoEnv(suite, task_id, render=False) as env:
             task = env.start()
             scene = env.scene()
@@ -125,6 +131,20 @@ def build_demos(
     (out / "manifest.json").write_text(text)
     (out / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
     return manifest
+
+
+def _complete(out: Path, old: dict, task_id: int, per_task: int) -> tuple[dict, dict] | None:
+    """(task entry, files) of a task the previous build completed, when all its files are intact."""
+    entry = old.get("tasks", {}).get(str(task_id))
+    if not entry or entry.get("kept", 0) < per_task or old.get("per_task") != per_task:
+        return None
+    prefix = f"task{task_id:02d}_"
+    mine = {n: h for n, h in old.get("files", {}).items() if n.startswith(prefix)}
+    if len(mine) != entry["kept"] or any(
+        not (out / n).is_file() or _sha256(out / n) != h for n, h in mine.items()
+    ):
+        return None
+    return entry, mine
 
 
 def verify_demos(out: Path) -> list[str]:
