@@ -45,7 +45,7 @@ def test_one_libero_10_episode_to_its_horizon(libero10_task0):
         steps += 1
     assert steps == task.max_steps and not success
     assert np.all(np.isfinite(obs["state"]))
-    objects = env.object_positions()
+    objects = env.scene()["objects"]
     assert {"alphabet_soup_1", "tomato_sauce_1", "basket_1"} <= set(objects)
 
 

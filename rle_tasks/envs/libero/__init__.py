@@ -143,10 +143,6 @@ class LiberoEnv:
         half-size), ``joints`` (articulated fixtures) and the BDDL ``goal``."""
         return self._box.call("scene")
 
-    def object_positions(self) -> dict[str, np.ndarray]:
-        """Object positions in the world [m] (for scripted experts; never for a served policy)."""
-        return self._box.call("object_positions")
-
     def close(self) -> None:
         if self._box.alive:  # a broken child is killed below anyway
             with contextlib.suppress(Exception):

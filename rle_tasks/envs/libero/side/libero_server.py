@@ -236,15 +236,6 @@ def robot_contacts():
     return out
 
 
-def object_positions():
-    """World positions of the task's objects [m] (state-based experts only; never served to a policy)."""
-    env = _S["env"].env
-    return {
-        name: np.asarray(env.sim.data.body_xpos[env.obj_body_id[name]], dtype=np.float64)
-        for name in env.obj_body_id
-    }
-
-
 def close():
     env = _S.pop("env", None)
     if env is not None:
