@@ -82,6 +82,36 @@ class Part:
 
 
 @dataclass(frozen=True)
+class Spring:
+    """Music-wire compression spring worked in tension through a cable (``springs.yaml``)."""
+
+    id: str
+    wire_diameter: float  # [m]
+    mean_diameter: float  # [m]
+    active_coils: int  # [1]
+    free_length: float  # [m]
+    solid_length: float  # [m]
+    rate: float  # [N/m]
+    max_force: float  # [N]
+    max_stroke: float  # [m]
+    mass: float  # [kg]
+
+
+@dataclass(frozen=True)
+class TorsionSpring:
+    """Music-wire helical torsion spring about a joint axis (``torsion_springs.yaml``)."""
+
+    id: str
+    wire_diameter: float  # [m]
+    mean_diameter: float  # [m]
+    body_coils: int  # [1]
+    rate: float  # [N m/rad]
+    max_moment: float  # [N m]
+    max_angle: float  # [rad]
+    mass: float  # [kg]
+
+
+@dataclass(frozen=True)
 class ShelfTarget:
     id: str
     pos: tuple[float, float, float]  # [m]
@@ -94,6 +124,8 @@ _ENTRY_TYPES: dict[str, type] = {
     "arms": Arm,
     "parts": Part,
     "shelf": ShelfTarget,
+    "springs": Spring,
+    "torsion_springs": TorsionSpring,
 }
 
 
@@ -183,6 +215,12 @@ def _build_entry(kind: str, raw: Mapping[str, Any], units: Mapping[str, str]) ->
                 code="catalog.invalid",
             )
     for name, v in values.items():
+        if name in units and (isinstance(v, str) or isinstance(v, bool)):
+            raise CatalogError(
+                f"catalog '{kind}': entry '{eid}' field '{name}' is not a number: {v!r} (YAML reads "
+                "1.5e9 as text; write 1.5e+9)",
+                code="catalog.invalid",
+            )
         if v is None:
             raise CatalogError(f"catalog '{kind}': entry '{eid}' lacks '{name}'", code="catalog.invalid")
         if isinstance(v, float | int) and not isinstance(v, bool) and name != "id" and v <= 0:

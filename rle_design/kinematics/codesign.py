@@ -80,7 +80,9 @@ class SpringSlot:
         attach_joint: Pinocchio joint id of the moving end's body.
         attach_lower: Lower corner of the attachment box, in that joint frame [m].
         attach_upper: Upper corner [m].
-        max_stiffness: Largest stiffness [N/m] (from the spring catalog).
+        max_stiffness: Largest stiffness [N/m].
+        min_stiffness: Smallest stiffness [N/m]; equal to ``max_stiffness`` for a catalog spring of
+            fixed rate (``rle_design.catalog`` ``springs``), whose balance then comes from its ends.
     """
 
     name: str
@@ -91,6 +93,7 @@ class SpringSlot:
     attach_lower: Vec3
     attach_upper: Vec3
     max_stiffness: float
+    min_stiffness: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -220,10 +223,14 @@ def optimise_balance(
         k = opti.variable()
         a = opti.variable(3)
         b = opti.variable(3)
-        opti.subject_to(opti.bounded(0.0, k, s.max_stiffness))
+        if not 0.0 <= s.min_stiffness <= s.max_stiffness:
+            raise CodesignError(
+                f"slot '{s.name}': stiffness bounds {s.min_stiffness} .. {s.max_stiffness} N/m are not ordered"
+            )
+        opti.subject_to(opti.bounded(s.min_stiffness, k, s.max_stiffness))
         opti.subject_to(opti.bounded(ca.DM(s.anchor_lower), a, ca.DM(s.anchor_upper)))
         opti.subject_to(opti.bounded(ca.DM(s.attach_lower), b, ca.DM(s.attach_upper)))
-        opti.set_initial(k, 0.5 * s.max_stiffness)
+        opti.set_initial(k, 0.5 * (s.min_stiffness + s.max_stiffness))
         opti.set_initial(a, 0.5 * (np.asarray(s.anchor_lower) + np.asarray(s.anchor_upper)))
         opti.set_initial(b, 0.5 * (np.asarray(s.attach_lower) + np.asarray(s.attach_upper)))
         sp_vars.append((s, k, a, b))

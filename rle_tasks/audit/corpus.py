@@ -484,9 +484,18 @@ def physics_cases() -> list[Case]:
             "spring_through_the_arm",
             "contract.spring_path",
             _inject_root(
-                '<tendon><spatial name="long_spring" stiffness="10" springlength="0">'
+                # a catalog spring on a slack cable: only its path is at fault
+                '<tendon><spatial name="long_spring" stiffness="717.05" springlength="0 2">'
                 '<site site="mount_site"/><site site="handle_site"/></spatial></tendon>'
             ),
+        ),
+        ("ideal_spring", "contract.spring_catalog", _spring_attr("stiffness", "950")),
+        ("overloaded_spring", "contract.spring_overload", _spring_attr("stiffness", "939.852")),
+        ("pushing_spring", "contract.spring_push", _spring_attr("springlength", "0.03")),
+        (
+            "ideal_torsion_spring",
+            "contract.spring_catalog",
+            lambda xml: xml.replace('<joint name="j2"', '<joint name="j2" stiffness="0.5"', 1),
         ),
         (
             "weightless_strut",
@@ -541,6 +550,18 @@ def physics_cases() -> list[Case]:
         Case(f"physics/f08_{n}", F08, code, _edit_xml(F08, edit), max_score=0.15) for n, code, edit in f8
     ]
     return cases
+
+
+def _spring_attr(attr: str, value: str) -> Callable[[str], str]:
+    """Set one attribute of the reference's shoulder spring (the catalog spring becomes an ideal one,
+    an under-rated one, or one whose cable would push)."""
+
+    def edit(xml: str) -> str:
+        return re.sub(
+            rf'(<spatial name="shoulder_spring"[^>]*? {attr}=")[^"]*"', rf'\g<1>{value}"', xml, count=1
+        )
+
+    return edit
 
 
 def _first_body_name(xml: str) -> str:

@@ -11,6 +11,9 @@ feedforward torque ``tau_ff`` applied through ``qfrc_applied`` for the whole sce
   when a user steadies the arm and moves one joint), the smallest constant external torque that moves the joint by more than
   ``MOVE_RAD`` in the pushed direction within ``PROBE_S``, in the harder direction (bracketed around the friction-model
   prediction ``tau_f + |r - tau_ff|``, bisection when the bracket fails) [N m];
+* added inertia: per joint, the torque ``ACCEL_REF x max(0, M_jj(q) - M_jj^stock(q))`` to accelerate
+  what the design added (``added_inertia``); the backdrive checkpoints score breakaway plus this
+  effort, so mass that makes the arm hold or recover better is paid for in how hard it is to move;
 * push recovery: a force pulse at the handle, then the creep over the last ``CREEP_WINDOW_S`` [rad].
 
 Every scenario watches MuJoCo's warning counters (``data.warning``): a scenario that raises one (bad
@@ -35,6 +38,9 @@ PROBE_S = 0.2
 BACKDRIVE_CAP = 1.5
 HELD_FRICTION = 100.0
 CREEP_WINDOW_S = 0.5
+ACCEL_REF = 3.0
+"""Joint acceleration of a deliberate teleoperation move [rad/s^2]: a 0.5 rad reach in 1 s on a
+minimum-jerk profile peaks at (10 / sqrt(3)) x 0.5 rad / (1 s)^2 = 2.9 rad/s^2."""
 
 
 class SimulationFailed(RleError):
@@ -178,6 +184,28 @@ def backdrive(m: mujoco.MjModel, q0: np.ndarray, tau_ff: np.ndarray, net_residua
     finally:
         m.dof_frictionloss[:] = friction
     return out
+
+
+def joint_inertia(m: mujoco.MjModel, poses: np.ndarray) -> np.ndarray:
+    """Diagonal of the joint-space inertia matrix M(q) per pose, shape (N, nv) [kg m^2]: the inertia
+    a user moves when turning one joint with the others held (armature included)."""
+    d = mujoco.MjData(m)
+    full = np.zeros((m.nv, m.nv))
+    out = np.empty((len(poses), m.nv))
+    for k, q in enumerate(np.asarray(poses, float)):
+        d.qpos[:] = q
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        mujoco.mj_crb(m, d)
+        mujoco.mj_fullM(m, d, full)
+        out[k] = np.diag(full)
+    return out
+
+
+def added_inertia(m: mujoco.MjModel, stock: mujoco.MjModel, poses: np.ndarray) -> np.ndarray:
+    """Joint inertia the design adds over the stock leader, ``max(0, M_jj - M_jj^stock)`` per pose,
+    shape (N, nv) [kg m^2]. Both models have the stock joints in the same order."""
+    return np.maximum(joint_inertia(m, poses) - joint_inertia(stock, poses), 0.0)
 
 
 def push_recovery(

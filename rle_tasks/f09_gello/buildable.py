@@ -10,6 +10,10 @@ Structure rules (each a ``Finding``; any of them skips the submitted-arm battery
 * ``contract.spring_path``: a spring's straight path passes through a part (a link, a servo, an added
   part) at more than ``SPRING_CUT_MAX`` of the public workspace grid; below that, each pose where it
   does counts as a motion-clearance failure (``clearance.py``);
+* ``contract.spring_catalog`` / ``contract.spring_push`` / ``contract.spring_overload``: every spring
+  is a catalog spring (``rle_design.mjcf.spring_parts``: a tendon's stiffness is a cable-worked
+  compression spring's rate, a joint's a torsion spring's), its cable never pushes and its tension
+  (or deflection) stays within the rating over the public workspace grid (torsion: the joint range);
 * ``contract.underweight_part``: an added body lighter than solid PLA of its geometry's volume (a
   printed strut or bracket has mass; a weightless connector cannot be built).
 """
@@ -22,6 +26,7 @@ import numpy as np
 from rle_design.mjcf.buildability import audit_buildability
 from rle_design.mjcf.contract import Finding
 from rle_design.mjcf.spring_audit import spring_anchor_faults, spring_path_faults
+from rle_design.mjcf.spring_parts import spring_rating_faults
 
 JOIN_TOL = 1e-3
 """Largest gap between parts that still counts as fastened [m]: printed parts are modelled touching
@@ -68,6 +73,8 @@ def buildability_findings(
         out.append(Finding("contract.floating_part", d.message, element="body", path=path))
     for f in spring_anchor_faults(spec, tol=ANCHOR_TOL):
         out.append(Finding("contract.spring_anchor", f.message, element="site", path=path))
+    for r in spring_rating_faults(m, grid):
+        out.append(Finding(f"contract.spring_{r.code}", r.message, element="tendon", path=path))
     cuts = spring_cut_poses(m, grid)
     if len(grid) and len(cuts) > SPRING_CUT_MAX * len(grid):
         out.append(

@@ -17,11 +17,12 @@ failure that skips the submitted-arm battery):
 * ``contract.stock_geometry`` / ``contract.stock_inertia``: stock geoms (type, size, placement) and
   stock body inertials (mass, centre of mass, inertia) unchanged: add mass as new welded bodies;
 * build-ability (``buildable.py``): ``contract.floating_part``, ``contract.spring_anchor``,
-  ``contract.spring_path``, ``contract.underweight_part``.
+  ``contract.spring_path``, ``contract.underweight_part``, and springs as catalog parts:
+  ``contract.spring_catalog``, ``contract.spring_push``, ``contract.spring_overload``.
 
-Validity rules (deductions, the battery still runs): device mass <= 2.30 kg (``contract.over_mass``,
-a deduction growing linearly to its full 0.10 at 3.00 kg; a heavier device is a structure failure,
-``contract.mass_bound``);
+Validity rules (deductions, the battery still runs): device mass (bodies plus catalog springs)
+<= 2.30 kg (``contract.over_mass``, a deduction growing linearly to its full 0.10 at 3.00 kg; a
+heavier device is a structure failure, ``contract.mass_bound``);
 added mesh parts printable in PLA (``contract.printability``); added bodies no denser than steel
 (``contract.point_mass``).
 """
@@ -39,6 +40,7 @@ import trimesh
 from rle_design.errors import MjcfError
 from rle_design.mjcf.contract import Finding, ModelContract, check_contract
 from rle_design.mjcf.loader import Design, load_design
+from rle_design.mjcf.spring_parts import spring_mass, spring_parts
 from rle_design.scene import (
     MassScale,
     PointMass,
@@ -258,26 +260,20 @@ def _tendon_findings(m: mujoco.MjModel, path: str) -> list[Finding]:
 
 
 def springs_summary(m: mujoco.MjModel) -> list[dict]:
-    """Every element of ``m`` that adds passive torque, as reported: tendon springs and joint springs."""
+    """Every element of ``m`` that adds passive torque, as reported: tendon springs and joint springs,
+    each with the catalog spring it is (None when it is none) and that spring's mass."""
     out = []
-    for t in range(m.ntendon):
-        if m.tendon_stiffness[t] > 0:
-            out.append(
-                {
-                    "tendon": mujoco.mj_id2name(m, OBJ.mjOBJ_TENDON, t) or f"tendon{t}",
-                    "stiffness_N_per_m": float(m.tendon_stiffness[t]),
-                    "springlength_m": [float(x) for x in m.tendon_lengthspring[t]],
-                }
-            )
-    for j in range(m.njnt):
-        if m.jnt_stiffness[j] > 0:
-            out.append(
-                {
-                    "joint": mujoco.mj_id2name(m, OBJ.mjOBJ_JOINT, j),
-                    "stiffness_Nm_per_rad": float(m.jnt_stiffness[j]),
-                    "springref_rad": float(m.qpos_spring[m.jnt_qposadr[j]]),
-                }
-            )
+    for p in spring_parts(m):
+        row: dict = {p.kind: p.name}
+        if p.kind == "tendon":
+            row["stiffness_N_per_m"] = p.stiffness
+            row["springlength_m"] = [float(x) for x in m.tendon_lengthspring[p.index]]
+        else:
+            row["stiffness_Nm_per_rad"] = p.stiffness
+            row["springref_rad"] = float(m.qpos_spring[m.jnt_qposadr[p.index]])
+        row["catalog"] = p.entry.id if p.entry is not None else None
+        row["mass_kg"] = p.entry.mass if p.entry is not None else None
+        out.append(row)
     return out
 
 
@@ -316,7 +312,7 @@ def _validity(robot: str, m: mujoco.MjModel, added: list[int], path: str) -> tup
     from rle_design.mjcf.printability import printability_report
 
     out: list[Finding] = []
-    mass = float(m.body_mass[1:].sum())
+    mass = float(m.body_mass[1:].sum()) + spring_mass(m)  # springs' bodies are not modelled
     if MAX_MASS_KG < mass <= HARD_MASS_KG:
         out.append(
             Finding(

@@ -120,15 +120,19 @@ def _hold_back_push(
     hold_s: float,
     push_dirs: np.ndarray | None,
     failed: list[str],
+    effort: np.ndarray | None = None,
 ) -> dict[str, list[float]]:
     """Hold drift, backdrive and push creep per pose; a pose whose scenarios raise a MuJoCo warning
-    gets the worst values (score 0) and its warning is appended to ``failed``."""
+    gets the worst values (score 0) and its warning is appended to ``failed``. ``effort`` (N, nv)
+    [N m] is added per joint to the breakaway torque before the worst joint is taken (the torque to
+    accelerate the design's added inertia)."""
     bm = device.battery_model(dev)
     out: dict[str, list[float]] = {"drift": [], "backdrive": [], "push": []}
     for k, q in enumerate(poses):
         try:
             drift = battery.hold_drift(bm, q, ff[k], hold_s)
-            back = float(np.max(battery.backdrive(bm, q, ff[k], net[k])))
+            tau = battery.backdrive(bm, q, ff[k], net[k])
+            back = float(np.max(tau + (effort[k] if effort is not None else 0.0)))
             push = (
                 battery.push_recovery(bm, q, ff[k], PUSH_N * push_dirs[k], PUSH_S, PUSH_TOTAL_S)
                 if push_dirs is not None
@@ -280,8 +284,12 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
 
     r_test = battery.residual_mujoco(m, poses)
     zero = np.zeros_like(r_test)
+    added = battery.added_inertia(m, device.stock_model(robot), poses)
+    effort = battery.ACCEL_REF * added
+    res.measured["added_inertia_kgm2"] = np.max(added, axis=0)
+    res.measured["inertia_effort_Nm"] = [float(np.max(e)) for e in effort]
     failed: list[str] = []
-    out = _hold_back_push(m, poses, zero, r_test, size.hold_s, None, failed)
+    out = _hold_back_push(m, poses, zero, r_test, size.hold_s, None, failed, effort)
     _report_warnings(report, robot, "passive battery", failed)
     res.scores["passive_hold"] = scoring.mean_score("passive_hold", out["drift"])
     res.scores["passive_backdrive"] = scoring.mean_score("passive_backdrive", out["backdrive"])
@@ -313,7 +321,7 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
         )
         r_dev = battery.residual_mujoco(dev, poses)
         failed = []
-        out = _hold_back_push(dev, poses, ff, r_dev - ff, size.hold_s, push_dirs, failed)
+        out = _hold_back_push(dev, poses, ff, r_dev - ff, size.hold_s, push_dirs, failed, effort)
         _report_warnings(report, robot, f"hidden copy {c}", failed)
         drift += out["drift"]
         back += out["backdrive"]

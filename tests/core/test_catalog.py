@@ -55,3 +55,14 @@ def test_files_exist():
     for arm in load_catalog("arms"):
         assert arm_model_path(arm.id).is_file()
     assert len(load_catalog("shelf")) == 12
+
+
+def test_a_number_yaml_reads_as_text_is_rejected(tmp_path):
+    # YAML 1.1 reads 7.0e10 (no exponent sign) as a string; a catalog number must be a number
+    (tmp_path / "materials.yaml").write_text(
+        "version: 1\nkind: materials\nunits: {density: kg/m^3, youngs_modulus: Pa, yield_strength: Pa}\n"
+        "source: test\nentries:\n  - {id: a, density: 1.0, youngs_modulus: 7.0e10, yield_strength: 3.0}\n"
+    )
+    with pytest.raises(CatalogError, match="'youngs_modulus' is not a number: '7.0e10'"):
+        load_catalog("materials", str(tmp_path))
+    assert load_catalog("materials").get("pla").youngs_modulus == 3.5e9

@@ -16,7 +16,8 @@ from lxml import etree
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.buildable import PLA_DENSITY, SPRING_CUT_MAX, spring_cut_poses
-from rle_tasks.f09_gello.device import load_submission
+from rle_design.catalog import load_catalog
+from rle_tasks.f09_gello.device import load_submission, springs_summary
 from rle_tasks.f09_gello.leaders import ROBOTS
 from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workspace_grid
 
@@ -35,6 +36,10 @@ def test_the_reference_is_buildable(reference, robot):
     m = sub.model
     names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in sub.added_bodies]
     assert any(n.startswith("counterweight") for n in names) and "spring_anchor_post" in names
+    # the shoulder spring is a catalog part, and its mass is part of the device's
+    (spring,) = springs_summary(m)
+    entry = load_catalog("springs").get(spring["catalog"])
+    assert sub.mass == pytest.approx(m.body_mass[1:].sum() + entry.mass)
     # every added body carries at least solid PLA of its volume (steel spheres on PLA rods)
     for b in sub.added_bodies:
         assert m.body_mass[b] > 0.0
@@ -66,10 +71,30 @@ def _lift_spring_end(root):
 
 
 def _spring_through_arm(root):
+    # a catalog spring on a slack cable (never loaded), so only its path is at fault
     tendon = etree.SubElement(root, "tendon")
-    sp = etree.SubElement(tendon, "spatial", name="long_spring", stiffness="10", springlength="0")
+    sp = etree.SubElement(tendon, "spatial", name="long_spring", stiffness="717.05", springlength="0 2")
     etree.SubElement(sp, "site", site="mount_site")
     etree.SubElement(sp, "site", site="handle_site")
+
+
+def _ideal_spring(root):
+    """The exact (optimiser's) stiffness instead of the catalog spring: no part has that rate."""
+    _by_name(root, "spatial", "shoulder_spring").set("stiffness", "950")
+
+
+def _weak_spring(root):
+    """A catalog spring rated 56.2 N (cs-d1.6-D12-n40, 939.852 N/m) where the shoulder pulls ~70 N."""
+    _by_name(root, "spatial", "shoulder_spring").set("stiffness", "939.852")
+
+
+def _pushing_spring(root):
+    """A 30 mm spring length: at folded poses the tendon is shorter and MuJoCo's spring would push."""
+    _by_name(root, "spatial", "shoulder_spring").set("springlength", "0.03")
+
+
+def _ideal_torsion_spring(root):
+    _by_name(root, "joint", "j2").set("stiffness", "0.5")
 
 
 def _weightless_strut(root):
@@ -85,6 +110,10 @@ def _weightless_strut(root):
         (_lift_spring_end, "contract.spring_anchor", "spring_anchor"),
         (_spring_through_arm, "contract.spring_path", "long_spring"),
         (_weightless_strut, "contract.underweight_part", "strut"),
+        (_ideal_spring, "contract.spring_catalog", "stiffness 950 N/m is no catalog spring"),
+        (_weak_spring, "contract.spring_overload", "exceeds its 56.2 N rating"),
+        (_pushing_spring, "contract.spring_push", "a cable only pulls"),
+        (_ideal_torsion_spring, "contract.spring_catalog", "joint 'j2': stiffness 0.5 is no torsion"),
     ],
 )
 def test_what_could_not_be_built_is_refused_by_name(reference, tmp_path, edit, code, words):

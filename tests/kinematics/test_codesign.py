@@ -44,6 +44,18 @@ def test_zero_length_spring_recovers_k_a_b_equals_m_g_l():
     assert res.worst_residual < 1e-6
 
 
+def test_a_catalog_rate_is_kept_and_the_attachment_moves_instead():
+    km = model_from_mujoco(_link())
+    a, k = 0.04, 968.018  # a catalog rate [N/m]
+    b = M1 * G * L1 / (k * a)  # k a b = m g l: 4.56 mm
+    slot = SpringSlot("s", 0, (0, 0, a), (0, 0, a), 1, (0, 0, 0.001), (0, 0, 0.02), k, min_stiffness=k)
+    res = optimise_balance(km, GRID, springs=(slot,))
+    _, attach, k_out = res.springs["s"]
+    assert k_out == k and abs(attach[2] - b) <= 1e-6 * b and res.worst_residual < 1e-6
+    with pytest.raises(CodesignError, match="not ordered"):
+        optimise_balance(km, GRID, springs=(SpringSlot("s", 0, (0, 0, a), (0, 0, a), 1, (0, 0, b), (0, 0, b), 1.0, 2.0),))
+
+
 def test_free_spring_anchors_balance_within_their_boxes():
     km = model_from_mujoco(_link())
     slot = SpringSlot("s", 0, (-0.01, 0, 0.02), (0.01, 0, 0.06), 1, (-0.01, 0, 0.03), (0.01, 0, 0.08), 200.0)

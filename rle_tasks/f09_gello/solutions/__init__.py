@@ -81,8 +81,8 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="525e174ecff354ef9a6aad589245a357b836b2a186ff5d9a05664a6d8c744992",
-            quick_score=0.941093439310,
+            sha256="bc13334a7027f8ee91eb29cbeec5596a632676229b564d2042e8117b8da10090",
+            quick_score=0.853498002585,
             files=_per_robot("lead.xml", "solutions/reference/{robot}/lead.xml")
             + _per_robot("meshes", "assets/{robot}/meshes")
             + _per_robot("trim.py", "assets/trim_templates/regressor_trim.py"),
@@ -105,15 +105,15 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/over_mass",
-            sha256="1a435e5be55a56fd3e0e8ea3259c06fc67d9edc6c8bed336c944d81942d959d4",
+            sha256="de5237e09e09bdd726d762eab845879c14aba6f1a91df7333549b35510c70fb5",
             quick_score=0.2,
             base="reference",
             transforms=(steel_ballast,),
         ),
         Solution(
             "baseline/hanging_trim",
-            sha256="e16eb12236ea889e47af51f528373ffca3b8051e2fd5845acb300e01697ece6f",
-            quick_score=0.464847832361,
+            sha256="4c2009cae38abbc3137ca1dc4f6a1613491602ec48e12a801d349caf48f002a6",
+            quick_score=0.421386960727,
             base="reference",
             files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
         ),

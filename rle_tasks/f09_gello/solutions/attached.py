@@ -11,10 +11,14 @@ balance the arm exactly, but leaves them in mid-air. Here each element is fasten
   the rod sweeps a disc beside the neighbouring link instead of through it;
 * each spring end sits on the end face of a printed PLA post (``BRACKET_RADIUS``) from the nearest
   point of its link's material (``EMBED`` inside) to the spring site;
+* the ideal spring becomes a catalog spring (``rle_design/catalogs/springs.yaml``): the entry whose
+  rate is nearest the exact stiffness among those rated for ``FORCE_MARGIN`` times the largest
+  tension over the grid;
 * with brackets and rods in place, the counterweight masses and centres (within ``BOX`` of the exact
-  placement) and the spring stiffness are re-optimised over the public workspace grid with the
-  co-design optimiser (``rle_design.kinematics.codesign``, CasADi/IPOPT), which counts each rod's mass
-  at its midpoint.
+  placement) and the spring's attachment point (within ``ATTACH_BOX``; the catalog rate is fixed,
+  so k a b = M g d is met by b) are re-optimised over the public workspace grid with the co-design
+  optimiser (``rle_design.kinematics.codesign``, CasADi/IPOPT), which counts each rod's mass at its
+  midpoint.
 """
 
 from __future__ import annotations
@@ -43,6 +47,11 @@ EMBED = 0.002
 BOX = 0.015
 """Half-width of the square (across the joint axis; the axial height stays) around each exact
 counterweight centre the optimiser may use [m]."""
+ATTACH_BOX = 0.005
+"""Half-width of the cube around the exact spring attachment the optimiser may use [m]: the nearest
+catalog rate is within a few per cent of the exact stiffness, i.e. ~1.5 mm of the 50 mm arm."""
+FORCE_MARGIN = 1.25
+"""A catalog spring is chosen only if rated for this multiple of the largest tension on the grid [1]."""
 BRACKET_REACH = 0.04
 """Distance of an L-bracket's post from the joint axis, along the link [m]: beyond the ~20 mm
 radius of the neighbouring link's tube that ends at the joint."""
@@ -255,7 +264,9 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
         l1, p1, _, l2, p2, _, k = design.spring
         j1, a = to_joint(l1, p1)
         j2, b = to_joint(l2, p2)
-        sp_slots.append(SpringSlot("spring", j1, tuple(a), tuple(a), j2, tuple(b), tuple(b), 3.0 * k))
+        rate = catalog_spring(m, grid, k).rate
+        box = np.full(3, ATTACH_BOX)
+        sp_slots.append(SpringSlot("spring", j1, tuple(a), tuple(a), j2, tuple(b - box), tuple(b + box), rate, rate))
     res = optimise_balance(
         km, grid, counterweights=tuple(cw_slots), springs=tuple(sp_slots), mass_weight=1e-3
     )
@@ -266,9 +277,27 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
         cws.append((link, to_link(link, slot.joint, c), mass, start))
     spring = None
     if design.spring is not None:
-        l1, p1, s1, l2, p2, s2, _ = design.spring
-        spring = (l1, p1, s1, l2, p2, s2, res.springs["spring"][2])
+        l1, p1, s1, l2, _, s2, _ = design.spring
+        _, b, rate = res.springs["spring"]
+        spring = (l1, p1, s1, l2, to_link(l2, sp_slots[0].attach_joint, b), s2, rate)
     return Fastened(tuple(cws), spring, design.posts), res.worst_residual
+
+
+def catalog_spring(m: mujoco.MjModel, grid: np.ndarray, stiffness: float):
+    """The catalog spring nearest in rate to ``stiffness`` [N/m] among those rated for ``FORCE_MARGIN``
+    times the largest tension ``stiffness x L`` of ``m``'s (zero-length) spring tendon on ``grid``."""
+    from rle_design.catalog import load_catalog
+
+    d = mujoco.MjData(m)
+    longest = 0.0
+    for q in grid:
+        d.qpos[:] = q
+        mujoco.mj_fwdPosition(m, d)
+        longest = max(longest, float(d.ten_length[0]))
+    fits = [e for e in load_catalog("springs") if e.max_force >= FORCE_MARGIN * stiffness * longest]
+    if not fits:
+        raise ValueError(f"no catalog spring carries {FORCE_MARGIN * stiffness * longest:.1f} N")
+    return min(fits, key=lambda e: abs(np.log(e.rate / stiffness)))
 
 
 def _loss(collisions: float, worst_residual: float) -> float:

@@ -12,8 +12,10 @@ Reference (``solutions/reference/<robot>/lead.xml``), derivation (``exact_design
    exactly at every angle (residual ~1e-8 N m from the 9-digit XML numbers).
 3. Fastening (``attached.py``): each counterweight on a printed PLA rod from its link's shell (or
    servo housing) and each spring end on a printed PLA post, placements chosen greedily for clearance
-   (collisions and spring paths through parts), then masses, centres and the spring stiffness
-   re-optimised with the rods and posts counted (``rle_design.kinematics.codesign``, CasADi/IPOPT).
+   (collisions and spring paths through parts); the ideal spring becomes the catalog spring nearest
+   in rate (``rle_design/catalogs/springs.yaml``), then masses, centres and the spring's attachment
+   point re-optimised with the rods and posts counted (``rle_design.kinematics.codesign``,
+   CasADi/IPOPT).
 4. ``trim.py`` (shared by the three robots) fits the identifiable gravity parameters (QR base
    parameters of the Pinocchio regressor) to the 16 probes with a small ridge to the nominal values,
    after a greedy D-optimal probe plan over a candidate grid; hidden link-mass and payload changes
