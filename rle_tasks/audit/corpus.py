@@ -758,4 +758,7 @@ def cases() -> list[Case]:
 
     out += f06_cases()
     out += kitchen_cases()
+    from rle_tasks.audit.generated import generated_cases
+
+    out += generated_cases(F09, _edit_xml, F09_DESIGN_CAP) + generated_cases(F08, _edit_xml, 0.15)
     return out

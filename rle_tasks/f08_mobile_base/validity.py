@@ -74,6 +74,25 @@ def _inertial_findings(design: Design, model: mujoco.MjModel) -> list[tuple[str,
     return out
 
 
+def _massive_extras(design: Design) -> list[tuple[str, str]]:
+    """Geoms of the chassis that are neither profiles nor massless: "other geoms carry no mass" (a
+    geom carries mass unless its ``mass`` is 0, or its ``density`` is 0 with no ``mass`` given)."""
+    out = []
+    for g in design.fresh_spec().body(CHASSIS).geoms:
+        if g.name.startswith("profile_"):
+            continue
+        if g.mass > 0 or (np.isnan(g.mass) and g.density > 0):
+            what = f"mass {g.mass:g} kg" if g.mass > 0 else f"density {g.density:g} kg/m^3"
+            out.append(
+                (
+                    "catalog.non_catalog_mass",
+                    f"geom '{g.name or 'unnamed'}' of '{CHASSIS}' is no catalog profile but carries mass "
+                    f"({what}); other geoms must have mass=\"0\"",
+                )
+            )
+    return out
+
+
 def check_validity(design: Design) -> list[tuple[str, str]]:
     """(code, message) of every violation; an empty list means valid. Compiles the design."""
     out = [(f.code, f.message) for f in check_contract(design, CONTRACT)]
@@ -97,6 +116,17 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
                 f"joints other than the chassis freejoint are not allowed: {', '.join(others)}",
             )
         )
+    allowed = {CHASSIS, *PART_OF}
+    extra = [model.body(b).name or f"body{b}" for b in range(1, model.nbody) if model.body(b).name not in allowed]
+    if extra:
+        out.append(
+            (
+                "f08.extra_body",
+                f"bodies other than '{CHASSIS}' and the catalog parts are not part of the contract: "
+                f"{', '.join(extra)} (profiles are geoms of '{CHASSIS}')",
+            )
+        )
+    out += _massive_extras(design)
     for p in match_profiles(design, model).findings:
         out.append((p.code, p.message))
     for body, pid in PART_OF.items():

@@ -3,7 +3,8 @@
 Every case of ``corpus.py`` is verified with a private secret; the report must name the expected code,
 the score must stay within its bound, and neither the report nor the artifact may contain the secret
 or a hidden seed. Cases whose verification runs the full family-08 physics batteries are marked
-``physics``: by default a fixed sample of them runs (the reduced form), all with RLE_FULL_BATTERY=1.
+``physics``: by default a fixed sample of them runs (the reduced form), all with RLE_FULL_BATTERY=1;
+so do the generated additions (``generated/``).
 """
 
 from __future__ import annotations
@@ -27,6 +28,15 @@ REDUCED_F08_CODE = {"code/08_raise_midway", "code/08_hang", "code/08_return_nan"
 REDUCED_F08_PHYSICS = {"physics/f08_gravcomp", "physics/f08_battery_in_mid_air"}
 # Family-07 code cases each play a pile (the smoke test); the reduced form keeps a hang, a bad action, a
 # leak attempt through /proc and an attempt to import the verifier.
+# Generated additions (rle_tasks/audit/generated.py): every one is checked at load time in
+# tests/f08/test_f08_generated.py and tests/f09/test_generated.py; the reduced form verifies one
+# family-08 case (~25 s each) and the family-09 additions under link3.
+REDUCED_GENERATED = {
+    "generated/f08_body_under_chassis",
+    "generated/f09_geom_on_link3",
+    "generated/f09_hinge_joint_under_link3",
+    "generated/f09_free_joint_under_link3",
+}
 REDUCED_F07_CODE = {
     "code/07_hang",
     "code/07_return_nan",
@@ -36,7 +46,7 @@ REDUCED_F07_CODE = {
 
 
 def _slow(case) -> bool:
-    return case.name.startswith(("code/08_", "physics/f08_", "code/07_"))
+    return case.name.startswith(("code/08_", "physics/f08_", "code/07_", "generated/f08_"))
 
 
 def _params():
@@ -48,6 +58,8 @@ def _params():
         if c.name.startswith("physics/f08_") and not FULL and c.name not in REDUCED_F08_PHYSICS:
             continue
         if c.name.startswith("code/07_") and not FULL and c.name not in REDUCED_F07_CODE:
+            continue
+        if c.name.startswith("generated/") and not FULL and c.name not in REDUCED_GENERATED:
             continue
         yield pytest.param(c, id=c.name, marks=[pytest.mark.physics] if _slow(c) else [])
 
