@@ -13,6 +13,7 @@ for the unit tests (tests/f08, tests/f09); ``generated_cases`` turns the refusal
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,8 +24,9 @@ from rle_tasks.audit.runner import Case
 
 JOINT_TYPES = ("hinge", "slide", "ball", "free")
 F08_BODIES = ("chassis", "wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr", "battery", "universal_adapter")
-F09_BODIES = ("base", "link1", "link2", "link3", "link4", "link5", "link6", "link7")
-"""Stock bodies of the leaders (ur5e has no link7: that addition leaves its leader unchanged)."""
+F09_BODIES = ("base", "link1", "link2", "link3", "link4", "link5", "link6", "tip")
+"""Stock bodies of the leaders; ``tip`` is each leader's last link (link7, or link6 on the ur5e), so
+that every leader is altered alike."""
 GEOM_NAME, BODY_NAME, JOINT_BODY_NAME = "generated_geom", "generated_body", "generated_joint_body"
 PLA_SPHERE_R = 0.01  # [m]
 
@@ -50,7 +52,11 @@ class Addition:
 
     def apply(self, root: etree._Element) -> bool:
         """Add it to an MJCF tree; False when the tree has no such body."""
-        body = next((b for b in root.iter("body") if b.get("name") == self.body), None)
+        name = self.body
+        if name == "tip":  # the last link of a leader: link<n> with the largest n
+            links = [b.get("name") for b in root.iter("body") if re.fullmatch(r"link\d+", b.get("name") or "")]
+            name = max(links, key=lambda s: int(s[4:]), default="")
+        body = next((b for b in root.iter("body") if b.get("name") == name), None)
         if body is None:
             return False
         if self.kind == "geom":

@@ -81,8 +81,8 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="bc13334a7027f8ee91eb29cbeec5596a632676229b564d2042e8117b8da10090",
-            quick_score=0.853498002585,
+            sha256="d4b02e42f1e24d4b22e91cfd2db0643a8fee5c92332849ac59f1c0af720243c1",
+            quick_score=0.858470445608,
             files=_per_robot("lead.xml", "solutions/reference/{robot}/lead.xml")
             + _per_robot("meshes", "assets/{robot}/meshes")
             + _per_robot("trim.py", "assets/trim_templates/regressor_trim.py"),
@@ -105,15 +105,15 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/over_mass",
-            sha256="de5237e09e09bdd726d762eab845879c14aba6f1a91df7333549b35510c70fb5",
+            sha256="320c1e37ad8831d51d2fd201354725f47a3a86fc589d45d8881e5f79815a0f6c",
             quick_score=0.2,
             base="reference",
             transforms=(steel_ballast,),
         ),
         Solution(
             "baseline/hanging_trim",
-            sha256="4c2009cae38abbc3137ca1dc4f6a1613491602ec48e12a801d349caf48f002a6",
-            quick_score=0.421386960727,
+            sha256="a38b18db40c927816fb0fd764a472bd07a65b43a1eb9b2b3dee7ccb575074ec8",
+            quick_score=0.418037718722,
             base="reference",
             files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
         ),

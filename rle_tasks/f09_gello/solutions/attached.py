@@ -47,6 +47,8 @@ EMBED = 0.002
 BOX = 0.015
 """Half-width of the square (across the joint axis; the axial height stays) around each exact
 counterweight centre the optimiser may use [m]."""
+SERVO_FRICTION = 0.0128
+"""Coulomb friction of the stock servo [N m] (servo catalog, XL330-M288-T)."""
 ATTACH_BOX = 0.005
 """Half-width of the cube around the exact spring attachment the optimiser may use [m]: the nearest
 catalog rate is within a few per cent of the exact stiffness, i.e. ~1.5 mm of the 50 mm arm."""
@@ -300,16 +302,22 @@ def catalog_spring(m: mujoco.MjModel, grid: np.ndarray, stiffness: float):
     return min(fits, key=lambda e: abs(np.log(e.rate / stiffness)))
 
 
-def _loss(collisions: float, worst_residual: float) -> float:
-    """Score lost to motion clearance and to the passive residual, as the rubric counts them [1].
+def _loss(collisions: float, worst_residual: float, effort: np.ndarray | None = None) -> float:
+    """Score lost to motion clearance, the passive residual and added inertia, as the rubric counts
+    them [1].
 
     Clearance: 0.10 x fraction / 0.05; residual: the passive-residual checkpoint (0.02 to
-    0.35 N m) plus the passive hold, lost once the residual exceeds the ~0.013 N m servo friction.
+    0.35 N m) plus the passive hold, lost once the residual exceeds the ~0.013 N m servo friction;
+    inertia: both submitted-arm backdrive checkpoints (0.03 to 0.35 N m) on the servo friction plus
+    ``effort`` (per pose, the worst joint's ``ACCEL_REF x`` added inertia [N m]).
     """
     clear = 0.1 * collisions / 0.05  # uncapped, so the greedy still sees progress above 5 %
     resid = 0.1 * float(np.clip((worst_residual - 0.02) / 0.33, 0.0, 1.0))
     hold = 0.1 * float(np.clip((worst_residual - 0.013) / 0.05, 0.0, 1.0))
-    return clear + resid + hold
+    back = 0.0
+    if effort is not None:
+        back = 0.2 * float(np.mean(np.clip((SERVO_FRICTION + effort - 0.03) / 0.32, 0.0, 1.0)))
+    return clear + resid + hold + back
 
 
 def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: bool = False) -> Fastened:
@@ -319,12 +327,13 @@ def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: boo
     mount (shell or servo housing, straight rod or L-bracket) is chosen with the others fixed, each
     candidate scored with its rods and posts in place: the fraction of public-grid poses where an
     added part collides with the arm, the base or the table, or the spring's path passes through a
-    part (ties: lighter device; devices over ``build.MASS_CAP`` lose). The chosen placement is then
-    re-balanced by ``optimise``.
+    part, and the backdrive credit the added inertia costs (``_loss``; ties: lighter device; devices
+    over ``build.MASS_CAP`` lose). The chosen placement is then re-balanced by ``optimise``.
     """
     import tempfile
 
     from rle_design.mjcf.loader import load_design
+    from rle_tasks.f09_gello.battery import ACCEL_REF, added_inertia
     from rle_tasks.f09_gello.buildable import SPRING_CUT_MAX, spring_cut_poses
     from rle_tasks.f09_gello.clearance import collision_fraction
     from rle_tasks.f09_gello.device import stock_names
@@ -332,6 +341,7 @@ def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: boo
     from rle_tasks.f09_gello.solutions.build import MASS_CAP, PLACEMENTS, exact_design
 
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
+    stock_leader = m
     grid = workspace_grid(m.jnt_range, n_poses)
     placement: dict[int, tuple[float, float]] = {}
     mount: dict[str, tuple[bool, bool]] = {}  # link -> (start on the servo housing, L-bracket)
@@ -362,7 +372,8 @@ def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: boo
             worst = max((unbalanced.get(k, 0.0) for k, v in pl.items() if v is None), default=0.0)
             cuts = len(spring_cut_poses(lm, grid)) / len(grid)
             refused = mass > MASS_CAP or cuts > 0.8 * SPRING_CUT_MAX  # margin to the structure rule
-            return _loss(frac, worst) + (1.0 if refused else 0.0), mass
+            effort = ACCEL_REF * np.max(added_inertia(lm, stock_leader, grid[:64]), axis=1)
+            return _loss(frac, worst, effort) + (1.0 if refused else 0.0), mass
 
     kinds = [(on_servo, on_bracket) for on_bracket in (False, True) for on_servo in (False, True)]
     for _ in range(passes):
