@@ -23,3 +23,12 @@ def libero10_task0(libero_side_env):
 
     with LiberoEnv("libero_10", 0, render=False) as env:
         yield env
+
+
+@pytest.fixture(scope="session")
+def libero10_task0_rendered(libero_side_env):
+    """LIBERO-10 task 0 with both 128 px views, shared by the tests that need images."""
+    from rle_tasks.envs.libero import LiberoEnv
+
+    with LiberoEnv("libero_10", 0) as env:
+        yield env

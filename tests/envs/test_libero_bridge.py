@@ -49,18 +49,17 @@ def test_one_libero_10_episode_to_its_horizon(libero10_task0):
     assert {"alphabet_soup_1", "tomato_sauce_1", "basket_1"} <= set(objects)
 
 
-@pytest.mark.usefixtures("libero_side_env")
-def test_rendered_views_are_upright_images():
-    with LiberoEnv("libero_10", 0, image_size=64) as env:
-        obs = env.reset(0)
-        obs, _ = env.step(np.zeros(7))
+def test_rendered_views_are_upright_images(libero10_task0_rendered):
+    env = libero10_task0_rendered
+    obs = env.reset(0)
+    obs, _ = env.step(np.zeros(7))
     for view in ("agentview", "wrist"):
         img = obs[view]
-        assert img.shape == (64, 64, 3) and img.dtype == np.uint8 and img.std() > 5.0
+        assert img.shape == (128, 128, 3) and img.dtype == np.uint8 and img.std() > 5.0
     # upright agent view: the white robot and the light wall stand at the top, behind the dark wooden
     # table that fills the lower rows (turned the other way round, as MuJoCo renders it, this fails)
     agent = obs["agentview"].astype(float)
-    assert agent[:16].mean() > agent[48:].mean() + 10.0
+    assert agent[:32].mean() > agent[96:].mean() + 10.0
 
 
 def test_bad_actions_and_init_indices_are_refused(libero10_task0):
