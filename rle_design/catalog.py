@@ -215,7 +215,7 @@ def _build_entry(kind: str, raw: Mapping[str, Any], units: Mapping[str, str]) ->
                 code="catalog.invalid",
             )
     for name, v in values.items():
-        if name in units and (isinstance(v, str) or isinstance(v, bool)):
+        if name in units and (isinstance(v, (str, bool))):
             raise CatalogError(
                 f"catalog '{kind}': entry '{eid}' field '{name}' is not a number: {v!r} (YAML reads "
                 "1.5e9 as text; write 1.5e+9)",

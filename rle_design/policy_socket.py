@@ -30,6 +30,7 @@ code (``protocol.*``).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import socket
@@ -102,7 +103,9 @@ def _recv_exact(sock: socket.socket, n: int, deadline: float | None) -> bytes:
         try:
             chunk = sock.recv(min(n - len(buf), 1 << 20))
         except TimeoutError:
-            raise ProtocolError("timeout", f"no complete frame within the time limit ({len(buf)}/{n} B)") from None
+            raise ProtocolError(
+                "timeout", f"no complete frame within the time limit ({len(buf)}/{n} B)"
+            ) from None
         if not chunk:
             raise ProtocolError("closed", "the peer closed the connection")
         buf += chunk
@@ -151,7 +154,9 @@ def recv_frame(
             raise ProtocolError("frame", f"bad array description {spec!r}: {exc}") from None
         if offset + n > len(payload):
             raise ProtocolError("frame", f"array '{spec.get('name')}' runs past the payload")
-        arrays[str(spec.get("name"))] = np.frombuffer(payload, dtype, count=n // dtype.itemsize, offset=offset).reshape(shape)
+        arrays[str(spec.get("name"))] = np.frombuffer(
+            payload, dtype, count=n // dtype.itemsize, offset=offset
+        ).reshape(shape)
         offset += n
     if offset != len(payload):
         raise ProtocolError("frame", f"payload has {len(payload) - offset} B that no array describes")
@@ -172,7 +177,9 @@ def check_actions(actions: np.ndarray, action_dim: int) -> np.ndarray:
     return a.astype(np.float32)
 
 
-def serve(socket_path: str | os.PathLike, policy: Callable[[Request], np.ndarray], env: str = "libero") -> int:
+def serve(
+    socket_path: str | os.PathLike, policy: Callable[[Request], np.ndarray], env: str = "libero"
+) -> int:
     """Policy side: connect to the evaluator at ``socket_path`` and answer ``act`` requests with
     ``policy(request)`` ((k, a) actions) until ``bye``. Returns the number of requests answered.
 
@@ -210,7 +217,9 @@ class PolicyServer:
         request_timeout_s: Largest time a reply may take [s].
     """
 
-    def __init__(self, socket_path: str | os.PathLike, env: str = "libero", request_timeout_s: float = 10.0) -> None:
+    def __init__(
+        self, socket_path: str | os.PathLike, env: str = "libero", request_timeout_s: float = 10.0
+    ) -> None:
         self.path = Path(socket_path)
         self.state_dim, self.action_dim = DIMS[env]
         self.request_timeout_s = request_timeout_s
@@ -249,10 +258,8 @@ class PolicyServer:
 
     def close(self) -> None:
         if self._conn is not None:
-            try:
+            with contextlib.suppress(OSError):
                 send_frame(self._conn, "bye")
-            except OSError:
-                pass
             self._conn.close()
             self._conn = None
         self._listener.close()

@@ -100,7 +100,9 @@ def spring_parts(model: mujoco.MjModel) -> list[SpringPart]:
     for t in range(model.ntendon):
         k = float(model.tendon_stiffness[t])
         if k > 0:
-            out.append(SpringPart("tendon", t, _name(model, OBJ.mjOBJ_TENDON, t), k, match_rate("springs", k)))
+            out.append(
+                SpringPart("tendon", t, _name(model, OBJ.mjOBJ_TENDON, t), k, match_rate("springs", k))
+            )
     for j in range(model.njnt):
         k = float(model.jnt_stiffness[j])
         if k > 0:
@@ -177,7 +179,11 @@ def spring_rating_faults(model: mujoco.MjModel, poses: np.ndarray) -> list[Sprin
                 )
         else:
             if p.entry is None:
-                kind = "hinge" if int(model.jnt_type[p.index]) == int(mujoco.mjtJoint.mjJNT_HINGE) else "non-hinge"
+                kind = (
+                    "hinge"
+                    if int(model.jnt_type[p.index]) == int(mujoco.mjtJoint.mjJNT_HINGE)
+                    else "non-hinge"
+                )
                 out.append(
                     SpringRatingFault(
                         "catalog",

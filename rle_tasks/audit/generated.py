@@ -54,7 +54,9 @@ class Addition:
         """Add it to an MJCF tree; False when the tree has no such body."""
         name = self.body
         if name == "tip":  # the last link of a leader: link<n> with the largest n
-            links = [b.get("name") for b in root.iter("body") if re.fullmatch(r"link\d+", b.get("name") or "")]
+            links = [
+                b.get("name") for b in root.iter("body") if re.fullmatch(r"link\d+", b.get("name") or "")
+            ]
             name = max(links, key=lambda s: int(s[4:]), default="")
         body = next((b for b in root.iter("body") if b.get("name") == name), None)
         if body is None:
@@ -96,7 +98,9 @@ def expected(task: str, a: Addition) -> tuple[str, ...]:
     if a.kind == "joint" and a.joint == "free":
         return ("mjcf.compile",)  # MuJoCo: a free joint only on a root body
     if task == "09-gello":
-        return {"geom": ("contract.stock_body_addition",), "body": (), "joint": ("contract.extra_joint",)}[a.kind]
+        return {"geom": ("contract.stock_body_addition",), "body": (), "joint": ("contract.extra_joint",)}[
+            a.kind
+        ]
     if a.kind == "geom":
         return ("catalog.non_catalog_mass",) if a.body == "chassis" else ("f08.part_modified",)
     if a.kind == "body":
@@ -115,5 +119,7 @@ def generated_cases(
         codes = expected(task, a)
         if codes:
             cap = 0.0 if codes[0] == "mjcf.compile" and fam == "08" else max_score
-            out.append(Case(f"generated/f{fam}_{a.name}", task, codes[0], edit_xml(task, a.edit_text), max_score=cap))
+            out.append(
+                Case(f"generated/f{fam}_{a.name}", task, codes[0], edit_xml(task, a.edit_text), max_score=cap)
+            )
     return out

@@ -87,7 +87,7 @@ def _massive_extras(design: Design) -> list[tuple[str, str]]:
                 (
                     "catalog.non_catalog_mass",
                     f"geom '{g.name or 'unnamed'}' of '{CHASSIS}' is no catalog profile but carries mass "
-                    f"({what}); other geoms must have mass=\"0\"",
+                    f'({what}); other geoms must have mass="0"',
                 )
             )
     return out
@@ -117,7 +117,9 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
             )
         )
     allowed = {CHASSIS, *PART_OF}
-    extra = [model.body(b).name or f"body{b}" for b in range(1, model.nbody) if model.body(b).name not in allowed]
+    extra = [
+        model.body(b).name or f"body{b}" for b in range(1, model.nbody) if model.body(b).name not in allowed
+    ]
     if extra:
         out.append(
             (

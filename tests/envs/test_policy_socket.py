@@ -19,7 +19,9 @@ from rle_design.policy_socket import (
     serve,
 )
 
-REQ = Request("put the bowl on the plate", np.zeros(VIEW_SHAPE, np.uint8), np.arange(8, dtype=np.float32), 3, 40)
+REQ = Request(
+    "put the bowl on the plate", np.zeros(VIEW_SHAPE, np.uint8), np.arange(8, dtype=np.float32), 3, 40
+)
 
 
 def _served(tmp_path, policy, **kw):
@@ -132,8 +134,7 @@ def test_a_solution_that_never_connects_is_named(tmp_path):
     sol = tmp_path / "sol"
     sol.mkdir()
     (sol / "solution.py").write_text("def serve(socket_path):\n    raise RuntimeError('no checkpoint')\n")
-    with pytest.raises(ProtocolError) as exc:
-        with client.serving(sol):
-            pass
+    with pytest.raises(ProtocolError) as exc, client.serving(sol):
+        pass
     assert exc.value.code == "protocol.no_policy" and "no checkpoint" in exc.value.message
     assert "its process ended" in exc.value.message

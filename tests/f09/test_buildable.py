@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from lxml import etree
 
+from rle_design.catalog import load_catalog
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.buildable import PLA_DENSITY, SPRING_CUT_MAX, spring_cut_poses
-from rle_design.catalog import load_catalog
 from rle_tasks.f09_gello.device import load_submission, springs_summary
 from rle_tasks.f09_gello.leaders import ROBOTS
 from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workspace_grid

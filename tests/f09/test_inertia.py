@@ -35,7 +35,9 @@ def _dumbbell(root) -> None:
     joint (joint 1 is vertical, the masses ride on link1), only inertia about joint 1."""
     link1 = next(b for b in root.iter("body") if b.get("name") == "link1")
     body = etree.SubElement(link1, "body", name="dumbbell", pos="0 0 0.07")
-    etree.SubElement(body, "geom", name="dumbbell_bar", type="box", size=" ".join(map(str, BAR)), density="1240")
+    etree.SubElement(
+        body, "geom", name="dumbbell_bar", type="box", size=" ".join(map(str, BAR)), density="1240"
+    )
     for side in (1, -1):
         etree.SubElement(
             body, "geom", type="sphere", size=str(RHO), pos=f"{side * R} 0 0", density=str(STEEL_DENSITY)

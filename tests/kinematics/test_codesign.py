@@ -53,7 +53,9 @@ def test_a_catalog_rate_is_kept_and_the_attachment_moves_instead():
     _, attach, k_out = res.springs["s"]
     assert k_out == k and abs(attach[2] - b) <= 1e-6 * b and res.worst_residual < 1e-6
     with pytest.raises(CodesignError, match="not ordered"):
-        optimise_balance(km, GRID, springs=(SpringSlot("s", 0, (0, 0, a), (0, 0, a), 1, (0, 0, b), (0, 0, b), 1.0, 2.0),))
+        optimise_balance(
+            km, GRID, springs=(SpringSlot("s", 0, (0, 0, a), (0, 0, a), 1, (0, 0, b), (0, 0, b), 1.0, 2.0),)
+        )
 
 
 def test_free_spring_anchors_balance_within_their_boxes():

@@ -268,7 +268,9 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
         j2, b = to_joint(l2, p2)
         rate = catalog_spring(m, grid, k).rate
         box = np.full(3, ATTACH_BOX)
-        sp_slots.append(SpringSlot("spring", j1, tuple(a), tuple(a), j2, tuple(b - box), tuple(b + box), rate, rate))
+        sp_slots.append(
+            SpringSlot("spring", j1, tuple(a), tuple(a), j2, tuple(b - box), tuple(b + box), rate, rate)
+        )
     res = optimise_balance(
         km, grid, counterweights=tuple(cw_slots), springs=tuple(sp_slots), mass_weight=1e-3
     )

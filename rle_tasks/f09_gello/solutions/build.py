@@ -184,7 +184,10 @@ def apply_design(robot: str, design: Design, out_dir: Path) -> Path:
 
 
 PLACEMENTS = ((0.05, 0.0), (0.08, 0.0)) + tuple(
-    (r, s * a) for r in (0.05, 0.08, 0.10, 0.12, 0.15) for a in (0.035, CW_AXIAL, 0.08, 0.105) for s in (1, -1)
+    (r, s * a)
+    for r in (0.05, 0.08, 0.10, 0.12, 0.15)
+    for a in (0.035, CW_AXIAL, 0.08, 0.105)
+    for s in (1, -1)
 )
 """Counterweight (radius from the joint axis, axial shift) options of the greedy placement [m]."""
 
