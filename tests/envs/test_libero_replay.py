@@ -64,3 +64,25 @@ def test_the_mean_action_baseline_replays_and_fails_on_a_partial_run(demos, libe
     (ep,) = res.episodes
     assert ep.steps == 16 and ep.requests == 2 and not ep.success and ep.fault == ""
     assert res.partial and res.success_rate == 0.0
+
+
+def test_development_episodes_are_metered_in_a_sealed_ledger(tmp_path, demos, libero10_task0_rendered):
+    from rle_design.errors import RleError
+    from rle_design.ledger import verify_ledger
+    from rle_tasks.envs.libero.dev import TASK_ID, DevelopmentClient
+
+    served = tmp_path / "served"
+    assert train(MEAN_ACTION, demos, served) is None
+    (served / "solution.py").write_bytes(MEAN_ACTION.read_bytes())
+    key = b"k" * 32
+    dev = DevelopmentClient(tmp_path / "dev.jsonl", key, budget=3)
+    envs = {0: libero10_task0_rendered}
+    res = dev.evaluate(served, [(0, 0), (0, 1)], max_steps=8, envs=envs)
+    assert [r.steps for r in res] == [8, 8] and dev.used == 2
+    with pytest.raises(RleError) as exc:  # 2 more would pass the budget of 3: nothing runs
+        dev.evaluate(served, [(0, 2), (0, 3)], max_steps=8, envs=envs)
+    assert exc.value.code == "f05.budget_exhausted" and dev.used == 2
+    dev.close()
+    verdict = verify_ledger(tmp_path / "dev.jsonl", key, TASK_ID)
+    assert verdict.valid and verdict.steps == 2 and verdict.opened["budget_episodes"] == 3
+    assert not verify_ledger(tmp_path / "dev.jsonl", b"x" * 32, TASK_ID).valid

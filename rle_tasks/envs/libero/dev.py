@@ -1,0 +1,95 @@
+"""Development client of family 05: the agent's only way to run LIBERO, metered per episode.
+
+``DevelopmentClient`` serves the agent's ``solution.py`` (as the replay does) and runs the requested
+(task, initial state) episodes of the development suite; every finished episode is charged one unit
+of the card's 20,000-episode budget in an HMAC-chained ledger (``rle_design.ledger``: one charged
+``reset`` record per episode with its task, initial state, success and length; the seal counts
+them). A request that would pass the budget is refused before anything runs
+(``f05.budget_exhausted``).
+
+Trust: the ledger proves the count only when its key is kept from the agent (a server outside the
+agent's user, as the metered sessions of other families run). With the public development key it is
+a rehearsal.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from pathlib import Path
+
+from rle_design.errors import RleError
+from rle_design.ledger import LedgerWriter
+from rle_tasks.envs.libero import LiberoEnv
+from rle_tasks.envs.libero.client import EpisodeResult, run_episode, serving
+
+DEV_EPISODE_BUDGET = 20_000
+"""Development episodes the card allows [1]."""
+TASK_ID = "05-libero-open"
+
+
+class DevelopmentClient:
+    """Metered LIBERO-10 episodes of a served solution.
+
+    Args:
+        ledger_path: A new ledger file.
+        key: Ledger key (at least 16 bytes).
+        budget: Episodes allowed over the whole session.
+        suite: LIBERO suite the episodes come from.
+    """
+
+    def __init__(
+        self, ledger_path: Path, key: bytes, budget: int = DEV_EPISODE_BUDGET, suite: str = "libero_10"
+    ) -> None:
+        self.budget = int(budget)
+        self.suite = suite
+        self.used = 0
+        self._ledger = LedgerWriter(
+            Path(ledger_path), key, TASK_ID, meta={"budget_episodes": self.budget, "suite": suite}
+        )
+
+    def evaluate(
+        self,
+        solution_dir: Path,
+        episodes: list[tuple[int, int]],
+        *,
+        max_steps: int | None = None,
+        envs: dict[int, LiberoEnv] | None = None,
+    ) -> list[EpisodeResult]:
+        """Serve ``solution_dir/solution.py`` (which reads its ``ckpt.pt`` there) and run ``episodes``.
+
+        Raises:
+            RleError: ``f05.budget_exhausted`` when the request exceeds what is left (nothing runs).
+        """
+        if self.used + len(episodes) > self.budget:
+            raise RleError(
+                f"{len(episodes)} episodes requested, {self.budget - self.used} of {self.budget} left",
+                code="f05.budget_exhausted",
+            )
+        out: list[EpisodeResult] = []
+        with serving(Path(solution_dir)) as policy:
+            for task_id in sorted({t for t, _ in episodes}):
+                given = (envs or {}).get(task_id)
+                with contextlib.nullcontext(given) if given else LiberoEnv(self.suite, task_id) as env:
+                    for t, init in episodes:
+                        if t != task_id:
+                            continue
+                        res = run_episode(env, policy, init, episode=self.used, max_steps=max_steps)
+                        self.used += 1
+                        self._ledger.append(
+                            "reset",
+                            {
+                                "steps": self.used,
+                                "task": int(t),
+                                "init": int(init),
+                                "success": bool(res.success),
+                                "env_steps": int(res.steps),
+                                "fault": res.fault,
+                            },
+                        )
+                        out.append(res)
+        self._ledger.flush()
+        return out
+
+    def close(self) -> str:
+        """Seal the ledger; returns the seal hash."""
+        return self._ledger.seal(self.used, {"episodes": self.used})
