@@ -1,4 +1,4 @@
-"""Command line: ``rle tasks|show|verify|preview|dev|export|index|demo|audit-verifiers``.
+"""Command line: ``rle tasks|show|verify|preview|dev|export|index|demo|catalog|audit-verifiers``.
 
 Exit codes: 0 a report or the requested output was produced; 2 usage error, unknown task, unreadable
 input; 1 an internal fault (our bug).
@@ -125,6 +125,37 @@ def _cmd_audit(args: argparse.Namespace) -> int:
     return audit_command(args)
 
 
+def _cmd_catalog(args: argparse.Namespace) -> int:
+    import dataclasses
+    import json
+
+    from rle_design.catalog import catalog_kinds, load_catalog
+
+    if args.kind is None:
+        for kind in catalog_kinds():
+            cat = load_catalog(kind)
+            print(f"{kind:<16} {len(cat):>3} entries  {cat.source.split('. ')[0][:90]}")
+        return 0
+    cat = load_catalog(args.kind)
+    rows = [dataclasses.asdict(e) for e in cat.entries]
+    if args.json:
+        print(
+            json.dumps(
+                {"kind": cat.kind, "units": dict(cat.units), "source": cat.source, "entries": rows}, indent=2
+            )
+        )
+        return 0
+    cols = [c for c in rows[0] if not isinstance(rows[0][c], dict)] if rows else []
+    heads = [f"{c} [{cat.units[c]}]" if c in cat.units else c for c in cols]
+    cells = [[f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in cols] for r in rows]
+    widths = [max(len(h), *(len(row[i]) for row in cells)) for i, h in enumerate(heads)]
+    print("  ".join(h.ljust(w) for h, w in zip(heads, widths, strict=True)).rstrip())
+    for row in cells:
+        print("  ".join(v.ljust(w) for v, w in zip(row, widths, strict=True)).rstrip())
+    print(f"\nsource: {cat.source}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from rle_design.scene import arm_ids
 
@@ -192,6 +223,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     s.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 2)))
     s.set_defaults(fn=_cmd_demo)
+
+    s = sub.add_parser("catalog", help="list the catalogs, or one catalog's entries with their units")
+    s.add_argument("kind", nargs="?", default=None, help="a catalog kind (springs, profiles, servos ...)")
+    s.add_argument("--json", action="store_true", help="entries, units and source as JSON")
+    s.set_defaults(fn=_cmd_catalog)
 
     s = sub.add_parser("audit-verifiers", help="run the adversarial artifact battery and print its table")
     s.add_argument("--filter", default=None, help="only cases whose name contains this")

@@ -66,3 +66,21 @@ def test_a_number_yaml_reads_as_text_is_rejected(tmp_path):
     with pytest.raises(CatalogError, match="'youngs_modulus' is not a number: '7.0e10'"):
         load_catalog("materials", str(tmp_path))
     assert load_catalog("materials").get("pla").youngs_modulus == 3.5e9
+
+
+def test_rle_catalog_lists_kinds_and_prints_entries_with_units(capsys):
+    import json
+
+    from rle_tasks.cli import main
+
+    assert main(["catalog"]) == 0
+    out = capsys.readouterr().out
+    assert all(kind in out for kind in catalog_kinds())
+    assert main(["catalog", "springs"]) == 0
+    out = capsys.readouterr().out
+    assert "rate [N/m]" in out and "max_force [N]" in out and "cs-d2.5-D20-n50" in out and "Shigley" in out
+    assert main(["catalog", "springs", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["units"]["rate"] == "N/m" and len(data["entries"]) == len(load_catalog("springs"))
+    assert main(["catalog", "bolts"]) == 2
+    assert "catalog.unknown_kind" in capsys.readouterr().err
