@@ -63,3 +63,22 @@ def test_demonstration_is_built_verified_and_replays(tmp_path, libero10_task0):
     assert verify_demos(tmp_path) == [f"{name} was altered"]
     text = json.loads((tmp_path / "manifest.json").read_text())
     assert text["tasks"]["0"]["kept"] == 1
+
+
+def test_a_recorded_episode_keeps_the_views_the_policy_saw(libero10_task0_rendered):
+    """With a rendering environment the driver records both views live at every instant it records a
+    state (what a policy is served); images rendered afterwards from the stored MuJoCo states differ,
+    because an observation lags the stored state by part of a control step."""
+    from rle_tasks.envs.libero.experts import _Driver
+
+    env = libero10_task0_rendered
+    first = env.reset(0)
+    d = _Driver(env, 10, first, record=True)
+    for k in range(3):
+        d.act(np.array([0.3, 0.0, -0.2 * k, 0.0, 0.0, 0.0, -1.0]))
+    assert set(d.views) == {"agentview", "wrist"} and len(d.views["wrist"]) == 4 == len(d.sim_states)
+    assert np.array_equal(d.views["agentview"][0], first["agentview"])
+    rendered = env.render_states(np.array(d.sim_states))
+    assert np.array_equal(rendered["agentview"][0], d.views["agentview"][0])  # at reset they agree
+    lag = np.abs(rendered["state"][1:] - np.array(d.observations[1:])).max()
+    assert 1e-4 < lag < 0.01  # [m, rad]: the stored state runs ahead of the observation

@@ -1,14 +1,19 @@
 """Demonstrations of LIBERO-10 from the scripted experts, built by a command and cached outside git.
 
-    python -m rle_tasks.envs.libero.demos [OUT] [--tasks 0 1 ...] [--per-task N] [--seed S]
+    python -m rle_tasks.envs.libero.demos [OUT] [--tasks 0 1 ...] [--per-task N] [--seed S] [--views]
 
 For each task, the expert runs from LIBERO's official initial states in order (0, 1, ...) until it has
 ``per_task`` successful episodes or the states run out; only successes are kept. An episode is one
 ``task<NN>_init<KK>.npz``: ``actions`` (T, 7), ``state`` (T + 1, 8) (the policy's state observation
 before each action and after the last), ``sim_states`` (T + 1, n) (the MuJoCo states at the same
-instants) and ``language``. Images are not stored: rendering both 128 x 128 views costs about 0.2 s a
-step on a CPU (the simulation about 0.01 s), so ``LiberoEnv.render_states`` renders them from the
-recorded states when a trainer asks for them (and a trainer may cache what it renders).
+instants) and ``language``. With ``--views`` the experts run in a rendering environment and each
+episode also stores ``agentview`` and ``wrist``, uint8 (T + 1, 128, 128, 3): the images a policy
+would have seen at those instants, which is the dataset a recipe trains on (a policy never sees the
+simulator). They are recorded live, not rendered later from ``sim_states``: an observation lags the
+stored MuJoCo state by part of a control step (1-2 mm of end-effector motion), so images rendered
+from the states differ from what a policy sees in 4-19 % of their pixels. Rendering costs about
+0.1 s a step on a CPU against 0.01 s for the simulation, so view datasets are ten times slower to
+build; they are cached apart (``<suite>-<seed>-<per_task>-views``).
 
 ``manifest.json`` lists every attempt (init state, success, steps), the kept files with their SHA-256,
 the per-task success rate of the expert and the build parameters; ``manifest.sha256`` is the digest of
@@ -36,10 +41,10 @@ MAX_FAILURES_IN_A_ROW = 10
 """A task whose expert fails this many initial states in a row is left (its attempts are listed)."""
 
 
-def default_dir(suite: str, seed: int, per_task: int) -> Path:
+def default_dir(suite: str, seed: int, per_task: int, views: bool = False) -> Path:
     """The cache directory of a dataset built with these parameters."""
     root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return root / "rle-bench" / "libero-demos" / f"{suite}-{seed}-{per_task}"
+    return root / "rle-bench" / "libero-demos" / f"{suite}-{seed}-{per_task}{'-views' if views else ''}"
 
 
 def _sha256(path: Path) -> str:
@@ -58,11 +63,15 @@ def build_demos(
     per_task: int = 20,
     seed: int = 0,
     progress=print,
+    views: bool = False,
 ) -> dict:
     """Build (or complete) the dataset in ``out``; returns the manifest. Episodes already present
-    with their recorded checksum are kept, so an interrupted build resumes."""
+    with their recorded checksum are kept, so an interrupted build resumes; ``views`` records both
+    camera views of every step (a dataset built otherwise is rebuilt)."""
     out.mkdir(parents=True, exist_ok=True)
     old = json.loads((out / "manifest.json").read_text()) if (out / "manifest.json").is_file() else {}
+    if bool(old.get("views")) != views:
+        old = {}  # images or not: the other kind of dataset is rebuilt
     files: dict[str, str] = {}
     report: dict[str, dict] = {}
     for task_id in range(10) if tasks is None else tasks:
@@ -72,7 +81,7 @@ def build_demos(
             report[str(task_id)] = done[0]
             progress(f"task {task_id}: {done[0]['kept']} episodes already built")
             continue
-        with LiberoEnv(suite, task_id, render=False) as env:
+        with LiberoEnv(suite, task_id, render=views) as env:
             task = env.start()
             scene = env.scene()
             goal = scene["goal"]
@@ -114,6 +123,7 @@ def build_demos(
                     state=res.observations.astype(np.float32),
                     sim_states=res.sim_states,
                     language=np.array(task.language),
+                    **(res.views or {}),
                 )
                 files[name] = _sha256(out / name)
                 kept += 1
@@ -126,6 +136,7 @@ def build_demos(
         "per_task": per_task,
         "tasks": report,
         "files": dict(sorted(files.items())),
+        "views": views,
     }
     text = json.dumps(manifest, indent=1, sort_keys=True)
     (out / "manifest.json").write_text(text)
@@ -170,9 +181,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--tasks", type=int, nargs="*", help="task indices (default: all ten)")
     p.add_argument("--per-task", type=int, default=20, help="successful demonstrations per task")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--views", action="store_true", help="record both 128 px views of every step")
     a = p.parse_args(argv)
-    out = Path(a.out) if a.out else default_dir(a.suite, a.seed, a.per_task)
-    manifest = build_demos(out, suite=a.suite, tasks=a.tasks, per_task=a.per_task, seed=a.seed)
+    out = Path(a.out) if a.out else default_dir(a.suite, a.seed, a.per_task, a.views)
+    manifest = build_demos(out, suite=a.suite, tasks=a.tasks, per_task=a.per_task, seed=a.seed, views=a.views)
     for tid, e in manifest["tasks"].items():
         if "skipped" in e:
             print(f"task {tid}: {e['skipped']}")

@@ -77,6 +77,9 @@ class ExpertResult:
     """(steps + 1, n) MuJoCo states before each action and after the last (when recorded)."""
     observations: np.ndarray | None = None
     """(steps + 1, 8) the policy's ``state`` observation at the same instants (when recorded)."""
+    views: dict[str, np.ndarray] | None = None
+    """``agentview`` and ``wrist``, uint8 (steps + 1, H, W, 3): the images the policy would have seen
+    (when recorded with a rendering environment)."""
 
 
 def _axis_angle(rot: np.ndarray) -> np.ndarray:
@@ -113,6 +116,9 @@ class _Driver:
         self.scene = env.scene()
         self.sim_states: list[np.ndarray] = [env.sim_state()] if record else []
         self.observations: list[np.ndarray] = [first_obs["state"]] if record else []
+        self.views: dict[str, list[np.ndarray]] = (
+            {v: [first_obs[v]] for v in ("agentview", "wrist")} if record and "agentview" in first_obs else {}
+        )
         self.down = self.scene["eef_rot"].copy()  # the start orientation: fingers down
         self.actions: list[np.ndarray] = []
         self.success = False
@@ -132,6 +138,8 @@ class _Driver:
         if self.record:
             self.sim_states.append(self.env.sim_state())
             self.observations.append(obs["state"])
+            for v, frames in self.views.items():
+                frames.append(obs[v])
 
     def toward(self, pos: np.ndarray, rot: np.ndarray, grip: float, gain: float = 1.0) -> np.ndarray:
         sc = self.scene
@@ -539,7 +547,8 @@ def run_expert(
     env: LiberoEnv, init_index: int, rng: np.random.Generator, *, record: bool = False
 ) -> ExpertResult:
     """One demonstration from the official initial state ``init_index`` (``env`` started); with
-    ``record`` the MuJoCo state and the policy's state observation of every step are kept."""
+    ``record`` the MuJoCo state and the policy's state observation of every step are kept, and the
+    two views when ``env`` renders."""
     first = env.reset(init_index)
     task = env.start()
     d = _Driver(env, task.max_steps, first, record)
@@ -556,4 +565,5 @@ def run_expert(
         tuple(d.log),
         np.asarray(d.sim_states) if record else None,
         np.asarray(d.observations) if record else None,
+        {v: np.asarray(f, dtype=np.uint8) for v, f in d.views.items()} or None,
     )
