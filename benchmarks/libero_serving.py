@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.libero_step import _rate
 from rle_design.policy_socket import VIEW_SHAPE, Request
-from rle_tasks.envs.libero import LiberoEnv
 from rle_tasks.envs.libero.client import serving
 
 POLICIES = {
@@ -75,17 +75,6 @@ def _latency(source: str, requests: int) -> dict:
     return {"median_ms": round(float(np.median(t)), 2), "p95_ms": round(float(np.percentile(t, 95)), 2)}
 
 
-def _rendered_rate(steps: int = 60) -> float:
-    with LiberoEnv("libero_10", 0) as env:
-        env.reset(0)
-        for _ in range(5):
-            env.step(np.zeros(7))
-        t0 = time.perf_counter()
-        for _ in range(steps):
-            env.step(np.zeros(7))
-        return steps / (time.perf_counter() - t0)
-
-
 def main() -> int:
     p = argparse.ArgumentParser()
     p.add_argument("--requests", type=int, default=200)
@@ -98,7 +87,7 @@ def main() -> int:
     for name, src in POLICIES.items():
         res["latency"][name] = _latency(src.format(k=a.chunk), a.requests)
         print(name, json.dumps(res["latency"][name]), flush=True)
-    rate = _rendered_rate()
+    rate = _rate(True, 60)  # rendered steps per second, as benchmarks.libero_step measures them
     res["rendered_steps_per_s"] = round(rate, 1)
     per_episode = {
         name: a.horizon / rate + math.ceil(a.horizon / a.chunk) * lat["median_ms"] / 1e3
