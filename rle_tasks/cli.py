@@ -67,6 +67,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         executor=args.executor,
         ray_address=args.ray_address,
         quick=args.quick,
+        episodes=args.episodes,
     )
     report, internal = run_verify(task, args.dir, ctx)
     if out_json:
@@ -104,6 +105,12 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
     written = export_harbor(Path(args.out), args.tasks or None)
     print(f"wrote {len(written)} Harbor task directories under {args.out}")
+    if not args.tasks:
+        from rle_tasks.core.registry import all_tasks
+
+        for t in all_tasks():
+            if t.implemented and t.harbor_unsupported:
+                print(f"not exported: {t.id}: {t.harbor_unsupported}")
     return 0
 
 
@@ -181,6 +188,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--executor", choices=["local", "ray"], default="local")
     s.add_argument("--ray-address", default=None, help="Ray cluster address (default: a local Ray)")
     s.add_argument("--quick", action="store_true", help="reduced batteries (marked in the report)")
+    s.add_argument(
+        "--episodes",
+        type=int,
+        default=None,
+        help="episode-scored tasks: a seeded subset of N episodes (a partial report, never official)",
+    )
     s.set_defaults(fn=_cmd_verify)
 
     s = sub.add_parser("preview", help="meshcat preview (prints the URL) or an offscreen PNG")

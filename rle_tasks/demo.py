@@ -20,7 +20,7 @@ from rle_tasks.core.report import VerifierReport
 from rle_tasks.core.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.core.verify import run_verify
+from rle_tasks.core.verify import VerifierSetupError, run_verify
 
 TEST_BASE = Path(__file__).parent / "demo_assets" / "test_base.xml"
 
@@ -36,9 +36,11 @@ def render_arms(out: Path) -> list[Path]:
     ]
 
 
-def _mode(name: str, quick: bool, full_baselines: bool) -> bool:
-    """True where the solution ``name`` is verified with the reduced batteries."""
-    return quick or (name != "reference" and not full_baselines)
+def _mode(name: str, quick: bool, full_baselines: bool, episode_scored: bool = False) -> bool:
+    """True where the solution ``name`` is verified with the reduced batteries (always for a task
+    scored over a fixed episode set: its full set is hours of simulation, its quick run is marked
+    partial)."""
+    return quick or episode_scored or (name != "reference" and not full_baselines)
 
 
 def _verify_all(
@@ -47,6 +49,7 @@ def _verify_all(
     runs = [(t, name) for t in all_tasks() if t.implemented for name in t.solutions]
     secret = load_secret(None)
     results = []
+    not_run.clear()
     bar = tqdm(runs, desc="verifying shipped solutions", unit="artifact")
     for task, name in bar:
         bar.set_postfix_str(f"{task.id}:{name}")
@@ -57,12 +60,20 @@ def _verify_all(
             secret=secret,
             out_dir=report_path.parent / f"{slug}_figures",
             jobs=jobs,
-            quick=_mode(name, quick, full_baselines),
+            quick=_mode(name, quick, full_baselines, task.episode_scored),
         )
-        report, _ = run_verify(task, directory, ctx)
+        try:
+            report, _ = run_verify(task, directory, ctx)
+        except VerifierSetupError as exc:  # the operator's set-up, not the solution: say what to do
+            not_run.append((task.id, name, exc.message))
+            continue
         report.write(report_path)
         results.append((task.id, name, report_path, report))
     return results
+
+
+not_run: list[tuple[str, str, str]] = []
+"""(task, solution, why) of the solutions the last ``_verify_all`` could not verify here."""
 
 
 def _figures(report_path: Path) -> list[Path]:
@@ -90,6 +101,11 @@ def write_html(
             f"<td>{html.escape(reasons)}</td><td><a href='{path.relative_to(out)}'>json</a></td></tr>"
         )
     figs = []
+    for task_id, name, why in not_run:
+        rows.append(
+            f"<tr><td>{html.escape(task_id)}</td><td>{html.escape(name)}</td><td>not run</td><td></td><td></td>"
+            f"<td></td><td>{html.escape(why)}</td><td></td></tr>"
+        )
     for task_id, name, path, _ in results:
         for png in _figures(path):
             figs.append(
@@ -124,7 +140,8 @@ def run_demo(out: Path, quick: bool = False, jobs: int = 1, full_baselines: bool
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
     results = _verify_all(out, quick, jobs, full_baselines)
-    modes = {(t, n): _mode(n, quick, full_baselines) for t, n, _, _ in results}
+    scored = {t.id for t in all_tasks() if t.episode_scored}
+    modes = {(t, n): _mode(n, quick, full_baselines, t in scored) for t, n, _, _ in results}
     index_html = None
     refs = [str(p) for _, name, p, _ in results if name == "reference"]
     if refs:
@@ -139,5 +156,7 @@ def run_demo(out: Path, quick: bool = False, jobs: int = 1, full_baselines: bool
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     for (t, n, _, _), (key, score) in zip(results, summary.items(), strict=True):
         print(f"  {key:<50} {score:.3f}  ({'quick' if modes[(t, n)] else 'full'})")
+    for t, n, why in not_run:
+        print(f"  {t}:{n:<{49 - len(t)}} not run: {why}")
     print(f"open {page}")
     return 0

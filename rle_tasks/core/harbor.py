@@ -59,7 +59,7 @@ def _resolve_specs(task_ids: Sequence[str | TaskSpec] | None) -> list[TaskSpec]:
     from rle_tasks.core.registry import all_tasks, get_task
 
     if task_ids is None:
-        return [t for t in all_tasks() if t.implemented]
+        return [t for t in all_tasks() if t.implemented and not t.harbor_unsupported]
     specs: list[TaskSpec] = []
     for item in task_ids:
         spec = item if isinstance(item, TaskSpec) else get_task(item)
@@ -69,6 +69,11 @@ def _resolve_specs(task_ids: Sequence[str | TaskSpec] | None) -> list[TaskSpec]:
                 f"task '{spec.id}' is registered but not implemented (no verifier), so it cannot be exported. "
                 f"Implemented tasks: {', '.join(implemented) or '(none)'}",
                 code="harbor.unimplemented",
+            )
+        if spec.harbor_unsupported:
+            raise RleError(
+                f"task '{spec.id}' cannot be exported as a Harbor task yet: {spec.harbor_unsupported}",
+                code="harbor.unsupported",
             )
         if spec.id in {s.id for s in specs}:
             raise RleError(f"task '{spec.id}' is listed twice", code="harbor.duplicate")
@@ -221,7 +226,8 @@ def export_harbor(out: Path, task_ids: Sequence[str | TaskSpec] | None = None) -
 
     Args:
         out: Output directory (created).
-        task_ids: Task ids or ``TaskSpec`` objects; None exports every implemented task.
+        task_ids: Task ids or ``TaskSpec`` objects; None exports every implemented task that can be
+            exported (``TaskSpec.harbor_unsupported`` empty).
 
     Returns:
         The written task directories, in the given (or registry) order.

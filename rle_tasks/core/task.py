@@ -69,6 +69,8 @@ class VerifyContext:
         ray_address: Cluster address for ``executor="ray"``; None starts a local Ray.
         quick: Reduced batteries (tests and CI); the report marks it in native metrics.
         hang_cap_s: Per-call timeout for submitted code [s] (the card's 30 s hang cap by default).
+        episodes: Run a seeded subset of this many episodes of a task's fixed episode set (tasks
+            scored over episodes); the report marks it partial, never an official score. None: all.
     """
 
     secret: Secret
@@ -78,6 +80,7 @@ class VerifyContext:
     ray_address: str | None = None
     quick: bool = False
     hang_cap_s: float = 30.0
+    episodes: int | None = None
 
 
 VerifyFn = Callable[[Path, VerifyContext], "VerifierReport"]
@@ -101,6 +104,9 @@ class TaskSpec:
             on demand by ``rle_tasks.core.solutions.materialise``.
         solutions_module: Dotted name of the module declaring them (its ``SOLUTIONS``), imported only
             when one is materialised.
+        episode_scored: The score is a rate over a fixed episode set, so ``VerifyContext.episodes``
+            (``rle verify --episodes N``) applies.
+        harbor_unsupported: Why the task cannot be exported as a Harbor task yet ("" when it can).
     """
 
     id: str
@@ -113,6 +119,8 @@ class TaskSpec:
     verify: VerifyFn | None = None
     solutions: tuple[str, ...] = ()
     solutions_module: str = ""
+    episode_scored: bool = False
+    harbor_unsupported: str = ""
 
     @property
     def workflow(self) -> str:

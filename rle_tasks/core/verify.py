@@ -24,6 +24,14 @@ class InternalVerifierFault(RleError):
     code = "verifier.internal"
 
 
+class VerifierSetupError(RleError):
+    """The verifier's own environment lacks something it needs (a dataset not built, a side
+    environment missing): the operator's fault, not the artifact's. ``run_verify`` lets it through
+    (exit code 2, the message says how to fix it) instead of writing a report."""
+
+    code = "verifier.setup"
+
+
 def _sandbox_layers() -> dict[str, bool]:
     """Isolation layers a sandboxed child gets here (all off when no child can start)."""
     from rle_design.sandbox import LAYERS, probe_layers
@@ -45,7 +53,9 @@ def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> 
         The report and whether an internal fault (our bug) occurred.
 
     Raises:
-        RleError: The task is not implemented (a usage error, exit code 2).
+        RleError: The task is not implemented, or ``--episodes`` given to a task not scored over
+            episodes (usage errors, exit code 2).
+        VerifierSetupError: The verifier's environment is incomplete (exit code 2).
     """
     if task.verify is None:
         raise RleError(
@@ -53,6 +63,14 @@ def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> 
             "`rle tasks` with implemented = yes",
             code="task.not_implemented",
         )
+    if ctx.episodes is not None and not task.episode_scored:
+        raise RleError(
+            f"task '{task.id}' is not scored over episodes: --episodes does not apply (use --quick for "
+            "its reduced batteries)",
+            code="task.no_episodes",
+        )
+    if ctx.episodes is not None and ctx.episodes < 1:
+        raise RleError(f"--episodes must be at least 1, got {ctx.episodes}", code="task.no_episodes")
     t0 = time.perf_counter()
     root = Path(artifact_dir)
     internal = False
@@ -68,6 +86,8 @@ def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> 
     else:
         try:
             report = task.verify(root, ctx)
+        except VerifierSetupError:
+            raise
         except Exception as exc:  # our bug: keep a report and say so
             internal = True
             message = f"internal verifier fault {type(exc).__name__}: {exc}\n{traceback.format_exc(limit=20)}"

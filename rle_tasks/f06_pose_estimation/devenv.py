@@ -1,6 +1,6 @@
 """Development workspace of the ``06-pose-*`` tasks: the instruction, ``pose_client.py`` and the served renderer.
 
-``make_dev_env`` writes the client and returns a ``PoseDevServer``; ``rle dev`` starts it (core
+``make_dev_env`` writes the client and returns a ``ServedSession`` (``rle_tasks.core.devservice``); ``rle dev`` starts it (core
 ``layout_workspace``) with the ledger key and a ledger file outside the workspace, unless it runs with
 ``--no-serve``. The server process (``service.py``) holds the scene; the workspace never receives
 meshes, block dimensions or shape labels.
@@ -8,10 +8,10 @@ meshes, block dimensions or shape labels.
 
 from __future__ import annotations
 
-import hashlib
 import shutil
-import tempfile
 from pathlib import Path
+
+from rle_tasks.core.devservice import CLIENT_ADDRESS, ServedSession
 
 HERE = Path(__file__).resolve().parent
 
@@ -37,27 +37,14 @@ from multiprocessing.connection import Client
 from pathlib import Path
 
 from rle_design.ledger.server import decode, encode
-
-
-def _address():
-    ws = Path(__file__).resolve().parent
-    path = ws / ".rle" / "ledger.sock"
-    if len(str(path)) <= 100:
-        return str(path)
-    digest = hashlib.sha256(str(ws).encode()).hexdigest()[:16]
-    return str(Path(tempfile.gettempdir()) / f"rle-ledger-{{digest}}.sock")
-
+{address}
 
 class DevClient:
     def __init__(self):
         self._conn = Client(_address(), family="AF_UNIX")
 
     def _request(self, op, value=None):
-        self._conn.send_bytes(encode({{"op": op}}, value))
-        meta, out = decode(self._conn.recv_bytes())
-        if not meta.get("ok"):
-            raise RuntimeError(f"{{meta.get('code')}}: {{meta.get('message')}}")
-        return out
+        return _request(self._conn, op, value)
 
     def frames(self, seed, n=10, raised=False):
         return [(p["obs"], p["label"]) for p in self._request("frames", {{"seed": seed, "n": n, "raised": raised}})]
@@ -89,49 +76,7 @@ def connect():
 '''
 
 
-class PoseDevServer:
-    """The served development environment of one task (started by ``rle dev``).
-
-    Args:
-        task_id: The task.
-        workspace: The agent's workspace (its current submission is what ``evaluate`` runs).
-    """
-
-    def __init__(self, task_id: str, workspace: Path) -> None:
-        self.task_id = task_id
-        self.workspace = Path(workspace)
-        self.socket_path: Path | None = None
-        self._proc = None
-
-    def start(self, *, key: bytes, ledger_path: Path, socket_path: Path) -> None:
-        from .service import start
-
-        self.socket_path = Path(socket_path)
-        if self.socket_path.exists():
-            self.socket_path.unlink()
-        self._proc = start(self.task_id, self.workspace, self.socket_path, key, ledger_path)
-
-    def stop(self, timeout: float = 30.0) -> None:
-        """Seal the ledger (SIGTERM) and wait for the server to end."""
-        if self._proc is not None and self._proc.is_alive():
-            self._proc.terminate()
-            self._proc.join(timeout)
-
-    def wait(self, timeout: float | None = None) -> None:
-        if self._proc is not None:
-            self._proc.join(timeout)
-
-
-def socket_path_of(workspace: Path) -> Path:
-    """The socket the client connects to (core ``devenv`` puts it there)."""
-    path = Path(workspace).resolve() / ".rle" / "ledger.sock"
-    if len(str(path)) <= 100:
-        return path
-    digest = hashlib.sha256(str(Path(workspace).resolve()).encode()).hexdigest()[:16]
-    return Path(tempfile.gettempdir()) / f"rle-ledger-{digest}.sock"
-
-
-def make_dev_env(task_id: str, workspace: Path) -> PoseDevServer:
+def make_dev_env(task_id: str, workspace: Path) -> ServedSession:
     """Write ``pose_client.py`` and ``calibration.json`` into ``workspace``; return the (not yet started) server."""
     from .contract import variant
     from .scene import CALIBRATION_FILE
@@ -143,6 +88,12 @@ def make_dev_env(task_id: str, workspace: Path) -> PoseDevServer:
     depth = ", depth (240, 320) float32 [m], valid (240, 320) bool" if v.depth else ""
     shutil.copyfile(HERE / "assets" / CALIBRATION_FILE, ws / CALIBRATION_FILE)
     (ws / "pose_client.py").write_text(
-        _CLIENT.format(task_id=task_id, artifact=v.artifact, depth=depth, evaluations=EVALUATIONS)
+        _CLIENT.format(
+            task_id=task_id, artifact=v.artifact, depth=depth, evaluations=EVALUATIONS, address=CLIENT_ADDRESS
+        )
     )
-    return PoseDevServer(task_id, ws)
+    return ServedSession(
+        "rle_tasks.f06_pose_estimation.service:open_session",
+        {"task_id": task_id, "workspace": str(ws)},
+        name=f"rle-dev-{task_id}",
+    )

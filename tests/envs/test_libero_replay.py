@@ -4,8 +4,10 @@ mean-action baseline served over the protocol on a LIBERO-10 episode (a partial 
 import numpy as np
 import pytest
 
-from rle_tasks.envs.libero.recipes import MEAN_ACTION
 from rle_tasks.envs.libero.replay import CKPT, SOLUTION_MAX_BYTES, check_solution, replay, train
+from rle_tasks.f05_nanovla.task import HERE as F05
+
+MEAN_ACTION = F05 / "solutions" / "baseline" / "mean_action.py"
 
 
 @pytest.fixture

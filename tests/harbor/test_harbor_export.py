@@ -162,22 +162,26 @@ def test_re_export_replaces_and_foreign_directory_is_kept(tmp_path, spec):
     assert foreign.is_dir()
 
 
-def test_unimplemented_and_unknown_ids_are_refused(tmp_path):
+def test_unimplemented_unsupported_and_unknown_ids_are_refused(tmp_path):
     with pytest.raises(RleError) as exc:
-        export_harbor(tmp_path, ["05-libero-open"])
+        export_harbor(tmp_path, ["05-libero-robust"])
     assert exc.value.code == "harbor.unimplemented"
     assert str(exc.value).startswith(
-        "task '05-libero-open' is registered but not implemented (no verifier), so it cannot be exported. "
+        "task '05-libero-robust' is registered but not implemented (no verifier), so it cannot be exported. "
         "Implemented tasks: "
     )
+    with pytest.raises(RleError) as exc:
+        export_harbor(tmp_path, ["05-libero-open"])
+    assert exc.value.code == "harbor.unsupported" and "LIBERO side environment" in str(exc.value)
     with pytest.raises(RleError, match="task '01-open-fridg-l1' does not exist"):
         export_harbor(tmp_path, ["01-open-fridg-l1"])
 
 
-def test_default_exports_every_implemented_task(tmp_path):
+def test_default_exports_every_implemented_task_that_can_be_exported(tmp_path):
     from rle_tasks.core.registry import all_tasks
 
-    implemented = [t.id for t in all_tasks() if t.implemented]
+    implemented = [t.id for t in all_tasks() if t.implemented and not t.harbor_unsupported]
+    assert "05-libero-open" not in implemented and "09-gello" in implemented
     written = export_harbor(tmp_path, None)
     assert [p.name for p in written] == implemented
 
@@ -185,10 +189,10 @@ def test_default_exports_every_implemented_task(tmp_path):
 def test_cli_export_of_unimplemented_task_exits_2(tmp_path, capsys):
     from rle_tasks.cli import main
 
-    assert main(["export", "harbor", str(tmp_path), "--tasks", "05-libero-open"]) == 2
+    assert main(["export", "harbor", str(tmp_path), "--tasks", "05-libero-robust"]) == 2
     err = capsys.readouterr().err
     assert err.startswith(
-        "rle export: error [harbor.unimplemented]: task '05-libero-open' is registered but not implemented"
+        "rle export: error [harbor.unimplemented]: task '05-libero-robust' is registered but not implemented"
     )
 
 

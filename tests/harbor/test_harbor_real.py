@@ -76,7 +76,7 @@ def _checked_ids() -> list[str]:
     """Every implemented task with RLE_FULL_BATTERY=1; otherwise the first of each family."""
     from rle_tasks.core.registry import all_tasks
 
-    tasks = [t for t in all_tasks() if t.implemented]
+    tasks = [t for t in all_tasks() if t.implemented and not t.harbor_unsupported]
     return [t.id for t in tasks] if FULL else list({t.family: t.id for t in reversed(tasks)}.values())
 
 

@@ -27,9 +27,14 @@ from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
 from rle_tasks.envs.libero import LiberoEnv
 
 SERVE_LIMITS = SandboxLimits(
-    cpu_seconds=3600.0, memory_bytes=8 << 30, call_timeout_s=3600.0, startup_timeout_s=120.0
+    cpu_seconds=3600.0,
+    memory_bytes=8 << 30,
+    max_processes=4096,  # threads of torch and BLAS; fork and exec stay refused by the audit hook
+    call_timeout_s=3600.0,
+    startup_timeout_s=120.0,
 )
-"""Limits of a served policy's process: the whole evaluation is one ``serve`` call."""
+"""Limits of a served policy's process: the whole evaluation (of one runner unit) is one ``serve``
+call."""
 CONNECT_S = 120.0
 """How long the served policy may take to load its checkpoint and connect [s]."""
 

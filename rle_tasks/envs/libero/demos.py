@@ -1,6 +1,6 @@
 """Demonstrations of LIBERO-10 from the scripted experts, built by a command and cached outside git.
 
-    python -m rle_tasks.envs.libero.demos [OUT] [--tasks 0 1 ...] [--per-task N] [--seed S] [--views]
+    python -m rle_tasks.envs.libero.demos [OUT] [--tasks 0 1 ...] [--per-task N] [--seed S] [--views] [--jobs J]
 
 For each task, the expert runs from LIBERO's official initial states in order (0, 1, ...) until it has
 ``per_task`` successful episodes or the states run out; only successes are kept. An episode is one
@@ -64,72 +64,29 @@ def build_demos(
     seed: int = 0,
     progress=print,
     views: bool = False,
+    jobs: int = 1,
 ) -> dict:
     """Build (or complete) the dataset in ``out``; returns the manifest. Episodes already present
     with their recorded checksum are kept, so an interrupted build resumes; ``views`` records both
-    camera views of every step (a dataset built otherwise is rebuilt)."""
+    camera views of every step (a dataset built otherwise is rebuilt); ``jobs`` builds that many
+    tasks at once in worker processes (``rle_tasks.core.runner``; each prints its own progress)."""
+    from rle_tasks.core.runner import run_parallel
+
     out.mkdir(parents=True, exist_ok=True)
     old = json.loads((out / "manifest.json").read_text()) if (out / "manifest.json").is_file() else {}
     if bool(old.get("views")) != views:
         old = {}  # images or not: the other kind of dataset is rebuilt
+    ids = list(range(10) if tasks is None else tasks)
+    items = [(str(out), suite, t, per_task, seed, views, old) for t in ids]
+    if jobs > 1:
+        built = run_parallel(_build_task_item, items, jobs=jobs)
+    else:
+        built = [_build_task(*item, progress=progress) for item in items]
     files: dict[str, str] = {}
     report: dict[str, dict] = {}
-    for task_id in range(10) if tasks is None else tasks:
-        done = _complete(out, old, task_id, per_task)
-        if done is not None:  # every episode of this task is present and intact: nothing to simulate
-            files.update(done[1])
-            report[str(task_id)] = done[0]
-            progress(f"task {task_id}: {done[0]['kept']} episodes already built")
-            continue
-        with LiberoEnv(suite, task_id, render=views) as env:
-            task = env.start()
-            scene = env.scene()
-            goal = scene["goal"]
-            entry = {"name": task.name, "language": task.language, "goal": goal, "attempts": []}
-            report[str(task_id)] = entry
-            if not supported(scene):
-                entry["skipped"] = "no expert skill for every predicate of the goal"
-                progress(f"task {task_id}: skipped ({entry['skipped']}: {goal})")
-                continue
-            kept, failures = 0, 0
-            for init in range(task.n_init_states):
-                if kept >= per_task:
-                    break
-                if failures >= MAX_FAILURES_IN_A_ROW:
-                    entry["stopped"] = f"{failures} failures in a row"
-                    progress(f"task {task_id}: stopped after {failures} failures in a row")
-                    break
-                name = f"task{task_id:02d}_init{init:02d}.npz"
-                prior = old.get("files", {}).get(name)
-                if prior and (out / name).is_file() and _sha256(out / name) == prior:
-                    files[name] = prior
-                    kept += 1
-                    entry["attempts"].append({"init": init, "success": True, "cached": True})
-                    continue
-                t0 = time.perf_counter()
-                res = run_expert(env, init, np.random.default_rng([seed, task_id, init]), record=True)
-                entry["attempts"].append({"init": init, "success": res.success, "steps": res.steps})
-                progress(
-                    f"task {task_id} init {init}: {'success' if res.success else 'failure'} in {res.steps} steps "
-                    f"({time.perf_counter() - t0:.1f} s); kept {kept + res.success}/{per_task}"
-                )
-                if not res.success:
-                    failures += 1
-                    continue
-                failures = 0
-                np.savez_compressed(
-                    out / name,
-                    actions=res.actions.astype(np.float32),
-                    state=res.observations.astype(np.float32),
-                    sim_states=res.sim_states,
-                    language=np.array(task.language),
-                    **(res.views or {}),
-                )
-                files[name] = _sha256(out / name)
-                kept += 1
-            tried = entry["attempts"]
-            entry["expert_success_rate"] = sum(a["success"] for a in tried) / max(1, len(tried))
-            entry["kept"] = kept
+    for task_id, (entry, kept_files) in zip(ids, built, strict=True):
+        report[str(task_id)] = entry
+        files.update(kept_files)
     manifest = {
         "suite": suite,
         "seed": seed,
@@ -142,6 +99,71 @@ def build_demos(
     (out / "manifest.json").write_text(text)
     (out / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
     return manifest
+
+
+def _build_task_item(item: tuple) -> tuple[dict, dict[str, str]]:
+    return _build_task(*item, progress=lambda line: print(line, flush=True))
+
+
+def _build_task(
+    out_dir: str, suite: str, task_id: int, per_task: int, seed: int, views: bool, old: dict, progress=print
+) -> tuple[dict, dict[str, str]]:
+    """One task's episodes: ``(manifest entry, {file: sha256})``."""
+    out = Path(out_dir)
+    done = _complete(out, old, task_id, per_task)
+    if done is not None:  # every episode of this task is present and intact: nothing to simulate
+        progress(f"task {task_id}: {done[0]['kept']} episodes already built")
+        return done
+    files: dict[str, str] = {}
+    with LiberoEnv(suite, task_id, render=views) as env:
+        task = env.start()
+        scene = env.scene()
+        goal = scene["goal"]
+        entry = {"name": task.name, "language": task.language, "goal": goal, "attempts": []}
+        if not supported(scene):
+            entry["skipped"] = "no expert skill for every predicate of the goal"
+            progress(f"task {task_id}: skipped ({entry['skipped']}: {goal})")
+            return entry, files
+        kept, failures = 0, 0
+        for init in range(task.n_init_states):
+            if kept >= per_task:
+                break
+            if failures >= MAX_FAILURES_IN_A_ROW:
+                entry["stopped"] = f"{failures} failures in a row"
+                progress(f"task {task_id}: stopped after {failures} failures in a row")
+                break
+            name = f"task{task_id:02d}_init{init:02d}.npz"
+            prior = old.get("files", {}).get(name)
+            if prior and (out / name).is_file() and _sha256(out / name) == prior:
+                files[name] = prior
+                kept += 1
+                entry["attempts"].append({"init": init, "success": True, "cached": True})
+                continue
+            t0 = time.perf_counter()
+            res = run_expert(env, init, np.random.default_rng([seed, task_id, init]), record=True)
+            entry["attempts"].append({"init": init, "success": res.success, "steps": res.steps})
+            progress(
+                f"task {task_id} init {init}: {'success' if res.success else 'failure'} in {res.steps} steps "
+                f"({time.perf_counter() - t0:.1f} s); kept {kept + res.success}/{per_task}"
+            )
+            if not res.success:
+                failures += 1
+                continue
+            failures = 0
+            np.savez_compressed(
+                out / name,
+                actions=res.actions.astype(np.float32),
+                state=res.observations.astype(np.float32),
+                sim_states=res.sim_states,
+                language=np.array(task.language),
+                **(res.views or {}),
+            )
+            files[name] = _sha256(out / name)
+            kept += 1
+        tried = entry["attempts"]
+        entry["expert_success_rate"] = sum(a["success"] for a in tried) / max(1, len(tried))
+        entry["kept"] = kept
+    return entry, files
 
 
 def _complete(out: Path, old: dict, task_id: int, per_task: int) -> tuple[dict, dict] | None:
@@ -182,9 +204,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--per-task", type=int, default=20, help="successful demonstrations per task")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--views", action="store_true", help="record both 128 px views of every step")
+    p.add_argument("--jobs", type=int, default=1, help="tasks built at once (worker processes)")
     a = p.parse_args(argv)
     out = Path(a.out) if a.out else default_dir(a.suite, a.seed, a.per_task, a.views)
-    manifest = build_demos(out, suite=a.suite, tasks=a.tasks, per_task=a.per_task, seed=a.seed, views=a.views)
+    manifest = build_demos(
+        out, suite=a.suite, tasks=a.tasks, per_task=a.per_task, seed=a.seed, views=a.views, jobs=a.jobs
+    )
     for tid, e in manifest["tasks"].items():
         if "skipped" in e:
             print(f"task {tid}: {e['skipped']}")

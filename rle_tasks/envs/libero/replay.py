@@ -37,10 +37,13 @@ TRAIN_BUDGET_S = 1800.0 + 120.0
 """Training wall time: the card's 1,800 s plus its 120 s infrastructure allowance [s]."""
 CKPT = "ckpt.pt"
 CKPT_MAX_BYTES = 4 << 30
+TRAIN_CPUS = 48
+"""CPU cores of the card's replay machine: training may keep them busy for the whole budget."""
 TRAIN_LIMITS = SandboxLimits(
-    cpu_seconds=4 * TRAIN_BUDGET_S,
-    memory_bytes=16 << 30,
+    cpu_seconds=TRAIN_CPUS * TRAIN_BUDGET_S,
+    memory_bytes=64 << 30,
     file_bytes=CKPT_MAX_BYTES,
+    max_processes=4096,  # threads of torch and BLAS; fork and exec stay refused by the audit hook
     call_timeout_s=TRAIN_BUDGET_S,
 )
 
@@ -98,7 +101,7 @@ def train(
     try:
         shutil.copyfile(solution, stage / SOLUTION)
         demos = {f"demos/{p.name}": p for p in sorted(Path(demos_dir).iterdir()) if p.is_file()}
-        limits = dataclasses.replace(TRAIN_LIMITS, call_timeout_s=budget_s, cpu_seconds=4 * budget_s)
+        limits = dataclasses.replace(TRAIN_LIMITS, call_timeout_s=budget_s, cpu_seconds=TRAIN_CPUS * budget_s)
         try:
             with Sandbox(stage / SOLUTION, limits=limits, workdir_files=demos, name="solution") as box:
                 if not box.has("train") or not box.has("serve"):

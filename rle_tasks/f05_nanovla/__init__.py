@@ -1,0 +1,12 @@
+"""Family 05: nanoVLA recipe engineering. ``05-libero-open`` is implemented; the robust and RoboTwin
+stand-in tracks stay placeholders (see the family README)."""
+
+from __future__ import annotations
+
+from rle_tasks.core.task import TaskSpec
+
+
+def tasks() -> list[TaskSpec]:
+    from rle_tasks.f05_nanovla.task import task_spec
+
+    return [task_spec()]

@@ -1,0 +1,174 @@
+"""Development workspace of ``05-libero-open``: the demonstrations, ``libero_client.py`` and the
+served evaluation client.
+
+``make_dev_env`` links the read-only demonstration dataset into the workspace (``demos/``), writes the
+client and returns a ``ServedSession`` (``rle_tasks.core.devservice``) that ``rle dev`` starts with the
+ledger key. The session process holds LIBERO and the ledger key; the agent's client sends it
+``evaluate`` requests naming a directory of the workspace (``solution.py`` and the ``ckpt.pt`` the
+agent trained there). The server serves that recipe in the project sandbox, runs the requested
+official initial states and charges one episode each of the card's 20,000 (``DevelopmentClient``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from rle_design.errors import RleError
+from rle_design.ledger.records import LedgerError
+from rle_tasks.core.devservice import CLIENT_ADDRESS, ServedSession
+
+MAX_REQUEST_EPISODES = 500
+"""Episodes one ``evaluate`` request may ask for (the size of the evaluation set)."""
+
+_CLIENT = '''"""Evaluation client of 05-libero-open (written by `rle dev`).
+
+    from libero_client import connect
+    with connect() as dev:
+        results = dev.evaluate("submission", [(0, 0), (3, 7)])  # charged: one episode each
+        results = dev.evaluate("submission", [(0, 1)], max_steps=100)  # a shorter horizon
+        dev.info()                                              # free: episodes used and left
+
+`evaluate(directory, episodes)` serves `directory/solution.py` (relative to this workspace; it loads
+the `ckpt.pt` you trained there) exactly as the verifier will, and runs the (LIBERO-10 task,
+official initial state) pairs: task 0-9, state 0-49. Each result: init_index, success, steps,
+requests, fault. Budget: {budget} episodes, recorded in a sealed ledger outside this workspace.
+"""
+
+import hashlib
+import tempfile
+from multiprocessing.connection import Client
+from pathlib import Path
+
+from rle_design.ledger.server import decode, encode
+{address}
+
+class DevClient:
+    def __init__(self):
+        self._conn = Client(_address(), family="AF_UNIX")
+
+    def evaluate(self, directory, episodes, max_steps=None):
+        pairs = [[int(t), int(i)] for t, i in episodes]
+        return _request(self._conn, "evaluate", {{"dir": str(directory), "episodes": pairs, "max_steps": max_steps}})
+
+    def info(self):
+        return _request(self._conn, "info")
+
+    def seal(self):
+        return _request(self._conn, "seal")
+
+    def close(self):
+        self._conn.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def connect():
+    return DevClient()
+'''
+
+
+class _Session:
+    """One development session: ``evaluate``, ``info``, ``seal`` (``rle_tasks.core.devservice``)."""
+
+    def __init__(self, workspace: Path, client) -> None:
+        self.workspace = workspace.resolve()
+        self.client = client
+        self.sealed = False
+
+    def handle(self, meta: dict[str, Any], value: Any) -> tuple[dict[str, Any], Any]:
+        import dataclasses
+
+        op = meta.get("op")
+        args = value if isinstance(value, dict) else {}
+        if op == "evaluate":
+            directory = (self.workspace / str(args.get("dir", "submission"))).resolve()
+            if not directory.is_relative_to(self.workspace) or not (directory / "solution.py").is_file():
+                raise LedgerError(
+                    f"{args.get('dir')!r} is not a directory of the workspace holding solution.py",
+                    code="f05.dev_dir",
+                )
+            try:
+                episodes = [(int(t), int(i)) for t, i in args.get("episodes", [])]
+            except (TypeError, ValueError):
+                raise LedgerError(
+                    "episodes must be (task, initial state) pairs", code="ledger.bad_request"
+                ) from None
+            bad = [(t, i) for t, i in episodes if not (0 <= t < 10 and 0 <= i < 50)]
+            if bad or not 1 <= len(episodes) <= MAX_REQUEST_EPISODES:
+                raise LedgerError(
+                    f"1..{MAX_REQUEST_EPISODES} pairs of task 0-9 and initial state 0-49; refused: {bad[:5]}",
+                    code="ledger.bad_request",
+                )
+            steps = args.get("max_steps")
+            try:
+                results = self.client.evaluate(
+                    directory, episodes, max_steps=None if steps is None else int(steps)
+                )
+            except RleError as exc:
+                raise LedgerError(exc.message, code=exc.code) from None
+            return {"ok": True}, [dataclasses.asdict(r) for r in results]
+        if op == "info":
+            return {"ok": True}, {
+                "episodes_used": self.client.used,
+                "episodes_left": self.client.budget - self.client.used,
+            }
+        if op == "seal":
+            self.seal()
+            return {"ok": True}, {"episodes_used": self.client.used}
+        raise LedgerError(
+            f"unknown operation {op!r}. Operations: evaluate, info, seal", code="ledger.bad_request"
+        )
+
+    def seal(self) -> None:
+        if not self.sealed:
+            self.client.close()
+        self.sealed = True
+
+
+def open_session(*, key: bytes | None, ledger_path: Path | None, workspace: str) -> _Session:
+    """The session of one development server (``rle_tasks.core.devservice`` factory)."""
+    import tempfile
+
+    from rle_tasks.envs.libero.dev import DevelopmentClient
+
+    if key is None or ledger_path is None:  # a rehearsal without a key: a throwaway ledger
+        key, ledger_path = (
+            b"rehearsal-key-not-secret",
+            Path(tempfile.mkdtemp(prefix="rle-f05dev-")) / "dev.jsonl",
+        )
+    return _Session(Path(workspace), DevelopmentClient(ledger_path, key))
+
+
+def make_dev_env(workspace: Path) -> ServedSession:
+    """Link the demonstrations, write ``libero_client.py``; return the (not yet started) server.
+
+    Raises:
+        RleError: ``f05.no_dataset`` when the demonstration dataset is not built.
+    """
+    from rle_tasks.envs.libero.dev import DEV_EPISODE_BUDGET
+    from rle_tasks.f05_nanovla.verifier import dataset_dir
+
+    ws = Path(workspace)
+    ws.mkdir(parents=True, exist_ok=True)
+    demos = dataset_dir()
+    if not (demos / "manifest.sha256").is_file():
+        raise RleError(
+            f"the demonstration dataset is not built at {demos}: build it with `make libero-demos`",
+            code="f05.no_dataset",
+        )
+    link = ws / "demos"
+    if link.is_symlink() or link.exists():
+        link.unlink()
+    link.symlink_to(demos, target_is_directory=True)
+    (ws / "submission").mkdir(exist_ok=True)
+    (ws / "libero_client.py").write_text(
+        _CLIENT.format(budget=f"{DEV_EPISODE_BUDGET:,}", address=CLIENT_ADDRESS)
+    )
+    return ServedSession(
+        "rle_tasks.f05_nanovla.devenv:open_session", {"workspace": str(ws)}, name="rle-dev-05"
+    )

@@ -1,0 +1,73 @@
+"""Shipped solutions of ``05-libero-open``, materialised by ``rle_tasks.core.solutions``.
+
+Each is one ``solution.py`` (the card's artifact):
+
+- ``baseline/mean_action``: serves the mean demonstrated action whatever it sees: replays and
+  completes every episode, succeeds in none.
+- ``baseline/nan_server``: trains like ``mean_action`` and serves NaN actions: every reply refused
+  (``protocol.non_finite``), no episode completes, cap ``incomplete``.
+- ``baseline/too_large``: ``mean_action`` padded to 2 MiB: refused by the artifact check
+  (``f05.solution_too_large``), cap ``replay_failed``.
+- ``baseline/over_budget``: training never ends: stopped at 1,920 s (``sandbox.timeout``), cap
+  ``replay_failed``.
+- ``baseline/reads_eval_states``: training searches the disk for LIBERO's evaluation states; the
+  sandbox keeps them out of reach, training fails (``sandbox.exception``), cap ``replay_failed``.
+
+Golden scores: quick mode (``QUICK_EPISODES`` episodes), public development key.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rle_tasks.core.solutions import Solution, SolutionSet
+
+PAD_TO = 2 << 20
+"""Size of the oversized baseline [B] (the card's cap is 1 MiB)."""
+
+
+def pad_to_two_mib(root: Path) -> None:
+    """Append comment lines to ``solution.py`` until it has ``PAD_TO`` bytes."""
+    path = root / "solution.py"
+    text = path.read_bytes()
+    line = b"# " + b"padding " * 15 + b"\n"
+    body = text + line * ((PAD_TO - len(text)) // len(line) + 1)
+    path.write_bytes(body[:PAD_TO])
+
+
+SOLUTIONS = SolutionSet(
+    package="rle_tasks.f05_nanovla",
+    solutions=(
+        Solution(
+            "baseline/mean_action",
+            sha256="11c5d18cc65800656c0cc1d2e69dbd9c00a238bf41d6d6dc0a0312200e6294ae",
+            quick_score=0.0,
+            files=(("solution.py", "solutions/baseline/mean_action.py"),),
+        ),
+        Solution(
+            "baseline/nan_server",
+            sha256="fe871cf5dbc1aca07c65e9bb0ced40c910e74b619e1117bf49222bad81b6583f",
+            quick_score=0.0,
+            files=(("solution.py", "solutions/baseline/nan_server.py"),),
+        ),
+        Solution(
+            "baseline/too_large",
+            sha256="5df0f8b1909e3b2bb4d8d25c2b0728d6a0dcc7aad4ab904a00b61338afabd9cc",
+            quick_score=0.0,
+            base="baseline/mean_action",
+            transforms=(pad_to_two_mib,),
+        ),
+        Solution(
+            "baseline/over_budget",
+            sha256="f8e983502a6bb3444bdaa170b3eb6ff83cd453ab350babe50abe7879e89475d4",
+            quick_score=0.0,
+            files=(("solution.py", "solutions/baseline/over_budget.py"),),
+        ),
+        Solution(
+            "baseline/reads_eval_states",
+            sha256="9c176203f7f1be5ecc56f83baf1795ecf8d826d78932e773b6aba0d3d1e95471",
+            quick_score=0.0,
+            files=(("solution.py", "solutions/baseline/reads_eval_states.py"),),
+        ),
+    ),
+)

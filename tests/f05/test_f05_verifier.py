@@ -1,0 +1,135 @@
+"""05-libero-open: episode set and its secret-derived order, completion threshold, and the verifier on
+baselines that must fail for their named reasons (artifact, training, serving) and one that replays."""
+
+import hashlib
+import json
+
+import numpy as np
+import pytest
+
+from rle_design.errors import RleError
+from rle_tasks.core.registry import get_task
+from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.solutions import declaration, materialise
+from rle_tasks.core.task import VerifyContext
+from rle_tasks.core.verify import VerifierSetupError, run_verify
+from rle_tasks.f05_nanovla import verifier
+from rle_tasks.f05_nanovla.scoring import EPISODE_SET, required_complete, rubric
+
+TASK = get_task("05-libero-open")
+
+
+@pytest.fixture
+def demos(tmp_path, monkeypatch):
+    """A two-episode dataset in the demonstration format, named by ``RLE_F05_DEMOS``."""
+    d = tmp_path / "demos"
+    d.mkdir()
+    files = {}
+    for k, value in enumerate((0.1, 0.3)):
+        a = np.full((5, 7), value, np.float32)
+        name = f"task00_init{k:02d}.npz"
+        np.savez(d / name, actions=a, state=np.zeros((6, 8), np.float32), language=np.array("x"))
+        files[name] = hashlib.sha256((d / name).read_bytes()).hexdigest()
+    text = json.dumps({"files": files, "views": False})
+    (d / "manifest.json").write_text(text)
+    (d / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
+    monkeypatch.setenv(verifier.DATASET_ENV, str(d))
+    return d
+
+
+def _ctx(**kw):
+    return VerifyContext(secret=Secret(PUBLIC_KEY, public=True), **kw)
+
+
+def test_the_episode_set_is_the_500_official_states_and_the_order_comes_from_the_secret():
+    full = verifier.episode_set()
+    assert len(full) == EPISODE_SET == 500 and len(set(full)) == 500
+    order = verifier.episode_order(_ctx())
+    assert sorted(order) == sorted(full)
+    assert order == verifier.episode_order(_ctx())  # deterministic
+    other = verifier.episode_order(VerifyContext(secret=Secret(b"another key", public=False)))
+    assert other != order
+    first = order[:20]  # tasks interleaved: a 20-episode run is two episodes of every task
+    assert sorted({t for t, _ in first}) == list(range(10))
+    assert all(sum(t == k for t, _ in first) == 2 for k in range(10))
+
+
+def test_completion_threshold_is_the_cards_475_of_500():
+    assert required_complete(500) == 475  # 0.95 x 500
+    assert required_complete(20) == 19  # ceil(0.95 x 20)
+    assert required_complete(2) == 2  # ceil(1.9)
+
+
+def test_units_group_episodes_by_task_and_keep_their_numbers():
+    eps = [(3, 1), (0, 4), (3, 2), (3, 5), (3, 6), (3, 7), (3, 8)]
+    items = verifier.units(eps, b"s", b"c", None, None)
+    # task 0: one unit; task 3: six episodes in units of at most five
+    assert [(it[4], it[5], it[6]) for it in items] == [(0, (4,), 1), (3, (1, 2, 5, 6, 7), 0), (3, (8,), 6)]
+
+
+def test_instruction_and_rubric_agree():
+    table = rubric("05-libero-open", 500).markdown_table()
+    assert table in TASK.instruction
+    assert "fewer than 475 of the 500 episodes" in table
+
+
+def test_episodes_applies_only_to_episode_scored_tasks(tmp_path):
+    with pytest.raises(RleError) as exc:
+        run_verify(get_task("09-gello"), tmp_path, _ctx(episodes=3))
+    assert exc.value.code == "task.no_episodes"
+
+
+def test_an_oversized_recipe_is_refused_before_anything_runs():
+    report, internal = run_verify(TASK, materialise(TASK, "baseline/too_large"), _ctx(quick=True))
+    assert not internal and report.score == 0.0 and report.cap == 0.0 and not report.valid
+    assert [e.code for e in report.errors] == ["f05.solution_too_large"]
+    assert report.native_metrics["partial"] is True
+
+
+def test_a_missing_dataset_is_the_operators_fault(tmp_path, monkeypatch):
+    monkeypatch.setenv(verifier.DATASET_ENV, str(tmp_path / "nothing"))
+    with pytest.raises(VerifierSetupError, match="make libero-demos"):
+        run_verify(TASK, materialise(TASK, "baseline/mean_action"), _ctx(quick=True))
+
+
+def test_a_recipe_reading_the_evaluation_states_fails_in_training(demos):
+    report, internal = run_verify(TASK, materialise(TASK, "baseline/reads_eval_states"), _ctx(quick=True))
+    assert not internal and report.score == 0.0 and report.cap == 0.0
+    (err,) = report.errors
+    assert err.code == "sandbox.exception" and "evaluation states" in err.message
+    assert report.native_metrics["dataset_sha256"] == (demos / "manifest.sha256").read_text().strip()
+
+
+def test_training_past_the_budget_is_stopped(demos, monkeypatch):
+    from rle_tasks.envs.libero import replay
+
+    monkeypatch.setattr(replay, "TRAIN_BUDGET_S", 3.0)  # the card's 1,920 s, shortened for the test
+    report, _ = run_verify(TASK, materialise(TASK, "baseline/over_budget"), _ctx(quick=True))
+    assert report.score == 0.0 and report.cap == 0.0
+    assert [e.code for e in report.errors] == ["sandbox.timeout"]
+    assert 3.0 <= report.native_metrics["train_s"] < 30.0
+
+
+def test_a_nan_server_completes_no_episode(demos, libero_side_env):
+    report = verifier.verify(materialise(TASK, "baseline/nan_server"), _ctx(episodes=1), max_steps=8)
+    codes = [e.code for e in report.errors]
+    assert "protocol.non_finite" in codes and "f05.incomplete" in codes
+    assert report.score == 0.0 and report.cap == 0.0
+    assert report.native_metrics["complete"] == 0 and report.native_metrics["required_complete"] == 1
+
+
+def test_the_mean_action_recipe_replays_every_episode_and_succeeds_in_none(demos, libero_side_env):
+    report = verifier.verify(materialise(TASK, "baseline/mean_action"), _ctx(episodes=1), max_steps=8)
+    nm = report.native_metrics
+    assert report.valid and report.errors == () and report.cap is None
+    assert nm["complete"] == 1 and nm["successes"] == 0 and report.score == 0.0
+    assert nm["partial"] and nm["max_steps_override"] == 8 and nm["episodes_requested"] == 1
+    (ep,) = nm["episodes"]
+    assert ep["steps"] == 8 and ep["requests"] == 1  # one 8-action chunk
+    assert (ep["task"], ep["init_index"]) == verifier.episode_order(_ctx())[0]
+
+
+def test_golden_scores_of_the_baselines_that_fail_before_an_episode():
+    for name in ("baseline/too_large",):
+        report, _ = run_verify(TASK, materialise(TASK, name), _ctx(quick=True))
+        assert report.score == declaration(TASK).get(name).quick_score
