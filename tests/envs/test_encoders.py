@@ -44,3 +44,21 @@ def test_the_stem_sees_what_it_was_trained_on(net, libero10_task0_rendered):
         )
     assert np.corrcoef(good, running)[0, 1] > 0.9
     assert np.corrcoef(raw.numpy(), running)[0, 1] < np.corrcoef(good, running)[0, 1]
+
+
+def test_text_features_are_fixed_unit_vectors_that_keep_paraphrases_close():
+    """The bundle's text encoder: deterministic, unit norm, a LIBERO-PRO paraphrase nearer its
+    original than another LIBERO-10 instruction is."""
+    from rle_design.encoders import TEXT_FEATURES, text_features
+
+    texts = [
+        "turn on the stove and put the moka pot on it",
+        "switch stove on and put moka pot on it",  # libero_10_lan's paraphrase of task 0's scene
+        "put the black bowl in the bottom drawer of the cabinet and close it",
+        "",
+    ]
+    v = text_features(texts)
+    assert v.shape == (4, TEXT_FEATURES) and v.dtype == np.float32
+    assert np.array_equal(v, text_features(texts))
+    assert np.allclose(np.linalg.norm(v[:3], axis=1), 1.0) and not v[3].any()
+    assert v[0] @ v[1] > 0.7 > 0.5 > v[1] @ v[2]

@@ -17,6 +17,7 @@ from rle_tasks.f05_nanovla import verifier
 from rle_tasks.f05_nanovla.scoring import EPISODE_SET, required_complete, rubric
 
 TASK = get_task("05-libero-open")
+OPEN, ROBUST = verifier.OPEN_ID, verifier.ROBUST_ID
 
 
 @pytest.fixture
@@ -41,17 +42,36 @@ def _ctx(**kw):
     return VerifyContext(secret=Secret(PUBLIC_KEY, public=True), **kw)
 
 
-def test_the_episode_set_is_the_500_official_states_and_the_order_comes_from_the_secret():
-    full = verifier.episode_set()
+def _other():
+    return VerifyContext(secret=Secret(b"another key", public=False))
+
+
+def test_the_open_set_is_the_500_official_states_and_the_order_comes_from_the_secret():
+    full = verifier.episode_set(OPEN, _ctx())
     assert len(full) == EPISODE_SET == 500 and len(set(full)) == 500
-    order = verifier.episode_order(_ctx())
+    assert {s for s, _, _ in full} == {"libero_10"}
+    assert full == verifier.episode_set(OPEN, _other())  # public: the card's official states
+    order = verifier.episode_order(OPEN, _ctx())
     assert sorted(order) == sorted(full)
-    assert order == verifier.episode_order(_ctx())  # deterministic
-    other = verifier.episode_order(VerifyContext(secret=Secret(b"another key", public=False)))
-    assert other != order
+    assert order == verifier.episode_order(OPEN, _ctx())  # deterministic
+    assert verifier.episode_order(OPEN, _other()) != order
     first = order[:20]  # tasks interleaved: a 20-episode run is two episodes of every task
-    assert sorted({t for t, _ in first}) == list(range(10))
-    assert all(sum(t == k for t, _ in first) == 2 for k in range(10))
+    assert all(sum(t == k for _, t, _ in first) == 2 for k in range(10))
+
+
+def test_the_robust_set_is_drawn_from_the_secret_over_the_perturbed_suites():
+    full = verifier.episode_set(ROBUST, _ctx())
+    assert len(full) == 500 and len(set(full)) == 500
+    assert full == verifier.episode_set(ROBUST, _ctx()) != verifier.episode_set(ROBUST, _other())
+    counts = {}
+    for suite, t, i in full:
+        assert suite in verifier.PERTURBATIONS and 0 <= t < 10 and 0 <= i < 50
+        counts[(suite, t)] = counts.get((suite, t), 0) + 1
+    # 40 (perturbation, task) pairs: 20 with 13 states, 20 with 12 (500 = 40 x 12 + 20)
+    assert len(counts) == 40 and sorted(counts.values()) == [12] * 20 + [13] * 20
+    order = verifier.episode_order(ROBUST, _ctx())
+    assert sorted(order) == sorted(full) and len(set(order[:40])) == 40
+    assert len({e[:2] for e in order[:40]}) == 40  # the first 40 cover every pair once
 
 
 def test_completion_threshold_is_the_cards_475_of_500():
@@ -62,15 +82,25 @@ def test_completion_threshold_is_the_cards_475_of_500():
 
 def test_units_group_episodes_by_task_and_keep_their_numbers():
     eps = [(3, 1), (0, 4), (3, 2), (3, 5), (3, 6), (3, 7), (3, 8)]
+    eps = [("libero_10", t, i) for t, i in eps] + [("libero_10_swap", 3, 9)]
     items = verifier.units(eps, b"s", b"c", None, None)
-    # task 0: one unit; task 3: six episodes in units of at most five
-    assert [(it[4], it[5], it[6]) for it in items] == [(0, (4,), 1), (3, (1, 2, 5, 6, 7), 0), (3, (8,), 6)]
+    # task 0: one unit; task 3: six episodes in units of at most five; the perturbed suite apart
+    assert [(it[3], it[4], it[5], it[6]) for it in items] == [
+        ("libero_10", 0, (4,), 1),
+        ("libero_10", 3, (1, 2, 5, 6, 7), 0),
+        ("libero_10", 3, (8,), 6),
+        ("libero_10_swap", 3, (9,), 7),
+    ]
 
 
 def test_instruction_and_rubric_agree():
     table = rubric("05-libero-open", 500).markdown_table()
     assert table in TASK.instruction
     assert "fewer than 475 of the 500 episodes" in table
+    robust = get_task(ROBUST).instruction
+    assert robust.startswith("# 05-libero-robust:") and "text_features" in robust and table in robust
+    assert all(f"`{suite}`" in robust for suite in verifier.PERTURBATIONS)
+    assert "LIBERO-PRO" not in TASK.instruction
 
 
 def test_episodes_applies_only_to_episode_scored_tasks(tmp_path):
@@ -126,10 +156,21 @@ def test_the_mean_action_recipe_replays_every_episode_and_succeeds_in_none(demos
     assert nm["partial"] and nm["max_steps_override"] == 8 and nm["episodes_requested"] == 1
     (ep,) = nm["episodes"]
     assert ep["steps"] == 8 and ep["requests"] == 1  # one 8-action chunk
-    assert (ep["task"], ep["init_index"]) == verifier.episode_order(_ctx())[0]
+    assert (ep["suite"], ep["task"], ep["init_index"]) == verifier.episode_order(OPEN, _ctx())[0]
 
 
 def test_golden_scores_of_the_baselines_that_fail_before_an_episode():
     for name in ("baseline/too_large",):
         report, _ = run_verify(TASK, materialise(TASK, name), _ctx(quick=True))
         assert report.score == declaration(TASK).get(name).quick_score
+
+
+def test_the_robust_track_replays_on_a_perturbed_suite(demos, libero_side_env):
+    report = verifier.verify(
+        materialise(get_task(ROBUST), "baseline/mean_action"), _ctx(episodes=1), task_id=ROBUST, max_steps=4
+    )
+    nm = report.native_metrics
+    (ep,) = nm["episodes"]
+    assert report.task_id == ROBUST and report.errors == () and nm["complete"] == 1
+    assert ep["suite"] in verifier.PERTURBATIONS and ep["steps"] == 4
+    assert (ep["suite"], ep["task"], ep["init_index"]) == verifier.episode_order(ROBUST, _ctx())[0]

@@ -1,4 +1,5 @@
-"""Shipped solutions of ``05-libero-open``, materialised by ``rle_tasks.core.solutions``.
+"""Shipped solutions of ``05-libero-open`` and ``05-libero-robust``, materialised by
+``rle_tasks.core.solutions``.
 
 Each is one ``solution.py`` (the card's artifact):
 
@@ -35,7 +36,7 @@ def pad_to_two_mib(root: Path) -> None:
     path.write_bytes(body[:PAD_TO])
 
 
-SOLUTIONS = SolutionSet(
+_OPEN = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
         Solution(
@@ -71,3 +72,9 @@ SOLUTIONS = SolutionSet(
         ),
     ),
 )
+_ROBUST = SolutionSet(
+    package="rle_tasks.f05_nanovla",
+    solutions=tuple(s for s in _OPEN.solutions if s.name in ("baseline/mean_action", "baseline/too_large")),
+)
+SOLUTIONS = {"05-libero-open": _OPEN, "05-libero-robust": _ROBUST}
+"""The robust track ships the two baselines whose reasons do not depend on the episode set."""

@@ -308,12 +308,14 @@ def _loss(collisions: float, worst_residual: float, effort: np.ndarray | None = 
     """Score lost to motion clearance, the passive residual and added inertia, as the rubric counts
     them [1].
 
-    Clearance: 0.10 x fraction / 0.05; residual: the passive-residual checkpoint (0.02 to
-    0.35 N m) plus the passive hold, lost once the residual exceeds the ~0.013 N m servo friction;
-    inertia: both submitted-arm backdrive checkpoints (0.03 to 0.35 N m) on the servo friction plus
-    ``effort`` (per pose, the worst joint's ``ACCEL_REF x`` added inertia [N m]).
+    Clearance: 0.10 x fraction / 0.05 up to its 5 % fail value, as the checkpoint counts it, then a
+    slope of 0.005 per 5 % beyond (the checkpoint gives nothing there, but fewer collisions still
+    break ties); residual: the passive-residual checkpoint (0.02 to 0.35 N m) plus the passive hold,
+    lost once the residual exceeds the ~0.013 N m servo friction; inertia: both submitted-arm
+    backdrive checkpoints (0.03 to 0.35 N m) on the servo friction plus ``effort`` (per pose, the
+    worst joint's ``ACCEL_REF x`` added inertia [N m]).
     """
-    clear = 0.1 * collisions / 0.05  # uncapped, so the greedy still sees progress above 5 %
+    clear = 0.1 * min(collisions, 0.05) / 0.05 + 0.005 * max(collisions - 0.05, 0.0) / 0.05
     resid = 0.1 * float(np.clip((worst_residual - 0.02) / 0.33, 0.0, 1.0))
     hold = 0.1 * float(np.clip((worst_residual - 0.013) / 0.05, 0.0, 1.0))
     back = 0.0

@@ -183,13 +183,19 @@ def apply_design(robot: str, design: Design, out_dir: Path) -> Path:
     return path
 
 
-PLACEMENTS = ((0.05, 0.0), (0.08, 0.0)) + tuple(
-    (r, s * a)
-    for r in (0.05, 0.08, 0.10, 0.12, 0.15)
-    for a in (0.035, CW_AXIAL, 0.08, 0.105)
-    for s in (1, -1)
+PLACEMENTS = (
+    ((0.05, 0.0), (0.08, 0.0))
+    + tuple(
+        (r, s * a)
+        for r in (0.05, 0.08, 0.10, 0.12, 0.15)
+        for a in (0.035, CW_AXIAL, 0.08, 0.105)
+        for s in (1, -1)
+    )
+    + ((0.035, 0.0), (0.04, 0.0), (0.04, 0.035), (0.04, -0.035), None)
 )
-"""Counterweight (radius from the joint axis, axial shift) options of the greedy placement [m]."""
+"""Counterweight options of the greedy placement: (radius from the joint axis, axial shift) [m], the
+compact 35-40 mm ones (heavier, but they stay inside the links' sweep), or None (no counterweight on
+that joint: its subtree's gravity moment stays with the servo)."""
 
 
 def build_all(target: Path = PKG / "solutions" / "reference") -> None:
