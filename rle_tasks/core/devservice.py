@@ -161,13 +161,35 @@ def _address():
     return str(Path(tempfile.gettempdir()) / f"rle-ledger-{digest}.sock")
 
 
-def _request(conn, op, value=None):
-    conn.send_bytes(encode({"op": op}, value))
-    meta, out = decode(conn.recv_bytes())
-    if not meta.get("ok"):
-        raise RuntimeError(f"{meta.get('code')}: {meta.get('message')}")
-    return out
+class _Connection:
+    # one connection to the development server; a context manager
+
+    def __init__(self):
+        self._conn = Client(_address(), family="AF_UNIX")
+
+    def _request(self, op, value=None):
+        self._conn.send_bytes(encode({"op": op}, value))
+        meta, out = decode(self._conn.recv_bytes())
+        if not meta.get("ok"):
+            raise RuntimeError(f"{meta.get('code')}: {meta.get('message')}")
+        return out
+
+    def info(self):
+        return self._request("info")
+
+    def seal(self):
+        return self._request("seal")
+
+    def close(self):
+        self._conn.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
 """
-"""Source of the workspace clients' ``_address()`` (core ``devenv``'s socket path, from the client's side) and
-``_request(conn, op, value)``; a client module imports ``hashlib``, ``tempfile``, ``Path`` and the
-ledger's ``encode``/``decode`` before it."""
+"""Source of the workspace clients' ``_address()`` (core ``devenv``'s socket path, from the client's
+side) and ``_Connection`` (requests, ``info``, ``seal``, a context manager); a client module imports
+``hashlib``, ``tempfile``, ``Path``, ``multiprocessing.connection.Client`` and the ledger's
+``encode``/``decode`` before it and subclasses ``_Connection`` with its operations."""

@@ -43,28 +43,10 @@ from pathlib import Path
 from rle_design.ledger.server import decode, encode
 {address}
 
-class DevClient:
-    def __init__(self):
-        self._conn = Client(_address(), family="AF_UNIX")
-
+class DevClient(_Connection):
     def evaluate(self, directory, episodes, max_steps=None):
         pairs = [[int(t), int(i)] for t, i in episodes]
-        return _request(self._conn, "evaluate", {{"dir": str(directory), "episodes": pairs, "max_steps": max_steps}})
-
-    def info(self):
-        return _request(self._conn, "info")
-
-    def seal(self):
-        return _request(self._conn, "seal")
-
-    def close(self):
-        self._conn.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
+        return self._request("evaluate", {{"dir": str(directory), "episodes": pairs, "max_steps": max_steps}})
 
 
 def connect():

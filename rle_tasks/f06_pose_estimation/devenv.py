@@ -39,13 +39,7 @@ from pathlib import Path
 from rle_design.ledger.server import decode, encode
 {address}
 
-class DevClient:
-    def __init__(self):
-        self._conn = Client(_address(), family="AF_UNIX")
-
-    def _request(self, op, value=None):
-        return _request(self._conn, op, value)
-
+class DevClient(_Connection):
     def frames(self, seed, n=10, raised=False):
         return [(p["obs"], p["label"]) for p in self._request("frames", {{"seed": seed, "n": n, "raised": raised}})]
 
@@ -54,21 +48,6 @@ class DevClient:
 
     def evaluate(self):
         return self._request("evaluate")
-
-    def info(self):
-        return self._request("info")
-
-    def seal(self):
-        return self._request("seal")
-
-    def close(self):
-        self._conn.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
 
 def connect():
