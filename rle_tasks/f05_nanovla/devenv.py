@@ -21,7 +21,7 @@ from rle_tasks.core.devservice import CLIENT_ADDRESS, ServedSession
 MAX_REQUEST_EPISODES = 500
 """Episodes one ``evaluate`` request may ask for (the size of the evaluation set)."""
 
-_CLIENT = '''"""Evaluation client of 05-libero-open (written by `rle dev`).
+_CLIENT = '''"""Evaluation client of {task_id} (written by `rle dev`; episodes of clean LIBERO-10).
 
     from libero_client import connect
     with connect() as dev:
@@ -112,7 +112,7 @@ class _Session:
         self.sealed = True
 
 
-def open_session(*, key: bytes | None, ledger_path: Path | None, workspace: str) -> _Session:
+def open_session(*, key: bytes | None, ledger_path: Path | None, workspace: str, task_id: str) -> _Session:
     """The session of one development server (``rle_tasks.core.devservice`` factory)."""
     import tempfile
 
@@ -123,10 +123,10 @@ def open_session(*, key: bytes | None, ledger_path: Path | None, workspace: str)
             b"rehearsal-key-not-secret",
             Path(tempfile.mkdtemp(prefix="rle-f05dev-")) / "dev.jsonl",
         )
-    return _Session(Path(workspace), DevelopmentClient(ledger_path, key))
+    return _Session(Path(workspace), DevelopmentClient(ledger_path, key, task_id=task_id))
 
 
-def make_dev_env(workspace: Path) -> ServedSession:
+def make_dev_env(workspace: Path, task_id: str = "05-libero-open") -> ServedSession:
     """Link the demonstrations, write ``libero_client.py``; return the (not yet started) server.
 
     Raises:
@@ -149,7 +149,7 @@ def make_dev_env(workspace: Path) -> ServedSession:
     link.symlink_to(demos, target_is_directory=True)
     (ws / "submission").mkdir(exist_ok=True)
     (ws / "libero_client.py").write_text(
-        _CLIENT.format(budget=f"{DEV_EPISODE_BUDGET:,}", address=CLIENT_ADDRESS)
+        _CLIENT.format(budget=f"{DEV_EPISODE_BUDGET:,}", address=CLIENT_ADDRESS, task_id=task_id)
     )
     return ServedSession(
         "rle_tasks.f05_nanovla.devenv:open_session", {"workspace": str(ws)}, name="rle-dev-05"

@@ -39,10 +39,10 @@ def instruction(task_id: str = "05-libero-open") -> str:
     return text + "\n" + rubric(task_id, 500).markdown_table() + "\n"
 
 
-def make_dev_env(workspace: Path):
+def make_dev_env(workspace: Path, task_id: str = "05-libero-open"):
     from rle_tasks.f05_nanovla.devenv import make_dev_env as make
 
-    return make(workspace)
+    return make(workspace, task_id)
 
 
 def task_specs() -> list[TaskSpec]:
@@ -67,7 +67,7 @@ def task_spec(task_id: str = "05-libero-open") -> TaskSpec:
             "serve(socket_path) (answers the policy socket protocol with chunks of 1-64 actions, 7-D in [-1, 1]); "
             "nothing else in the directory is read.",
         ),
-        make_dev_env=make_dev_env,
+        make_dev_env=functools.partial(make_dev_env, task_id=task_id),
         verify=functools.partial(verify, task_id=task_id),
         solutions=SOLUTION_NAMES[task_id],
         solutions_module="rle_tasks.f05_nanovla.solutions",

@@ -83,3 +83,20 @@ def test_served_episodes_are_metered_and_bad_requests_refused(tmp_path, demos, l
         ws.close()
     verdict = verify_ledger(ws.ledger_path, ledger_key(load_secret(), TASK.id), TASK.id)
     assert verdict.valid and verdict.steps == 1, verdict
+
+
+def test_the_robust_workspace_meters_under_its_own_task_id(tmp_path, demos):
+    from rle_tasks.f05_nanovla.devenv import open_session
+
+    robust = get_task("05-libero-robust")
+    layout_workspace(robust, tmp_path / "ws", serve=False)
+    assert "Evaluation client of 05-libero-robust" in (tmp_path / "ws" / "libero_client.py").read_text()
+    key = ledger_key(load_secret(), robust.id)
+    session = open_session(
+        key=key, ledger_path=tmp_path / "l.jsonl", workspace=str(tmp_path / "ws"), task_id=robust.id
+    )
+    assert session.handle({"op": "info"}, None)[1] == {"episodes_used": 0, "episodes_left": 20_000}
+    session.handle({"op": "seal"}, None)
+    assert session.sealed
+    assert verify_ledger(tmp_path / "l.jsonl", key, robust.id).valid
+    assert not verify_ledger(tmp_path / "l.jsonl", key, "05-libero-open").valid

@@ -35,16 +35,22 @@ class DevelopmentClient:
         key: Ledger key (at least 16 bytes).
         budget: Episodes allowed over the whole session.
         suite: LIBERO suite the episodes come from.
+        task_id: The task whose development session this is (the ledger names it).
     """
 
     def __init__(
-        self, ledger_path: Path, key: bytes, budget: int = DEV_EPISODE_BUDGET, suite: str = "libero_10"
+        self,
+        ledger_path: Path,
+        key: bytes,
+        budget: int = DEV_EPISODE_BUDGET,
+        suite: str = "libero_10",
+        task_id: str = TASK_ID,
     ) -> None:
         self.budget = int(budget)
         self.suite = suite
         self.used = 0
         self._ledger = LedgerWriter(
-            Path(ledger_path), key, TASK_ID, meta={"budget_episodes": self.budget, "suite": suite}
+            Path(ledger_path), key, task_id, meta={"budget_episodes": self.budget, "suite": suite}
         )
 
     def evaluate(
