@@ -81,8 +81,8 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="d4b02e42f1e24d4b22e91cfd2db0643a8fee5c92332849ac59f1c0af720243c1",
-            quick_score=0.858470445608,
+            sha256="b2d4cd707fe565dd4e6622799d50d3c943070c85a3fa6db695c6cb2def0f0ae5",
+            quick_score=0.876201138652,
             files=_per_robot("lead.xml", "solutions/reference/{robot}/lead.xml")
             + _per_robot("meshes", "assets/{robot}/meshes")
             + _per_robot("trim.py", "assets/trim_templates/regressor_trim.py"),
@@ -105,15 +105,15 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/over_mass",
-            sha256="320c1e37ad8831d51d2fd201354725f47a3a86fc589d45d8881e5f79815a0f6c",
+            sha256="5d4c44604577ae3e0c9ccbb8863c36ba04c8e121de5660aa90da3bb79cdbdf5b",
             quick_score=0.2,
             base="reference",
             transforms=(steel_ballast,),
         ),
         Solution(
             "baseline/hanging_trim",
-            sha256="a38b18db40c927816fb0fd764a472bd07a65b43a1eb9b2b3dee7ccb575074ec8",
-            quick_score=0.418037718722,
+            sha256="79c26772e1e5039c9eb56c8c86408eb5995fa6a210c2bd4f018104c64f2dc00f",
+            quick_score=0.43522776799,
             base="reference",
             files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
         ),
