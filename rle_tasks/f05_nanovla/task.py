@@ -30,7 +30,7 @@ def instruction(task_id: str = "05-libero-open") -> str:
     rubric's credit table appended."""
     from rle_tasks.f05_nanovla.scoring import rubric
 
-    text = (HERE / "instruction.md").read_text().replace("05-libero-open", task_id, 1)
+    text = f"# {task_id}: {TITLES[task_id]}\n\n" + (HERE / "instruction.md").read_text()
     if task_id == "05-libero-robust":
         from rle_tasks.f05_nanovla.verifier import PERTURBATIONS
 
