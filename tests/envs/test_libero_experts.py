@@ -82,3 +82,25 @@ def test_a_recorded_episode_keeps_the_views_the_policy_saw(libero10_task0_render
     assert np.array_equal(rendered["agentview"][0], d.views["agentview"][0])  # at reset they agree
     lag = np.abs(rendered["state"][1:] - np.array(d.observations[1:])).max()
     assert 1e-4 < lag < 0.01  # [m, rad]: the stored state runs ahead of the observation
+
+
+def test_a_hinged_door_is_swung_shut_and_placing_behind_it_stays_unsupported(libero_side_env):
+    """LIBERO-10 task 9 (mug into the microwave, close it): the door skill alone, from the open door
+    of official state 1, brings the hinge to its closed end (0 rad) within 0.05 rad; the task as a
+    whole is not offered to the demonstration builder (no skill places through the opening)."""
+    from rle_tasks.envs.libero import LiberoEnv
+    from rle_tasks.envs.libero.experts import _close_hinge, _door_front, _Driver, supported
+
+    with LiberoEnv("libero_10", 9, render=False) as env:
+        task = env.start()
+        d = _Driver(env, task.max_steps, env.reset(1))
+        name = "microwave_1_microjoint"
+        q0 = d.scene["joints"][name]["qpos"]
+        assert q0 < -1.0  # open
+        for _ in _close_hinge(d, "microwave_1"):
+            pass
+        assert abs(d.scene["joints"][name]["qpos"]) < 0.05 and len(d.actions) < 200
+        n = _door_front(d.scene, "microwave_1_heating_region")
+        # the opening faces the robot (-y; from the door part's bounding box, so only roughly)
+        assert abs(np.linalg.norm(n) - 1.0) < 1e-9 and n[2] == 0.0 and n[1] < -0.9
+        assert not supported(d.scene)
