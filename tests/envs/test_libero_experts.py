@@ -104,3 +104,23 @@ def test_a_hinged_door_is_swung_shut_and_placing_behind_it_stays_unsupported(lib
         # the opening faces the robot (-y; from the door part's bounding box, so only roughly)
         assert abs(np.linalg.norm(n) - 1.0) < 1e-9 and n[2] == 0.0 and n[1] < -0.9
         assert not supported(d.scene)
+
+
+def test_injected_noise_is_executed_while_the_expert_action_is_the_label(libero10_task0):
+    """DART-style recording: the executed motion actions differ from the labels by the injected
+    N(0, 0.2) (mean |difference| 0.2 sqrt(2/pi) = 0.16 where nothing is clipped), the gripper command
+    is never perturbed, and replaying the executed actions reproduces the recorded final state."""
+    from rle_tasks.envs.libero.experts import run_expert
+
+    env = libero10_task0
+    env.start()
+    res = run_expert(env, 0, np.random.default_rng([0, 0, 0]), record=True, noise=0.2)
+    assert res.executed is not None and res.executed.shape == res.actions.shape
+    diff = res.executed - res.actions
+    assert np.array_equal(diff[:, 6], np.zeros(len(diff)))
+    inside = np.abs(res.actions[:, :6] + diff[:, :6]) < 1.0  # not clipped
+    assert 0.13 < np.mean(np.abs(diff[:, :6][inside])) < 0.19
+    env.reset(0)
+    for a in res.executed:
+        env.step(a)
+    np.testing.assert_allclose(env.sim_state()[1:], res.sim_states[-1][1:], atol=1e-6)

@@ -1,6 +1,6 @@
 """Demonstrations of LIBERO-10 from the scripted experts, built by a command and cached outside git.
 
-    python -m rle_tasks.envs.libero.demos [OUT] [--tasks 0 1 ...] [--per-task N] [--seed S] [--views] [--jobs J]
+    python -m rle_tasks.envs.libero.demos [OUT] [--tasks 0 1 ...] [--per-task N] [--seed S] [--views] [--jobs J] [--noise SIGMA]
 
 For each task, the expert runs from LIBERO's official initial states in order (0, 1, ...) until it has
 ``per_task`` successful episodes or the states run out; only successes are kept. An episode is one
@@ -41,10 +41,11 @@ MAX_FAILURES_IN_A_ROW = 10
 """A task whose expert fails this many initial states in a row is left (its attempts are listed)."""
 
 
-def default_dir(suite: str, seed: int, per_task: int, views: bool = False) -> Path:
+def default_dir(suite: str, seed: int, per_task: int, views: bool = False, noise: float = 0.0) -> Path:
     """The cache directory of a dataset built with these parameters."""
     root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return root / "rle-bench" / "libero-demos" / f"{suite}-{seed}-{per_task}{'-views' if views else ''}"
+    name = f"{suite}-{seed}-{per_task}{'-views' if views else ''}{f'-noise{noise:g}' if noise > 0 else ''}"
+    return root / "rle-bench" / "libero-demos" / name
 
 
 def _sha256(path: Path) -> str:
@@ -65,19 +66,22 @@ def build_demos(
     progress=print,
     views: bool = False,
     jobs: int = 1,
+    noise: float = 0.0,
 ) -> dict:
     """Build (or complete) the dataset in ``out``; returns the manifest. Episodes already present
     with their recorded checksum are kept, so an interrupted build resumes; ``views`` records both
     camera views of every step (a dataset built otherwise is rebuilt); ``jobs`` builds that many
-    tasks at once in worker processes (``rle_tasks.core.runner``; each prints its own progress)."""
+    tasks at once in worker processes (``rle_tasks.core.runner``; each prints its own progress);
+    ``noise`` injects N(0, noise) into the executed motion actions (``experts.run_expert``), stores
+    the expert's clean actions as ``actions`` and the executed ones as ``executed_actions``."""
     from rle_tasks.core.runner import run_parallel
 
     out.mkdir(parents=True, exist_ok=True)
     old = json.loads((out / "manifest.json").read_text()) if (out / "manifest.json").is_file() else {}
-    if bool(old.get("views")) != views:
-        old = {}  # images or not: the other kind of dataset is rebuilt
+    if bool(old.get("views")) != views or float(old.get("noise", 0.0)) != noise:
+        old = {}  # images or not, noise or not: the other kind of dataset is rebuilt
     ids = list(range(10) if tasks is None else tasks)
-    items = [(str(out), suite, t, per_task, seed, views, old) for t in ids]
+    items = [(str(out), suite, t, per_task, seed, views, old, noise) for t in ids]
     if jobs > 1:
         built = run_parallel(_build_task_item, items, jobs=jobs)
     else:
@@ -94,6 +98,7 @@ def build_demos(
         "tasks": report,
         "files": dict(sorted(files.items())),
         "views": views,
+        **({"noise": noise} if noise > 0 else {}),
     }
     text = json.dumps(manifest, indent=1, sort_keys=True)
     (out / "manifest.json").write_text(text)
@@ -106,7 +111,15 @@ def _build_task_item(item: tuple) -> tuple[dict, dict[str, str]]:
 
 
 def _build_task(
-    out_dir: str, suite: str, task_id: int, per_task: int, seed: int, views: bool, old: dict, progress=print
+    out_dir: str,
+    suite: str,
+    task_id: int,
+    per_task: int,
+    seed: int,
+    views: bool,
+    old: dict,
+    noise: float = 0.0,
+    progress=print,
 ) -> tuple[dict, dict[str, str]]:
     """One task's episodes: ``(manifest entry, {file: sha256})``."""
     out = Path(out_dir)
@@ -140,7 +153,9 @@ def _build_task(
                 entry["attempts"].append({"init": init, "success": True, "cached": True})
                 continue
             t0 = time.perf_counter()
-            res = run_expert(env, init, np.random.default_rng([seed, task_id, init]), record=True)
+            res = run_expert(
+                env, init, np.random.default_rng([seed, task_id, init]), record=True, noise=noise
+            )
             entry["attempts"].append({"init": init, "success": res.success, "steps": res.steps})
             progress(
                 f"task {task_id} init {init}: {'success' if res.success else 'failure'} in {res.steps} steps "
@@ -157,6 +172,7 @@ def _build_task(
                 sim_states=res.sim_states,
                 language=np.array(task.language),
                 **(res.views or {}),
+                **({} if res.executed is None else {"executed_actions": res.executed.astype(np.float32)}),
             )
             files[name] = _sha256(out / name)
             kept += 1
@@ -205,10 +221,23 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--views", action="store_true", help="record both 128 px views of every step")
     p.add_argument("--jobs", type=int, default=1, help="tasks built at once (worker processes)")
+    p.add_argument(
+        "--noise",
+        type=float,
+        default=0.0,
+        help="DART: N(0, noise) added to executed motion actions [action units]",
+    )
     a = p.parse_args(argv)
-    out = Path(a.out) if a.out else default_dir(a.suite, a.seed, a.per_task, a.views)
+    out = Path(a.out) if a.out else default_dir(a.suite, a.seed, a.per_task, a.views, a.noise)
     manifest = build_demos(
-        out, suite=a.suite, tasks=a.tasks, per_task=a.per_task, seed=a.seed, views=a.views, jobs=a.jobs
+        out,
+        suite=a.suite,
+        tasks=a.tasks,
+        per_task=a.per_task,
+        seed=a.seed,
+        views=a.views,
+        jobs=a.jobs,
+        noise=a.noise,
     )
     for tid, e in manifest["tasks"].items():
         if "skipped" in e:

@@ -84,6 +84,9 @@ class ExpertResult:
     views: dict[str, np.ndarray] | None = None
     """``agentview`` and ``wrist``, uint8 (steps + 1, H, W, 3): the images the policy would have seen
     (when recorded with a rendering environment)."""
+    executed: np.ndarray | None = None
+    """(steps, 7) the actions executed when noise was injected (``actions`` then holds the expert's
+    clean actions: the labels); None without noise, when the two are the same."""
 
 
 def _axis_angle(rot: np.ndarray) -> np.ndarray:
@@ -115,8 +118,18 @@ def _rz(yaw: float) -> np.ndarray:
 class _Driver:
     """Closes the loop between skills and the environment, one action per control step."""
 
-    def __init__(self, env: LiberoEnv, horizon: int, first_obs: dict, record: bool = False) -> None:
+    def __init__(
+        self,
+        env: LiberoEnv,
+        horizon: int,
+        first_obs: dict,
+        record: bool = False,
+        noise: float = 0.0,
+        rng: np.random.Generator | None = None,
+    ) -> None:
         self.env, self.horizon, self.record = env, horizon, record
+        self.noise, self.rng = float(noise), rng
+        self.executed: list[np.ndarray] = []
         self.scene = env.scene()
         self.sim_states: list[np.ndarray] = [env.sim_state()] if record else []
         self.observations: list[np.ndarray] = [first_obs["state"]] if record else []
@@ -136,7 +149,12 @@ class _Driver:
     def act(self, action: np.ndarray) -> None:
         # float32 as stored in demonstrations (and as a policy serves): a replay is then exact
         action = np.asarray(action, dtype=np.float32).astype(np.float64)
-        obs, self.success = self.env.step(action)
+        sent = action
+        if self.noise > 0.0:  # DART: execute a perturbed action, keep the expert's as the label
+            kick = np.r_[self.rng.normal(0.0, self.noise, 6), 0.0]  # the gripper command stays
+            sent = np.clip(action + kick, -1.0, 1.0).astype(np.float32).astype(np.float64)
+            self.executed.append(sent)
+        obs, self.success = self.env.step(sent)
         self.actions.append(np.asarray(action, dtype=np.float64))
         self.scene = self.env.scene()
         if self.record:
@@ -627,14 +645,17 @@ def _settle(d: _Driver, max_steps: int = 40) -> None:
 
 
 def run_expert(
-    env: LiberoEnv, init_index: int, rng: np.random.Generator, *, record: bool = False
+    env: LiberoEnv, init_index: int, rng: np.random.Generator, *, record: bool = False, noise: float = 0.0
 ) -> ExpertResult:
     """One demonstration from the official initial state ``init_index`` (``env`` started); with
     ``record`` the MuJoCo state and the policy's state observation of every step are kept, and the
-    two views when ``env`` renders."""
+    two views when ``env`` renders. ``noise`` > 0 adds N(0, noise) to the six motion components of
+    every executed action (action units) while the expert's own action is kept as the label (DART):
+    the expert corrects the drift, so the data covers states a drifting policy visits."""
     first = env.reset(init_index)
     task = env.start()
-    d = _Driver(env, task.max_steps, first, record)
+    kicks = np.random.default_rng(rng.integers(2**63)) if noise > 0.0 else None  # rng untouched without noise
+    d = _Driver(env, task.max_steps, first, record, noise, kicks)
     _settle(d)
     for _ in _skills(d, rng):
         if d.done:
@@ -649,4 +670,5 @@ def run_expert(
         np.asarray(d.sim_states) if record else None,
         np.asarray(d.observations) if record else None,
         {v: np.asarray(f, dtype=np.uint8) for v, f in d.views.items()} or None,
+        np.asarray(d.executed).reshape(-1, 7) if noise > 0.0 else None,
     )
