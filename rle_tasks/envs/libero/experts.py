@@ -455,6 +455,20 @@ def _slide_of(sc: dict, target: str) -> dict | None:
     return None if j["hinge"] else j
 
 
+def _back_off(d: _Driver, rot: np.ndarray, push: np.ndarray, dist: float) -> Iterator[None]:
+    """After a push: back away from the pushed part by ``dist`` against ``push`` and rise 10 cm."""
+    back = d.scene["eef_pos"] - push * dist
+    back[2] += 0.1
+    yield from _move(d, back, rot, CLOSED, tol=0.02, max_steps=15)
+
+
+def _log_close(d: _Driver, name: str, q0: float, kind: str) -> None:
+    j = d.scene["joints"][name]
+    d.log.append(
+        f"close {name}{kind}: q {q0:.3f} -> {j['qpos']:.3f} (range {np.round(j['range'], 3).tolist()})"
+    )
+
+
 def _close_slide(d: _Driver, target: str) -> Iterator[None]:
     """Push a drawer shut: fingers closed, lowered in front of its face, pushed along the slide to the
     closed end of its range (LIBERO's cabinets close towards the top of the range)."""
@@ -485,13 +499,8 @@ def _close_slide(d: _Driver, target: str) -> Iterator[None]:
         yield from _descend(d, start, rot, CLOSED)
         end = start + axis * (travel + PUSH_GAP + 0.01)
         yield from _move(d, end, rot, CLOSED, tol=0.01, gain=0.5, max_steps=80)
-        back = d.scene["eef_pos"] - axis * 0.03
-        back[2] += 0.1
-        yield from _move(d, back, rot, CLOSED, tol=0.02, max_steps=15)
-    q = d.scene["joints"][name]["qpos"]
-    d.log.append(
-        f"close {name}: q {q0:.3f} -> {q:.3f} (range {np.round(d.scene['joints'][name]['range'], 3).tolist()})"
-    )
+        yield from _back_off(d, rot, axis, 0.03)
+    _log_close(d, name, q0, "")
 
 
 def _close_hinge(d: _Driver, target: str) -> Iterator[None]:
@@ -535,13 +544,8 @@ def _close_hinge(d: _Driver, target: str) -> Iterator[None]:
         for theta in np.arange(HINGE_STEP, remaining + 0.15, HINGE_STEP):
             p, t = point(float(theta))
             yield from _move(d, p, rot, CLOSED, tol=0.015, gain=0.7, max_steps=25)
-        back = d.scene["eef_pos"] - t * 0.05
-        back[2] += 0.1
-        yield from _move(d, back, rot, CLOSED, tol=0.02, max_steps=15)
-    q = d.scene["joints"][name]["qpos"]
-    d.log.append(
-        f"close {name} (hinge): q {q0:.3f} -> {q:.3f} (range {np.round(d.scene['joints'][name]['range'], 3).tolist()})"
-    )
+        yield from _back_off(d, rot, t, 0.05)
+    _log_close(d, name, q0, " (hinge)")
 
 
 def supported(scene: dict) -> bool:
