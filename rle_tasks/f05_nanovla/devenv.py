@@ -152,5 +152,7 @@ def make_dev_env(workspace: Path, task_id: str = "05-libero-open") -> ServedSess
         _CLIENT.format(budget=f"{DEV_EPISODE_BUDGET:,}", address=CLIENT_ADDRESS, task_id=task_id)
     )
     return ServedSession(
-        "rle_tasks.f05_nanovla.devenv:open_session", {"workspace": str(ws)}, name="rle-dev-05"
+        "rle_tasks.f05_nanovla.devenv:open_session",
+        {"workspace": str(ws), "task_id": task_id},
+        name=f"rle-dev-{task_id}",
     )
