@@ -202,10 +202,12 @@ def verify(
 
     full = episode_set(task_id, ctx)
     n = ctx.episodes or (QUICK_EPISODES if ctx.quick else len(full))
-    n = min(n, len(full))
+    asked, n = n, min(n, len(full))
     rub = rubric(task_id, n)
     partial = n < len(full)
     native: dict = {"episodes_requested": n, "episode_set": len(full), "partial": partial, "quick": ctx.quick}
+    if asked != n:  # more than the set holds: the whole set, and the report says so
+        native["episodes_asked"] = asked
     if max_steps is not None:
         native["max_steps_override"] = int(max_steps)
     root = Path(root).resolve()

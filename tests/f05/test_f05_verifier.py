@@ -114,6 +114,9 @@ def test_an_oversized_recipe_is_refused_before_anything_runs():
     assert not internal and report.score == 0.0 and report.cap == 0.0 and not report.valid
     assert [e.code for e in report.errors] == ["f05.solution_too_large"]
     assert report.native_metrics["partial"] is True
+    report, _ = run_verify(TASK, materialise(TASK, "baseline/too_large"), _ctx(episodes=600))
+    nm = report.native_metrics
+    assert nm["episodes_requested"] == 500 and nm["episodes_asked"] == 600 and nm["partial"] is False
 
 
 def test_a_missing_dataset_is_the_operators_fault(tmp_path, monkeypatch):
