@@ -135,14 +135,14 @@ def run_unit(item: tuple) -> list[dict]:
     """Serve the trained recipe and run one task's episodes (a runner unit; picklable).
 
     Args:
-        item: ``(solution bytes, ckpt bytes, meta bytes or None, suite, task, inits, first episode
-            number, horizon override or None)``.
+        item: ``(solution bytes, ckpt bytes, meta bytes or None, suite, task, inits, their episode
+            numbers in the run (what a request's ``episode`` says), horizon override or None)``.
     """
     from rle_tasks.envs.libero import LiberoEnv
     from rle_tasks.envs.libero.client import run_episode, serving
     from rle_tasks.envs.libero.replay import CKPT, SOLUTION
 
-    solution, ckpt, meta, suite, task, inits, first, max_steps = item
+    solution, ckpt, meta, suite, task, inits, numbers, max_steps = item
     stage = Path(tempfile.mkdtemp(prefix="rle-f05u-"))
     os.chmod(stage, 0o755)
     out: list[dict] = []
@@ -153,13 +153,14 @@ def run_unit(item: tuple) -> list[dict]:
             (stage / "meta.json").write_bytes(meta)
         try:
             with serving(stage) as policy, LiberoEnv(suite, task) as env:
-                for k, init in enumerate(inits):
-                    res = run_episode(env, policy, init, episode=first + k, max_steps=max_steps)
+                for number, init in zip(numbers, inits, strict=True):
+                    res = run_episode(env, policy, init, episode=number, max_steps=max_steps)
                     out.append({"suite": suite, "task": task, **dataclasses.asdict(res)})
         except ProtocolError as exc:  # the policy never connected: the unit's episodes did not run
             done = {r["init_index"] for r in out}
             out += [
                 {
+                    "suite": suite,
                     "task": task,
                     "init_index": i,
                     "success": False,
@@ -188,7 +189,8 @@ def units(
         for s in range(0, len(eps), UNIT_EPISODES):
             chunk = eps[s : s + UNIT_EPISODES]
             inits = tuple(i for _, i in chunk)
-            items.append((solution, ckpt, meta, suite, t, inits, chunk[0][0], max_steps))
+            numbers = tuple(k for k, _ in chunk)
+            items.append((solution, ckpt, meta, suite, t, inits, numbers, max_steps))
     return items
 
 

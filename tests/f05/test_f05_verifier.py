@@ -86,10 +86,10 @@ def test_units_group_episodes_by_task_and_keep_their_numbers():
     items = verifier.units(eps, b"s", b"c", None, None)
     # task 0: one unit; task 3: six episodes in units of at most five; the perturbed suite apart
     assert [(it[3], it[4], it[5], it[6]) for it in items] == [
-        ("libero_10", 0, (4,), 1),
-        ("libero_10", 3, (1, 2, 5, 6, 7), 0),
-        ("libero_10", 3, (8,), 6),
-        ("libero_10_swap", 3, (9,), 7),
+        ("libero_10", 0, (4,), (1,)),
+        ("libero_10", 3, (1, 2, 5, 6, 7), (0, 2, 3, 4, 5)),
+        ("libero_10", 3, (8,), (6,)),
+        ("libero_10_swap", 3, (9,), (7,)),
     ]
 
 
@@ -177,3 +177,21 @@ def test_the_robust_track_replays_on_a_perturbed_suite(demos, libero_side_env):
     assert report.task_id == ROBUST and report.errors == () and nm["complete"] == 1
     assert ep["suite"] in verifier.PERTURBATIONS and ep["steps"] == 4
     assert (ep["suite"], ep["task"], ep["init_index"]) == verifier.episode_order(ROBUST, _ctx())[0]
+
+
+def test_a_server_that_never_connects_fails_every_episode_of_its_unit(demos, tmp_path):
+    """serve() raises before connecting: the unit's episodes are recorded as not run
+    (``protocol.no_policy``, the child's fault in the message) and the run is incomplete."""
+    sol = tmp_path / "sub"
+    sol.mkdir()
+    (sol / "solution.py").write_text(
+        "def train(d):\n    open('ckpt.pt', 'wb').write(b'x')\n\n"
+        "def serve(s):\n    raise RuntimeError('weights do not load')\n"
+    )
+    report = verifier.verify(sol, _ctx(episodes=2), max_steps=4)
+    nm = report.native_metrics
+    assert [e["fault"] for e in nm["episodes"]] == ["protocol.no_policy"] * 2
+    assert report.score == 0.0 and report.cap == 0.0
+    (err, inc) = report.errors
+    assert err.code == "protocol.no_policy" and "weights do not load" in err.message
+    assert inc.code == "f05.incomplete"
