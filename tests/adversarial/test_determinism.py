@@ -22,13 +22,26 @@ FULL = os.environ.get("RLE_FULL_BATTERY") == "1"
 CHECKED = WITH_REFERENCE if FULL else list({t.family: t for t in reversed(WITH_REFERENCE)}.values())
 
 
+NO_REFERENCE_YET = {5: ("rle_tasks/f05_nanovla/README.md", "The reference recipe is not declared")}
+"""Implemented families whose reference does not score yet, each with its README line saying so."""
+
+
 def test_every_implemented_family_ships_references():
     """Every family ships a reference; where a task has none (family 01's L1/L2 levels without a program,
-    family 02's groups beyond those with a reference harness) its family README says so."""
+    family 02's groups beyond those with a reference harness) its family README says so, and a family
+    whose reference does not score yet (05: its behaviour-cloning recipe succeeds in no episode) says
+    so in its README and declares none."""
+    from pathlib import Path
+
     assert IMPLEMENTED, "no implemented task"
-    assert {t.family for t in WITH_REFERENCE} == {t.family for t in IMPLEMENTED}
+    pending = set(NO_REFERENCE_YET)
+    assert {t.family for t in WITH_REFERENCE} == {t.family for t in IMPLEMENTED} - pending
+    root = Path(__file__).resolve().parents[2]
+    for family, (readme, line) in NO_REFERENCE_YET.items():
+        assert line in (root / readme).read_text(), readme
+        assert all("reference" not in t.solutions for t in IMPLEMENTED if t.family == family)
     for task in IMPLEMENTED:
-        if task.family in (1, 2):
+        if task.family in (1, 2) or task.family in pending:
             continue  # partial by design, listed in the README
         assert "reference" in task.solutions, task.id
 
