@@ -86,6 +86,50 @@ def test_flight_phases_are_ballistic(style):
     assert np.abs(acc[inner, 0]).max() < 0.05
 
 
+@pytest.mark.parametrize("style", ["dance", "fight"])
+def test_balanced_clips_keep_the_zero_moment_point_on_the_stance_sole(model, style):
+    """Cart-table ZMP p = c - (h / g) c'' of the clip's COM lies on the stance sole (a 5 cm wide row of
+    capsules) in every single-stance frame; the unbalanced keyed clip leaves it centimetres off."""
+    from rle_tasks.f04_motion_tracking.public.clipgen import _kinematic, sole_centre, zmp_path
+    from rle_tasks.f04_motion_tracking.public.styles import plan_for
+
+    clip = _load(style)
+    zmp = zmp_path(model, clip)
+    feet = [G1.tracked_bodies.index(f) for f in G1.feet]
+    off = sole_centre(model)
+
+    def worst(c, z):
+        single = c.contacts.sum(axis=1) == 1
+        out = 0.0
+        for f in np.flatnonzero(single):
+            foot = 0 if c.contacts[f, 0] else 1
+            q = c.body_quat_w[f, feet[foot]]
+            yaw = np.arctan2(2 * (q[0] * q[3] + q[1] * q[2]), 1 - 2 * (q[2] ** 2 + q[3] ** 2))
+            rot = np.array([[np.cos(yaw), -np.sin(yaw)], [np.sin(yaw), np.cos(yaw)]])
+            sole = c.body_pos_w[f, feet[foot], :2] + rot @ off
+            out = max(out, float(np.abs(rot.T @ (z[f] - sole))[1]))  # lateral, in the foot frame
+        return out
+
+    assert worst(clip, zmp) < 0.01  # within 1 cm of the sole's centre line (the sole is +-2.5 cm)
+    keyed = _kinematic(model, plan_for(style))
+    assert worst(keyed, zmp_path(model, keyed)) > 0.025  # the keyed clip: off the sole
+
+
+def test_cart_table_com_plan_meets_the_closed_form():
+    """A constant support p gives c = p; a support stepping from 0 to d gives a COM that starts moving
+    before the step (preview), ends at d, and whose ZMP c - (h/g) c'' follows the step."""
+    from rle_tasks.f04_motion_tracking.public.clipgen import plan_com
+
+    n, dt, h = 301, 0.02, 0.65
+    assert plan_com(np.full(n, 0.1), dt, h, np.ones(n)) == pytest.approx(np.full(n, 0.1), abs=1e-9)
+    p = np.where(np.arange(n) < 150, 0.0, 0.1)
+    c = plan_com(p, dt, h, np.full(n, 10.0))
+    assert c[0] == pytest.approx(0.0, abs=1e-3) and c[-1] == pytest.approx(0.1, abs=1e-3)
+    assert 0.005 < c[140] < 0.05  # moving toward the new support before it is reached
+    zmp = c - h / GRAVITY * np.gradient(np.gradient(c, dt), dt)
+    assert np.abs(zmp[5:140]).max() < 0.03 and np.abs(zmp[160:-5] - 0.1).max() < 0.03
+
+
 def _write_csv(path, frames=16):
     t = np.arange(frames) / 30.0
     rows = np.zeros((frames, 36))

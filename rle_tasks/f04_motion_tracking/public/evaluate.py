@@ -73,7 +73,9 @@ def _unstable(data: mujoco.MjData) -> bool:
     return bool(bad) or not np.isfinite(data.qpos).all() or np.abs(data.qvel).max() > EXPLOSION_QVEL
 
 
-def rollout(policy: Callable[[np.ndarray], np.ndarray], meta: PolicyMeta, clip: Clip, seed: int) -> dict:
+def rollout(
+    policy: Callable[[np.ndarray], np.ndarray], meta: PolicyMeta, clip: Clip, seed: int, strength: float = 1.0
+) -> dict:
     """One evaluation episode.
 
     Args:
@@ -81,13 +83,14 @@ def rollout(policy: Callable[[np.ndarray], np.ndarray], meta: PolicyMeta, clip: 
         meta: History length, action scale and default pose of the policy.
         clip: The reference.
         seed: Seed of the perturbation and the sensor noise.
+        strength: Of the perturbation (1: the hidden evaluation's; lower for a training curriculum).
 
     Returns:
         ``T``, ``U``, ``J``, ``fell``, ``mpjpe_mm``, ``steps``, ``survived``, ``fault`` (code or ''),
         ``explosion_step`` (-1 if none).
     """
     model = g1_model(timestep=EVAL_TIMESTEP, terrain=True)
-    pert = sample_perturbation(np.random.default_rng(seed), model, 1.0)
+    pert = sample_perturbation(np.random.default_rng(seed), model, strength)
     env = TrackingEnv(clip, timestep=EVAL_TIMESTEP, perturbation=pert, seed=seed, model=model)
     obs = env.reset(0)
     hist = deque([obs] * meta.history, maxlen=meta.history)

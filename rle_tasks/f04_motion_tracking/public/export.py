@@ -46,8 +46,12 @@ def export_policy(module, out: Path | str, meta: PolicyMeta | None = None, smoot
     if smoothing != 1.0:
         module = _smoothed(module, float(smoothing), OBS_DIM * (meta.history - 1))
     dummy = torch.zeros(1, meta.obs_dim)
+    # trace first: a module holding a loaded TorchScript part (a ``--prior`` of ppo.py) only exports
+    # from a traced whole
+    with torch.no_grad():
+        traced = torch.jit.trace(module, dummy)
     torch.onnx.export(
-        module,
+        traced,
         (dummy,),
         str(out / ONNX),
         input_names=["obs"],

@@ -1,8 +1,10 @@
 """A small PPO trainer (torch, CPU) for the tracking environment; the agent may change anything here.
 
-The actor is a residual on open-loop replay: its mean action is ``(ref_joint_pos - default) / scale``
-(the reference angles of the observation turned into PD targets, a fixed linear map) plus an MLP of the
-normalised observation whose last layer starts near zero. Observation statistics are running means;
+The actor is a residual on a fixed base policy: by default open-loop replay, ``(ref_joint_pos -
+default) / scale`` (the reference angles of the observation turned into PD targets, a fixed linear map);
+with ``--prior PRIOR.pt`` any TorchScript module ``obs (B, 160) -> actions (B, 29)`` (for instance a
+model-based controller), which is not trained. To the base it adds an MLP of the normalised observation
+whose last layer starts near zero. Observation statistics are running means;
 they are part of the exported graph. Generalised advantage estimation, clipped surrogate, time-limit
 bootstrapping. ``python -m rle_tasks.f04_motion_tracking.public.ppo --help``.
 """
@@ -29,10 +31,15 @@ __all__ = ["ActorCritic", "train"]
 
 
 class ActorCritic(nn.Module):
-    """Actor (residual on open-loop replay) and critic sharing the observation normaliser."""
+    """Actor (residual on a base policy: ``prior``, or open-loop replay when None) and critic sharing
+    the observation normaliser."""
 
-    def __init__(self, hidden: tuple[int, ...] = (256, 128), log_std: float = -1.2) -> None:
+    def __init__(self, hidden: tuple[int, ...] = (256, 128), log_std: float = -1.2, prior=None) -> None:
         super().__init__()
+        self.prior = prior
+        if prior is not None:
+            for q in prior.parameters():
+                q.requires_grad_(False)
         self.register_buffer("obs_mean", torch.zeros(OBS_DIM))
         self.register_buffer("obs_var", torch.ones(OBS_DIM))
         self.register_buffer("count", torch.tensor(1e-4))
@@ -57,8 +64,11 @@ class ActorCritic(nn.Module):
         return torch.clamp((obs - self.obs_mean) / torch.sqrt(self.obs_var + 1e-8), -10.0, 10.0)
 
     def mean_action(self, obs: torch.Tensor) -> torch.Tensor:
-        replay = (obs[:, : G1.dof] - self.default) / self.scale
-        return replay + self.actor(self.normalise(obs))
+        if self.prior is not None:
+            base = self.prior(obs)
+        else:
+            base = (obs[:, : G1.dof] - self.default) / self.scale
+        return base + self.actor(self.normalise(obs))
 
     def value(self, obs: torch.Tensor) -> torch.Tensor:
         return self.critic(self.normalise(obs)).squeeze(-1)
@@ -92,19 +102,29 @@ def train(
     lam: float = 0.95,
     clip_eps: float = 0.2,
     randomise: float = 1.0,
+    prior: Path | None = None,
+    log_std: float = -1.2,
+    timestep: float = 0.005,
+    snapshot_every: int = 0,
 ) -> ActorCritic:
-    """Train on one clip for ``minutes`` of wall time; writes ``out/curve.csv`` and ``out/policy.pt``.
+    """Train on one clip for ``minutes`` of wall time; writes ``out/curve.csv`` and ``out/policy.pt``
+    (and ``out/snapshots/<iteration>.pt`` every ``snapshot_every`` iterations when > 0).
 
-    Each environment gets one fixed ``sample_perturbation`` robot of strength ``randomise``."""
+    Each environment gets one fixed ``sample_perturbation`` robot of strength ``randomise``; ``prior``
+    is a TorchScript base policy (see the module docstring), ``log_std`` the initial log standard
+    deviation of the exploration noise, ``timestep`` the physics step [s]."""
     torch.manual_seed(seed)
     torch.set_num_threads(1)
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(seed)
     model = g1_model()
     perts = [sample_perturbation(rng, model, randomise) for _ in range(num_envs)]  # one robot per env
-    env = VecTrackingEnv(Clip.load(clip_path), num_envs, seed=seed, random_start=True, perturbations=perts)
-    net = ActorCritic()
-    opt = torch.optim.Adam(net.parameters(), lr=lr)
+    env = VecTrackingEnv(
+        Clip.load(clip_path), num_envs, seed=seed, random_start=True, perturbations=perts, timestep=timestep
+    )
+    base = torch.jit.load(str(prior)) if prior is not None else None
+    net = ActorCritic(log_std=log_std, prior=base)
+    opt = torch.optim.Adam([q for q in net.parameters() if q.requires_grad], lr=lr)
     obs = torch.as_tensor(env.reset(), dtype=torch.float32)
     net.update_stats(obs)
     start, it, steps = time.monotonic(), 0, 0
@@ -183,6 +203,9 @@ def train(
             fh.flush()
             if it % 10 == 0:
                 torch.save(net.state_dict(), out / "policy.pt")
+            if snapshot_every and it % snapshot_every == 0:
+                (out / "snapshots").mkdir(exist_ok=True)
+                torch.save(net.state_dict(), out / "snapshots" / f"{it:06d}.pt")
     torch.save(net.state_dict(), out / "policy.pt")
     return net
 
@@ -194,8 +217,26 @@ def main() -> None:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--minutes", type=float, default=60.0)
     p.add_argument("--envs", type=int, default=16)
+    p.add_argument("--prior", type=Path, help="TorchScript base policy (default: open-loop replay)")
+    p.add_argument("--log-std", type=float, default=-1.2, help="initial log std of the exploration noise")
+    p.add_argument("--timestep", type=float, default=0.005, help="physics step [s]")
+    p.add_argument("--randomise", type=float, default=1.0, help="perturbation strength of the robots")
+    p.add_argument("--snapshot-every", type=int, default=0, help="keep a snapshot every N iterations")
+    p.add_argument("--lr", type=float, default=3e-4, help="Adam learning rate")
     a = p.parse_args()
-    train(a.clip, a.out, seed=a.seed, minutes=a.minutes, num_envs=a.envs)
+    train(
+        a.clip,
+        a.out,
+        seed=a.seed,
+        minutes=a.minutes,
+        num_envs=a.envs,
+        prior=a.prior,
+        log_std=a.log_std,
+        timestep=a.timestep,
+        randomise=a.randomise,
+        snapshot_every=a.snapshot_every,
+        lr=a.lr,
+    )
 
 
 if __name__ == "__main__":

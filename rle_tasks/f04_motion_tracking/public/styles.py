@@ -97,7 +97,7 @@ def dance() -> MotionPlan:
             "right_wrist_roll": -0.5 * e * a,
         }
 
-    return MotionPlan(stances, root, upper, swing_height=0.08)
+    return MotionPlan(stances, root, upper, swing_height=0.08, balanced=True)
 
 
 KICKS = (10.5, 17.5)
@@ -150,7 +150,7 @@ def fight() -> MotionPlan:
             out["waist_yaw"] += (-0.35 if side == "right" else 0.2) * s
         return out
 
-    return MotionPlan(stances, root, upper, swing_height=0.07)
+    return MotionPlan(stances, root, upper, swing_height=0.07, balanced=True)
 
 
 def fall_getup() -> MotionPlan:
@@ -299,7 +299,7 @@ def plan_for(style: str) -> MotionPlan:
 
 
 def build_clips(out_dir) -> dict[str, Path]:
-    """Generate the five clips into ``out_dir/<style>.npz`` (deterministic; about 5 s in all)."""
+    """Generate the five clips into ``out_dir/<style>.npz`` (deterministic; about 25 s in all, mostly balancing)."""
     from .clipgen import generate
     from .g1 import g1_model
 
