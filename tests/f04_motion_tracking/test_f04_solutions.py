@@ -37,4 +37,18 @@ def test_baselines_fail_for_their_named_reason(reports):
         assert reports[name].cap is None and not codes[name]
         assert all(s["fell"] for s in reports[name].native_metrics["seeds"].values())
     ol, zero = (reports[f"baseline/{n}"].native_metrics for n in ("open_loop", "zero_action"))
-    assert ol["survival_pct"] > zero["survival_pct"] and ol["mpjpe_mm"] < zero["mpjpe_mm"]
+    # open loop outlives zero action and tracks more of the clip (T counts every step of the clip; MPJPE
+    # only the steps before the fall, so a longer-surviving replay may have the larger MPJPE)
+    assert ol["survival_pct"] > zero["survival_pct"]
+    t = {n: sum(v["T"] for v in m["seeds"].values()) for n, m in (("ol", ol), ("zero", zero))}
+    assert t["ol"] > t["zero"]
+
+
+@pytest.mark.skipif("04-dance" not in REGISTERED, reason="04-dance ships no reference yet")
+def test_reference_beats_open_loop_which_beats_zero_action(reports):
+    """Score and survival: reference > open loop; open loop outlives zero action (both score 0: each
+    falls within about a second, 0.7 T + 0.3 U < the 0.05 fall deduction)."""
+    ref, ol = reports["reference"], reports["baseline/open_loop"]
+    assert ref.valid and ref.cap is None and not ref.errors
+    assert ref.score > ol.score  # quick mode: 0.0063 against 0 (full mode: 0.037 against 0)
+    assert ref.native_metrics["survival_pct"] > 2 * ol.native_metrics["survival_pct"]

@@ -34,7 +34,7 @@ import numpy as np
 
 from ..public.clip import Clip
 from ..public.evaluate import rollout, seed_score
-from ..public.export import default_meta
+from ..public.export import default_meta, export_policy
 from ..public.g1 import g1_model
 from ..public.g1_constants import G1
 
@@ -42,6 +42,7 @@ __all__ = ["GAINS", "TrackingPrior", "feedforward_offsets", "fit_feedforward", "
 
 # observation layout (tracking.observation): where each quantity sits in one 160-D observation
 REF, REF_VEL, ANCHOR_POS, ANCHOR_ORI, LIN_VEL, ANG_VEL, JOINT_POS, JOINT_VEL = 0, 29, 58, 61, 67, 70, 73, 102
+LAST_ACTION = 131
 ANKLE_PITCH, HIP_PITCH, ANKLE_ROLL, HIP_ROLL = [4, 10], [0, 6], [5, 11], [1, 7]
 LEGS, WAIST, ARMS = list(range(12)), list(range(12, 15)), list(range(15, 29))
 GAINS = (
@@ -51,13 +52,17 @@ GAINS = (
     "hip_roll<-roll", "hip_roll<-roll_rate", "hip_roll<-pos_y", "hip_roll<-vel_y",
     "legs_stiffness", "legs_damping", "waist_stiffness", "arms_stiffness",
     "ankle_pitch<-waist_pitch", "hip_pitch<-waist_pitch", "ankle_roll<-waist_roll", "hip_roll<-waist_roll",
+    "lead", "smoothing",
 )  # fmt: skip
 """Names of the feedback gains [rad per rad, rad s, rad/m, rad s/m; stiffness: multiples of kp]. The
 torso orientation error seen in the observation includes the waist's own error; the last four gains let
-the legs act on the pelvis's share of it."""
-INITIAL_GAINS = np.array([-0.5, 0, -3, 0, -0.5, 0, -3, 0] + [0.0] * 16)
-"""Starting point of the search (an ankle-and-hip lean correction found by a coarse grid)."""
-SEARCH_STD = np.array([0.5, 0.05, 1.0, 0.1] * 4 + [0.3, 0.02, 0.5, 0.5] + [0.5] * 4)
+the legs act on the pelvis's share of it. ``lead`` [policy steps] moves the reference ahead along its rate
+(the evaluation delays actions by one or two steps); ``smoothing`` s low-passes the output,
+``a = (1 - s) a_new + s a_prev`` with s clamped to [0, 0.8]."""
+INITIAL_GAINS = np.array([-0.5, 0, -3, 0, -0.5, 0, -3, 0] + [0.0] * 17 + [0.5])
+"""Starting point of the search: an ankle-and-hip lean correction found by a coarse grid, smoothing 0.5
+(halves the action jerk J, which the rubric deducts, for a small loss of survival)."""
+SEARCH_STD = np.array([0.5, 0.05, 1.0, 0.1] * 4 + [0.3, 0.02, 0.5, 0.5] + [0.5] * 4 + [0.5, 0.1])
 """Initial standard deviation of the search per gain."""
 MIN_SHARE = 0.01
 """Floor of a stance foot's load share in the wrench distribution [1]."""
@@ -152,8 +157,8 @@ def TrackingPrior(ff_hidden: int = 128):  # noqa: N802  (a class built on first 
 
         def forward(self, obs):
             g = self.gains
-            ref = obs[:, REF : REF + 29]
             ref_vel = obs[:, REF_VEL : REF_VEL + 29]
+            ref = obs[:, REF : REF + 29] + g[24] * 0.02 * ref_vel
             q = obs[:, JOINT_POS : JOINT_POS + 29] + self.default
             qd = obs[:, JOINT_VEL : JOINT_VEL + 29]
             pitch, roll = -obs[:, ANCHOR_ORI + 4], obs[:, ANCHOR_ORI + 5]
@@ -173,8 +178,11 @@ def TrackingPrior(ff_hidden: int = 128):  # noqa: N802  (a class built on first 
             )
             stiff = g[16] * sel[4] + g[18] * self.waist + g[19] * self.arms
             fb = fb + stiff * (ref - q) - g[17] * sel[4] * (qd - ref_vel)
-            target = ref + self.offsets(obs) + fb
-            return (target - self.default) / self.scale
+            ff = self.ff((torch.cat([ref, ref_vel], 1) - self.in_mean) / self.in_std)
+            target = ref + ff + fb
+            smooth = torch.clamp(g[25], 0.0, 0.8)
+            action = (target - self.default) / self.scale
+            return (1.0 - smooth) * action + smooth * obs[:, LAST_ACTION : LAST_ACTION + 29]
 
     return _Prior()
 
@@ -302,8 +310,9 @@ then half-strength perturbations, then the hidden evaluation's."""
 
 
 def build(clip_path: Path, out: Path, *, iterations: int, seeds: list[int], jobs: int = 2) -> None:
-    """Feedforward fit, gain search, then ``out/prior.pt`` (TorchScript), ``out/prior.json`` (gains and
-    fit error) and ``out/tune.csv`` (the search curve)."""
+    """Feedforward fit, gain search, then ``out/prior.pt`` (TorchScript, the base of ``ppo.py --prior``),
+    ``out/policy/`` (the ONNX submission), ``out/prior.json`` (gains and fit error) and ``out/tune.csv``
+    (the search curve)."""
     torch = _torch()
     torch.set_num_threads(1)
     out.mkdir(parents=True, exist_ok=True)
@@ -325,6 +334,7 @@ def build(clip_path: Path, out: Path, *, iterations: int, seeds: list[int], jobs
             prior, clip_path, seeds, iterations=n, strength=strength, jobs=jobs, log=out / "tune.csv"
         )
     torch.jit.trace(prior.eval(), torch.zeros(1, 160)).save(str(out / "prior.pt"))
+    export_policy(prior, out / "policy")
     (out / "prior.json").write_text(
         json.dumps(
             {"gains": dict(zip(GAINS, map(float, gains))), "ff_fit_max_rad": err, "seeds": seeds}, indent=2
@@ -337,7 +347,7 @@ def main() -> None:
     p.add_argument("clip", type=Path)
     p.add_argument("out", type=Path)
     p.add_argument("--iterations", type=int, default=20)
-    p.add_argument("--seeds", type=int, nargs="+", default=[100, 101, 102, 103])
+    p.add_argument("--seeds", type=int, nargs="+", default=[100, 101, 102, 103, 104, 105])
     p.add_argument("--jobs", type=int, default=2)
     a = p.parse_args()
     build(a.clip, a.out, iterations=a.iterations, seeds=a.seeds, jobs=a.jobs)
