@@ -3,8 +3,9 @@
 
 - ``reference``: the model-based tracking prior of the task's clip (``prior.py``: inverse-dynamics
   feedforward fitted by a small MLP, feedback gains tuned by the cross-entropy method on design seeds),
-  exported to ONNX; its build command and curve are in the README. Committed under
-  ``solutions/reference/<style>/``.
+  exported to ONNX; its build command and curve are in the README. Committed as
+  ``solutions/reference/<style>/policy.onnx`` beside one shared ``solutions/reference/policy_meta.json``
+  (history 1, the G1's action scale and default pose).
 - ``baseline/open_loop``: replays the reference joint angles of the observation as PD targets.
 - ``baseline/zero_action``: PD targets at the default pose.
 - ``baseline/nan_output``: every output NaN: smoke failure, cap 0.1.
@@ -60,7 +61,13 @@ clips (they fall within about a second)."""
 
 def _task(style: str, sha256: str, quick_score: float) -> SolutionSet:
     reference = Solution(
-        "reference", sha256=sha256, quick_score=quick_score, files=((".", f"solutions/reference/{style}"),)
+        "reference",
+        sha256=sha256,
+        quick_score=quick_score,
+        files=(
+            (".", f"solutions/reference/{style}"),
+            ("policy_meta.json", "solutions/reference/policy_meta.json"),
+        ),
     )
     return SolutionSet(package=PACKAGE, solutions=(reference, *BASELINES))
 
