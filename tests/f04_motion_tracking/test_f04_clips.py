@@ -86,7 +86,7 @@ def test_flight_phases_are_ballistic(style):
     assert np.abs(acc[inner, 0]).max() < 0.05
 
 
-@pytest.mark.parametrize("style", ["dance", "fight"])
+@pytest.mark.parametrize("style", ["dance", "fight", "fall-getup"])
 def test_balanced_clips_keep_the_zero_moment_point_on_the_stance_sole(model, style):
     """Cart-table ZMP p = c - (h / g) c'' of the clip's COM lies on the stance sole (a 5 cm wide row of
     capsules) in every single-stance frame; the unbalanced keyed clip leaves it centimetres off."""

@@ -8,7 +8,7 @@ Between two stances a foot swings on a minimum-jerk path with a vertical arc. Ev
 kinematics of the result. Run and sprint have flight phases in which the pelvis translation is
 ballistic: constant horizontal velocity and ``z'' = -g``; in stance the pelvis height follows a cubic
 Hermite segment joining the landing and take-off velocities. Plans that stay on their feet (dance,
-fight) are then balanced: the pelvis is moved so that the zero-moment point stays on the stance sole
+fight, fall-getup) are then balanced: the pelvis is moved so that the zero-moment point stays on the stance sole
 (``balance``), which makes the clip physically trackable.
 """
 
@@ -73,7 +73,7 @@ class MotionPlan:
     """Apex of a swing above the ground [m]."""
     balanced: bool = False
     """Move the pelvis horizontally so that the zero-moment point stays on the support (``balance``);
-    for plans whose only contacts are the feet and that never leave the ground (dance, fight)."""
+    for plans whose only contacts are the feet and that never leave the ground (dance, fight, fall-getup)."""
 
 
 def min_jerk(s: float) -> float:

@@ -196,7 +196,7 @@ def fall_getup() -> MotionPlan:
             "right_elbow": 0.6 - 0.5 * low,
         }
 
-    return MotionPlan(stances, root, upper, swing_height=0.07)
+    return MotionPlan(stances, root, upper, swing_height=0.07, balanced=True)
 
 
 def _gait(
