@@ -33,7 +33,7 @@ STYLES = {
     "04-sprint": ("sprint", "G1 sprint clip"),
 }
 """Task id -> (clip style, title suffix)."""
-REGISTERED: tuple[str, ...] = ("04-dance", "04-fight")
+REGISTERED: tuple[str, ...] = ("04-dance", "04-fight", "04-fall-getup")
 """Tasks registered with a verifier: those with a shipped reference policy (the others stay placeholders)."""
 SOLUTION_NAMES = (
     "reference",

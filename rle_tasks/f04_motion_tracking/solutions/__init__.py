@@ -73,6 +73,11 @@ def _task(style: str, sha256: str, quick_score: float) -> SolutionSet:
 
 
 SOLUTIONS = {
+    "04-fall-getup": _task(
+        "fall-getup",
+        sha256="d35b8a8da92b364560d504adb4f8bf5eddb6f5fb77a4a3e179dbccbbd8368228",
+        quick_score=0.07780024859471513,
+    ),
     "04-fight": _task(
         "fight",
         sha256="aeab9dc27628e2651b7b609107aa8dd6a74acec28daacb45e1c3d8448fce2a3f",
