@@ -6,12 +6,12 @@ ordinary 14-D metered actions (``CartesianHelper`` with ``arm_size=7``) and read
 
 | program | expected score | why |
 |---|---|---|
-| ``reference`` | 1.0 | plans top-layer turns and whole-cube pitches for the public scramble and executes them: 4 quarter turns, optimum 4 |
+| ``reference`` | 1.0 | plans top-layer turns and whole-cube hand-offs for the public scramble and executes them with both hands, the cube in the air (``two_hands``): 4 quarter turns, optimum 4 |
 | ``idle`` | 0.0 | the arms hold and the session is sealed: the cube stays scrambled on its stand |
 | ``dropped`` | 0.0 | the right hand sweeps the cube off its stand; it ends on the table, not held |
 | ``reset`` | 0.0 | a reset after the start abandons the attempt |
 | ``forced_twist`` | 0.0 | a pitch the arm cannot follow forces the cube: one unclassified transition (cap 0.5), unsolved, on the table |
-| ``top_turns`` | (building block) | quarter turns of the top layer by the right wrist, then the cube lifted |
+| ``top_turns`` | (building block) | quarter turns of the top layer by the right wrist against the stand, then the cube lifted |
 
 Committed ledgers (``ledgers/<name>/ledger.jsonl``, recorded by ``__main__``): the ``SHIPPED`` programs on the
 public scramble, and ``ledgers/reference_second`` = the reference on the second public scramble
@@ -65,7 +65,7 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="1cac0347eec9bfc8938af6e9df0fff97c3c5e4f0ed0791be1ab484fdec7dc960",
+            sha256="6f4c3a9ec9f37eedfe65c837a0cb333116f4247b8a32b261d1a161522f6650d9",
             quick_score=1.0,
             files=_ledgers("reference"),
         ),
@@ -95,7 +95,7 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/unsealed",
-            sha256="c6c241a99fc22116a719d7f15ede08123a7cdb6214d66cd876f6f1e2939420c9",
+            sha256="2edc05bf7f7f0f795391cb56bc2b8854360c78ddd3aac5cb190d358997a7fc51",
             quick_score=0.0,
             base="reference",
             transforms=(unseal,),

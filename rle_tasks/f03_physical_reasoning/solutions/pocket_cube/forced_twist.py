@@ -1,7 +1,7 @@
 """Baseline of ``03-pocket-cube``: a pitch the arm cannot follow, which forces an illegal twist.
 
 The right hand pinches the cube at its centre, lifts it 35 mm and turns its wrist +90 degrees about
-world y (the opposite sense of ``top_turns.pitch``). The arm cannot keep the pinch point there in that
+world y, one hand turning the whole cube just above its stand. The arm cannot keep the pinch point in that
 posture: the hand sinks and drives the cube against the stand, the layers are forced and the cube
 settles in a state that is no quarter or half turn of one layer from the last (an unclassified
 transition, measured), off its stand. Expected: score 0, the report lists the ``unclassified`` cap.
