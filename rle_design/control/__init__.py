@@ -12,6 +12,8 @@ Interface (what tasks and agents use):
   runs the OSC every physics step; targets live in mocap bodies (resets and replays restore them).
 - ``CartesianHelper(step, obs)``: ``move_to(pos, quat)``, ``grasp()``, ``release()``, ``wait(n)``;
   it only calls ``step(action)``, so with a ``LedgerClient`` every motion is a metered action.
+  ``ArmGroup(step, obs, n_arms)`` gives one helper per arm of the same session; an arm holding a
+  part keeps its gripper command while another moves.
 - ``replay(env, ledger_path)``: rebuilds the final state of a ledger's session by replaying its
   recorded resets and actions on the same environment definition (``replay.other_scene`` when the
   ledger's model digest differs, ``replay.diverged`` when the simulation time does not match).
@@ -23,7 +25,7 @@ files replaced by their content digests, so a ledger replays on any checkout.
 """
 
 from rle_design.control.env import LEASH, TabletopEnv, free_body_poses
-from rle_design.control.helper import CartesianHelper, MoveResult
+from rle_design.control.helper import ArmGroup, CartesianHelper, MoveResult
 from rle_design.control.layout import ACTION_SIZE, POS_STEP, ROT_STEP, gripper_action, zero_action
 from rle_design.control.osc import OperationalSpaceController, OscGains, orientation_error
 from rle_design.control.replay import ReplayError, replay
@@ -33,6 +35,7 @@ __all__ = [
     "LEASH",
     "POS_STEP",
     "ROT_STEP",
+    "ArmGroup",
     "CartesianHelper",
     "MoveResult",
     "OperationalSpaceController",

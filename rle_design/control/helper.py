@@ -22,7 +22,7 @@ import numpy as np
 from rle_design.control.layout import ACTION_SIZE, GRIPPER, POS_STEP, ROT_STEP
 from rle_design.control.osc import orientation_error
 
-__all__ = ["CartesianHelper", "MoveResult"]
+__all__ = ["ArmGroup", "CartesianHelper", "MoveResult"]
 
 StepFn = Callable[[np.ndarray], dict[str, Any]]
 
@@ -152,13 +152,44 @@ class CartesianHelper:
 
     def grasp(self, steps: int = 15) -> MoveResult:
         """Close the gripper and hold still while the fingers close."""
-        return self._gripper(1.0, steps)
+        return self.set_gripper(1.0, steps)
 
     def release(self, steps: int = 15) -> MoveResult:
         """Open the gripper and hold still while the fingers open."""
-        return self._gripper(-1.0, steps)
+        return self.set_gripper(-1.0, steps)
 
-    def _gripper(self, command: float, steps: int) -> MoveResult:
-        self.grip = command
+    def set_gripper(self, command: float, steps: int = 15) -> MoveResult:
+        """Command the gripper to ``command`` (-1 open, +1 closed; values between aim the fingers part
+        way, so a part narrower than the opening is squeezed gently) and hold still ``steps`` actions."""
+        self.grip = float(command)
         self.wait(steps)
         return MoveResult(True, steps, 0.0, 0.0)
+
+
+class ArmGroup:
+    """One ``CartesianHelper`` per arm of one session, sharing its step function.
+
+    ``arm(i)`` returns arm ``i``'s helper with the latest observation and every other arm's current
+    gripper command in its holding actions, so an arm holding a part keeps holding it while another
+    arm moves.
+
+    Args:
+        step: Sends one action, returns the observation.
+        obs: The current observation.
+        n_arms: Arms in the action.
+        arm_size: Numbers per arm in the action.
+    """
+
+    def __init__(self, step: StepFn, obs: dict[str, Any], n_arms: int, arm_size: int = ACTION_SIZE) -> None:
+        self.helpers = [
+            CartesianHelper(step, obs, arm=i, n_arms=n_arms, arm_size=arm_size) for i in range(n_arms)
+        ]
+        self._last = self.helpers[0]
+
+    def arm(self, i: int) -> CartesianHelper:
+        helper = self.helpers[i]
+        helper.obs = self._last.obs
+        for other in self.helpers:
+            helper.grips[other.arm] = other.grip
+        self._last = helper
+        return helper

@@ -9,6 +9,7 @@ import pytest
 from rle_design.control import (
     ACTION_SIZE,
     POS_STEP,
+    ArmGroup,
     CartesianHelper,
     ReplayError,
     TabletopEnv,
@@ -157,3 +158,21 @@ def test_replay_on_a_different_control_period_is_refused(
     with pytest.raises(ReplayError, match="differs from the recorded") as info:
         replay(slower, tmp_path / "l.jsonl")
     assert info.value.code == "replay.diverged"
+
+
+def test_arm_group_keeps_the_other_arms_grip() -> None:
+    """While one arm moves, its actions hold the other arm's gripper command (a held part stays held)."""
+    obs = {"arms": [{}, {}]}
+    sent: list[np.ndarray] = []
+
+    def step(action: np.ndarray) -> dict:
+        sent.append(np.array(action))
+        return obs
+
+    group = ArmGroup(step, obs, n_arms=2, arm_size=7)
+    group.arm(0).set_gripper(-0.4, 2)
+    group.arm(1).set_gripper(0.5, 2)
+    group.arm(1).wait(1)
+    assert [a[6] for a in sent] == [-0.4] * 5  # arm 0's gripper entry
+    assert [a[13] for a in sent] == [-1.0, -1.0, 0.5, 0.5, 0.5]  # arm 1: open until it closed part way
+    assert all(not a[0:6].any() and not a[7:13].any() for a in sent)  # no arm moved

@@ -22,10 +22,6 @@ from rle_tasks.f03_physical_reasoning.cube.distance import optimal_turns
 from rle_tasks.f03_physical_reasoning.cube.scene import PUBLIC_SCRAMBLES, CubeInstance
 from rle_tasks.f03_physical_reasoning.solutions.pocket_cube import SECOND, record
 from rle_tasks.f03_physical_reasoning.solutions.pocket_cube.reference import PITCH, TURN_SENSE, plan
-from rle_tasks.f03_physical_reasoning.solutions.pocket_cube.two_hands import GENTLE, LEFT_GRIP, TwoHands
-
-ARM = {"ee_quat": [1.0, 0.0, 0.0, 0.0]}
-OBS = {"arms": [ARM, ARM]}
 
 PUBLIC = Secret(PUBLIC_KEY, public=True)
 CTX = VerifyContext(secret=PUBLIC, quick=True)
@@ -46,23 +42,6 @@ def test_the_reference_plan_is_optimal_in_quarter_turns():
         for m in moves:
             state = state.rotated(PITCH[m]) if m in PITCH else state.apply(m)
         assert state.is_solved()
-
-
-def test_two_hands_keep_the_other_hands_grip():
-    """While one arm moves, the action holds the other arm's gripper command (a held cube stays held)."""
-    sent = []
-
-    def step(action):
-        sent.append(np.array(action))
-        return OBS
-
-    hands = TwoHands(step, OBS)
-    hands.arm("left")._gripper(LEFT_GRIP, 2)
-    hands.arm("right")._gripper(GENTLE, 2)
-    hands.arm("right").wait(1)
-    assert [a[6] for a in sent] == [LEFT_GRIP] * 5  # left gripper entry
-    assert [a[13] for a in sent] == [-1.0, -1.0, GENTLE, GENTLE, GENTLE]
-    assert all(np.all(a[0:6] == 0) and np.all(a[7:13] == 0) for a in sent)  # no arm moved
 
 
 @pytest.mark.physics

@@ -45,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from rle_design.control import CartesianHelper
+from rle_design.control import ArmGroup, CartesianHelper
 
 from ...cube.env import ARM_ACTION
 from .top_turns import ABOVE, CENTRE_Z, STEP_DEG, _about
@@ -73,31 +73,22 @@ TOP_Z = 0.020
 the pinch centre, so they stop 9 mm above the layer boundary."""
 LEFT_BACK = 0.08
 """Left hand's stand-off along its approach axis before and after its pinch [m]."""
+ARMS = {"left": 0, "right": 1}
+"""Index of each arm in the 14-D action."""
 LEFT_ANGLE = math.pi / 2
 """Left approach tilt from pointing down [rad]: horizontal."""
 
 
-class TwoHands:
-    """Both arms of one session, as two ``CartesianHelper`` sharing the step function.
-
-    ``arm("left")`` or ``arm("right")`` returns that arm's helper with the latest observation and
-    the other arm's current gripper command, so an arm holding something keeps holding it while the
-    other moves.
-    """
+class TwoHands(ArmGroup):
+    """Both arms of one session (``ArmGroup``), named, with their home orientations."""
 
     def __init__(self, step: Any, obs: dict[str, Any]) -> None:
-        self.left = CartesianHelper(step, obs, arm=0, n_arms=2, arm_size=ARM_ACTION)
-        self.right = CartesianHelper(step, obs, arm=1, n_arms=2, arm_size=ARM_ACTION)
+        super().__init__(step, obs, n_arms=2, arm_size=ARM_ACTION)
         self.home_left = np.asarray(obs["arms"][0]["ee_quat"], dtype=float)
         self.home_right = np.asarray(obs["arms"][1]["ee_quat"], dtype=float)
-        self._last = self.right
 
-    def arm(self, which: str) -> CartesianHelper:
-        helper, other = (self.left, self.right) if which == "left" else (self.right, self.left)
-        helper.obs = self._last.obs
-        helper.grips[other.arm] = other.grip
-        self._last = helper
-        return helper
+    def arm(self, which: str) -> CartesianHelper:  # type: ignore[override]
+        return super().arm(ARMS[which])
 
     @property
     def left_pinch(self) -> np.ndarray:
@@ -132,7 +123,7 @@ def take_up(hands: TwoHands) -> None:
     right = hands.arm("right")
     right.move_to(rest + [0, 0, ABOVE], hands.home_right, tol_pos=0.01, max_steps=200)
     right.move_to(rest, hands.home_right, tol_pos=0.004, max_steps=200)
-    right._gripper(GENTLE, 15)
+    right.set_gripper(GENTLE, 15)
     right.move_to(held, hands.home_right, speed=0.5, tol_pos=0.004, max_steps=300)
     to_left(hands, away=np.array([0.0, 0.0, 1.0]))
 
@@ -145,7 +136,7 @@ def to_left(hands: TwoHands, away: np.ndarray) -> None:
     pad = held + [LEFT_PAD[0], 0.0, LEFT_PAD[1]]
     left.move_to(pad - LEFT_BACK * hands.left_approach, hands.left_pinch, tol_pos=0.01, max_steps=300)
     left.move_to(pad, hands.left_pinch, tol_pos=0.003, max_steps=200)
-    left._gripper(LEFT_GRIP, 15)
+    left.set_gripper(LEFT_GRIP, 15)
     right = hands.arm("right")
     right.release()
     here = np.asarray(right.state["ee_pos"], dtype=float)
@@ -160,7 +151,7 @@ def to_right(hands: TwoHands, centre: np.ndarray | None = None) -> None:
     right = hands.arm("right")
     right.move_to(centre + [0, 0, WHOLE_Z + ABOVE / 2], hands.home_right, tol_pos=0.01, max_steps=200)
     right.move_to(centre + [0, 0, WHOLE_Z], hands.home_right, tol_pos=0.003, max_steps=200)
-    right._gripper(GENTLE, 15)
+    right.set_gripper(GENTLE, 15)
     left = hands.arm("left")
     left.release()
     here = np.asarray(left.state["ee_pos"], dtype=float)
@@ -174,7 +165,7 @@ def turn(hands: TwoHands, sense: float) -> None:
     right = hands.arm("right")
     right.move_to(top + [0, 0, ABOVE / 2], hands.home_right, tol_pos=0.01, max_steps=200)
     right.move_to(top, hands.home_right, tol_pos=0.003, max_steps=200)
-    right._gripper(GENTLE, 15)
+    right.set_gripper(GENTLE, 15)
     for k in range(1, int(round(90.0 / STEP_DEG)) + 1):
         quat = _about(hands.home_right, (0.0, 0.0, 1.0), math.copysign(math.radians(k * STEP_DEG), sense))
         right.move_to(top, quat, tol_pos=0.02, tol_rot=0.05, max_steps=6)
