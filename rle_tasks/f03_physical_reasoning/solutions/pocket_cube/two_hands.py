@@ -64,7 +64,7 @@ LEFT_GRIP = -0.4
 """Gripper command of the left hand's holding pinch: 4 mm inside the faces, 4 N per finger. The cube's
 centre is 16 mm off this pinch along x, so its weight turns it about the pinch axis with 0.63 N x
 0.016 m = 0.01 N m; at ``GENTLE`` it swung down 4-8 mm after some hand-offs (measured), putting the
-left pads on the layer boundary; 4 N holds it (all six public scrambles solved, against two)."""
+left pads on the layer boundary; 4 N holds it (all six public scrambles solved, against none at 2 N)."""
 WHOLE_Z = 0.004
 """Right pinch centre above the cube's centre when it holds both layers [m]: its pads (16 mm) span the
 layer boundary; its fingertips reach 9 mm past the pinch centre."""
@@ -144,10 +144,10 @@ def to_left(hands: TwoHands, away: np.ndarray) -> None:
     right.move_to(held + [0, 0, ABOVE], hands.home_right, tol_pos=0.01, max_steps=200)
 
 
-def to_right(hands: TwoHands, centre: np.ndarray | None = None) -> None:
-    """Hand-off to the right: the right hand pinches the cube (centred at ``centre``, the holding point
-    by default) across both layers by its +-y faces; the left hand opens and backs off."""
-    centre = _centre(True) if centre is None else centre
+def to_right(hands: TwoHands) -> None:
+    """Hand-off to the right: the right hand pinches the cube at the holding point across both layers by
+    its +-y faces; the left hand opens and backs off."""
+    centre = _centre(True)
     right = hands.arm("right")
     right.move_to(centre + [0, 0, WHOLE_Z + ABOVE / 2], hands.home_right, tol_pos=0.01, max_steps=200)
     right.move_to(centre + [0, 0, WHOLE_Z], hands.home_right, tol_pos=0.003, max_steps=200)
