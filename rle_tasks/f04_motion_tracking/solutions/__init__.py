@@ -55,7 +55,7 @@ BASELINES = (
         transforms=(baselines.twelve_million,),
     ),
 )
-"""The baselines are the same graphs for every task; each scores 0 in quick mode on both registered
+"""The baselines are the same graphs for every task; each scores 0 in quick mode on every registered
 clips (they fall within about a second)."""
 
 
