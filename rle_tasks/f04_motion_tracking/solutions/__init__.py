@@ -56,7 +56,7 @@ BASELINES = (
     ),
 )
 """The baselines are the same graphs for every task; each scores 0 in quick mode on every registered
-clips (they fall within about a second)."""
+clip (they fall within about a second)."""
 
 
 def _task(style: str, sha256: str, quick_score: float) -> SolutionSet:
