@@ -59,10 +59,9 @@ def _send(meta, value=None):
         parts = codec.encode_frame(
             {"ok": False, "code": "sandbox.bad_type", "message": f"cannot return {exc}"}
         )
-    if codec.frame_size(parts) > _CONFIG["max_reply_bytes"]:
-        msg = (
-            f"reply of {codec.frame_size(parts)} bytes exceeds the cap of {_CONFIG['max_reply_bytes']} bytes"
-        )
+    size = codec.frame_size(parts)
+    if size > _CONFIG["max_reply_bytes"]:
+        msg = f"reply of {size} bytes exceeds the cap of {_CONFIG['max_reply_bytes']} bytes"
         parts = codec.encode_frame({"ok": False, "code": "sandbox.output_too_large", "message": msg})
     views = [memoryview(p).cast("B") for p in parts if len(p)]
     while views:
@@ -100,9 +99,27 @@ def _read_exact(n):
 
 
 def _receive():
-    n_header, n_payload = codec.parse_prefix(bytes(_read_exact(codec.PREFIX.size)))
+    size = codec.PREFIX.size
+    while len(_PENDING) < size:
+        _fill()
+    n_header, n_payload = codec.parse_prefix(bytes(_PENDING[:size]))
+    end = size + n_header + n_payload
+    if end <= 65536:  # a small frame: one read usually brought all of it
+        while len(_PENDING) < end:
+            _fill()
+        header, payload = bytes(_PENDING[size : size + n_header]), _PENDING[size + n_header : end]
+        del _PENDING[:end]
+        return codec.decode_frame(header, payload)
+    del _PENDING[:size]
     header = _read_exact(n_header)
     return codec.decode_frame(bytes(header), _read_exact(n_payload))
+
+
+def _fill():
+    chunk = os.read(_RFD, 65536)
+    if not chunk:
+        os._exit(0)  # parent went away
+    _PENDING.extend(chunk)
 
 
 def _forbid(what):
@@ -365,8 +382,10 @@ class _VerifierBlocker:
 
 def _flush():
     for stream in (sys.stdout, sys.stderr):
-        with contextlib.suppress(Exception):  # a closed or replaced stream must not kill the loop
+        try:
             stream.flush()
+        except Exception:  # noqa: BLE001, S110 - a closed or replaced stream must not kill the loop
+            pass
 
 
 def _load():

@@ -19,6 +19,12 @@ def _describe(value: Any) -> str:
     return type(value).__name__
 
 
+def _shape_text(shape: tuple) -> str:
+    """``(3,)``, ``(any, 2)``: an expected shape as messages write it."""
+    dims = ", ".join("any" if d in (None, -1) else str(d) for d in shape)
+    return f"({dims}{',' if len(shape) == 1 else ''})"
+
+
 def as_array(value: Any, shape: tuple, where: str) -> np.ndarray:
     """``value`` as an ndarray of ``shape`` (``None`` or ``-1`` entries match any size).
 
@@ -27,12 +33,6 @@ def as_array(value: Any, shape: tuple, where: str) -> np.ndarray:
     Raises:
         ParticipantFault: ``sandbox.bad_type`` or ``sandbox.bad_shape``.
     """
-    expected = (
-        "("
-        + ", ".join("any" if d in (None, -1) else str(d) for d in shape)
-        + ("," if len(shape) == 1 else "")
-    )
-    expected += ")"
     if isinstance(value, np.ndarray):
         arr = value
     elif isinstance(value, list | tuple | int | float) and not isinstance(value, bool):
@@ -41,17 +41,20 @@ def as_array(value: Any, shape: tuple, where: str) -> np.ndarray:
         except (TypeError, ValueError):
             raise ParticipantFault(
                 "sandbox.bad_type",
-                f"{where}: expected an array of shape {expected}, got a ragged or non-numeric list",
+                f"{where}: expected an array of shape {_shape_text(shape)}, got a ragged or non-numeric list",
             ) from None
     else:
         raise ParticipantFault(
-            "sandbox.bad_type", f"{where}: expected an array of shape {expected}, got {_describe(value)}"
+            "sandbox.bad_type",
+            f"{where}: expected an array of shape {_shape_text(shape)}, got {_describe(value)}",
         )
     if arr.dtype.kind not in "biuf":
         raise ParticipantFault("sandbox.bad_type", f"{where}: expected a real array, got {_describe(arr)}")
     got = tuple(arr.shape)
     if len(got) != len(shape) or any(d not in (None, -1) and d != g for d, g in zip(shape, got)):
-        raise ParticipantFault("sandbox.bad_shape", f"{where}: expected shape {expected}, got {got}")
+        raise ParticipantFault(
+            "sandbox.bad_shape", f"{where}: expected shape {_shape_text(shape)}, got {got}"
+        )
     return arr
 
 

@@ -27,6 +27,7 @@ PREFIX = struct.Struct("<4sIQ")
 MAX_DEPTH = 64
 _KINDS = "biufc"
 _JSON = json.JSONEncoder(separators=(",", ":"))  # one encoder: json.dumps(**kw) builds one per call
+_JSON_DECODE = json.JSONDecoder().decode  # str input: json.loads(bytes) first guesses the encoding
 
 
 class CodecError(ValueError):
@@ -36,14 +37,17 @@ class CodecError(ValueError):
 def _encode(obj: Any, buffers: list[bytes | memoryview], depth: int) -> Any:
     if depth > MAX_DEPTH:
         raise CodecError(f"value nested deeper than {MAX_DEPTH} levels")
-    if obj is None or isinstance(obj, bool | int | float | str):
+    kind = type(obj)
+    if kind is float or kind is int or kind is str or kind is bool or obj is None:  # exact types first
+        return obj
+    if kind is np.ndarray:
+        return _encode_array(obj, buffers)
+    if kind is list or kind is tuple:
+        return [_encode(v, buffers, depth + 1) for v in obj]
+    if isinstance(obj, bool | int | float | str):  # subclasses
         return obj
     if isinstance(obj, np.ndarray):
-        if obj.dtype.kind not in _KINDS or obj.dtype.fields is not None:
-            raise CodecError(f"ndarray of dtype {obj.dtype} (only bool, integer, float, complex)")
-        arr = np.ascontiguousarray(obj)
-        buffers.append(memoryview(arr).cast("B") if arr.size else b"")
-        return {"$a": [len(buffers) - 1, arr.dtype.str, list(arr.shape)]}
+        return _encode_array(obj, buffers)
     if isinstance(obj, np.generic):
         return _encode(obj.item(), buffers, depth + 1)
     if isinstance(obj, list | tuple):
@@ -58,6 +62,15 @@ def _encode(obj: Any, buffers: list[bytes | memoryview], depth: int) -> Any:
     raise CodecError(
         f"value of type {type(obj).__name__} (allowed: None, bool, int, float, str, list, tuple, dict, ndarray)"
     )
+
+
+def _encode_array(obj: np.ndarray, buffers: list[bytes | memoryview]) -> dict:
+    dtype = obj.dtype
+    if dtype.kind not in _KINDS or dtype.fields is not None:
+        raise CodecError(f"ndarray of dtype {dtype} (only bool, integer, float, complex)")
+    arr = obj if obj.ndim and obj.flags.c_contiguous else np.ascontiguousarray(obj)  # 0-d becomes 1-d
+    buffers.append(memoryview(arr).cast("B") if arr.size else b"")
+    return {"$a": [len(buffers) - 1, dtype.str, list(arr.shape)]}
 
 
 def encode_frame(meta: dict[str, Any], value: Any = None) -> list[bytes | memoryview]:
@@ -89,11 +102,15 @@ def parse_prefix(prefix: bytes) -> tuple[int, int]:
 def _decode(node: Any, buffers: list[memoryview], depth: int) -> Any:
     if depth > MAX_DEPTH:
         raise CodecError(f"value nested deeper than {MAX_DEPTH} levels")
-    if node is None or isinstance(node, bool | int | float | str):
+    kind = type(node)  # json.loads makes exact types only
+    if kind is float or kind is int or kind is str or kind is bool or node is None:
         return node
-    if isinstance(node, list):
+    if kind is list:
         return [_decode(v, buffers, depth + 1) for v in node]
-    if isinstance(node, dict) and len(node) == 1:
+    if kind is dict and len(node) == 1:
+        spec = node.get("$a")
+        if spec is not None:
+            return _decode_array(spec, buffers)
         if "$d" in node and isinstance(node["$d"], list):
             out = {}
             for item in node["$d"]:
@@ -101,8 +118,6 @@ def _decode(node: Any, buffers: list[memoryview], depth: int) -> Any:
                     raise CodecError("malformed dict entry")
                 out[item[0]] = _decode(item[1], buffers, depth + 1)
             return out
-        if "$a" in node:
-            return _decode_array(node["$a"], buffers)
     raise CodecError("unknown tag in value tree")
 
 
@@ -145,8 +160,8 @@ def decode_frame(header: bytes, payload: bytearray) -> tuple[dict[str, Any], Any
         CodecError: the frame is malformed (never executes or unpickles anything).
     """
     try:
-        doc = json.loads(header)
-    except (ValueError, RecursionError) as exc:
+        doc = _JSON_DECODE(header.decode())
+    except (ValueError, RecursionError) as exc:  # UnicodeDecodeError among them
         raise CodecError(f"header is not JSON: {exc}") from None
     if not (isinstance(doc, dict) and isinstance(doc.get("m"), dict) and isinstance(doc.get("b"), list)):
         raise CodecError("header lacks meta or buffer table")

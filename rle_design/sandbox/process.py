@@ -273,7 +273,10 @@ class Sandbox:
         try:
             if parts is not None:
                 self._write_all(parts, deadline)
-            n_header, n_payload = codec.parse_prefix(bytes(self._read_exact(codec.PREFIX.size, deadline)))
+            pending, size = self._pending, codec.PREFIX.size
+            while len(pending) < size:
+                self._fill(deadline)
+            n_header, n_payload = codec.parse_prefix(bytes(pending[:size]))
             if n_header + n_payload > self.limits.max_reply_bytes:
                 self._die(f"reply of {n_header + n_payload} bytes exceeds the cap")
                 raise ParticipantFault(
@@ -281,8 +284,17 @@ class Sandbox:
                     f"{where}: reply of {n_header + n_payload} bytes exceeds the cap of "
                     f"{self.limits.max_reply_bytes} bytes",
                 )
-            header = self._read_exact(n_header, deadline)
-            reply, value = codec.decode_frame(bytes(header), self._read_exact(n_payload, deadline))
+            end = size + n_header + n_payload
+            if end <= _CHUNK:  # a small frame: one read usually brought all of it
+                while len(pending) < end:
+                    self._fill(deadline)
+                header, payload = bytes(pending[size : size + n_header]), pending[size + n_header : end]
+                del pending[:end]
+            else:
+                del pending[:size]
+                header = bytes(self._read_exact(n_header, deadline))
+                payload = self._read_exact(n_payload, deadline)
+            reply, value = codec.decode_frame(header, payload)
         except _Expired:
             self._die(f"timed out after {timeout:g} s")
             raise ParticipantFault(
@@ -325,6 +337,27 @@ class Sandbox:
                 views[0] = views[0][k:]
             elif views and not select.select([], [self._req_w], [], max(0.0, deadline - time.monotonic()))[1]:
                 raise _Expired
+
+    def _fill(self, deadline: float) -> None:
+        """Append what the reply pipe holds (at least one byte) to the pending bytes."""
+        spin_until: float | None = None
+        while True:
+            try:
+                chunk = os.read(self._rep_r, _CHUNK)
+            except BlockingIOError:
+                now = time.monotonic()
+                if spin_until is None:
+                    spin_until = now + self.limits.reply_spin_s
+                if now < spin_until:
+                    continue  # poll: a waiting reader need not be woken, which costs more than the call
+                remaining = deadline - now
+                if remaining <= 0 or not select.select([self._rep_r], [], [], remaining)[0]:
+                    raise _Expired from None
+                continue
+            if not chunk:
+                raise _ChildGone
+            self._pending += chunk
+            return
 
     def _read_exact(self, n: int, deadline: float) -> bytearray:
         """``n`` bytes of the reply stream; small reads take up to 64 KiB at once (one syscall for a
