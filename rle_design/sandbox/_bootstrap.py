@@ -382,7 +382,7 @@ class _VerifierBlocker:
 
 def _flush():
     for stream in (sys.stdout, sys.stderr):
-        try:
+        try:  # noqa: SIM105 - contextlib.suppress costs a context manager per call of the loop
             stream.flush()
         except Exception:  # noqa: BLE001, S110 - a closed or replaced stream must not kill the loop
             pass
