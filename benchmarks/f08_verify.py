@@ -16,6 +16,7 @@ from pathlib import Path
 
 import mujoco
 
+import rle_design  # noqa: F401 - first: it pins the BLAS kernels before numpy loads
 from rle_design.mjcf import load_design
 from rle_tasks.core.secrets import load_secret
 from rle_tasks.core.solutions import materialise

@@ -94,10 +94,11 @@ def run_episode(
         term.reset(model, data)
     ep = Episode()
     step = 0
+    every_step = min(periods) == 1  # then the next boundary is always the next step
     while step < n_steps:
         if control is not None and step % control_every == 0:
             control(model, data, data.time - t0)
-        nxt = _next_boundary(step, periods, n_steps)
+        nxt = step + 1 if every_step else _next_boundary(step, periods, n_steps)
         mujoco.mj_step(model, data, nxt - step)
         step = nxt
         t = data.time - t0

@@ -30,6 +30,7 @@ _BOOTSTRAP = Path(__file__).with_name("_bootstrap.py")
 _LIVE: weakref.WeakSet[Sandbox] = weakref.WeakSet()
 _CHUNK = 1 << 16  # bytes read at once for small frames
 _IOV_MAX = 1024  # buffers per writev (Linux UIO_MAXIOV)
+_POLITE_AFTER_S = 1e-4  # a reply poll longer than this yields the CPU between reads
 
 
 class _ChildGone(Exception):
@@ -347,9 +348,11 @@ class Sandbox:
             except BlockingIOError:
                 now = time.monotonic()
                 if spin_until is None:
-                    spin_until = now + self.limits.reply_spin_s
+                    spin_until, polite_from = now + self.limits.reply_spin_s, now + _POLITE_AFTER_S
                 if now < spin_until:
-                    continue  # poll: a waiting reader need not be woken, which costs more than the call
+                    if now > polite_from:
+                        os.sched_yield()  # a long poll is polite: whoever needs this CPU gets it first
+                    continue  # a reply read while polling needs no wake-up, which costs more than the call
                 remaining = deadline - now
                 if remaining <= 0 or not select.select([self._rep_r], [], [], remaining)[0]:
                     raise _Expired from None
@@ -386,8 +389,10 @@ class Sandbox:
             except BlockingIOError:
                 now = time.monotonic()
                 if spin_until is None:
-                    spin_until = now + self.limits.reply_spin_s
+                    spin_until, polite_from = now + self.limits.reply_spin_s, now + _POLITE_AFTER_S
                 if now < spin_until:
+                    if now > polite_from:
+                        os.sched_yield()
                     continue  # poll: a waiting reader need not be woken, which costs more than the call
                 remaining = deadline - now
                 if remaining <= 0 or not select.select([self._rep_r], [], [], remaining)[0]:

@@ -42,6 +42,7 @@ from rle_design.scene.variation import (
     Variation,
     VariationSpace,
 )
+from rle_design.scene.visual import drop_visual_meshes
 
 __all__ = [
     "PANDA",
@@ -76,6 +77,7 @@ __all__ = [
     "add_free_box",
     "attach",
     "attach_arm",
+    "drop_visual_meshes",
     "attach_part",
     "attach_payload",
     "build_tabletop",

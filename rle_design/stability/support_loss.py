@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,37 +25,56 @@ class SupportLossMonitor:
     n_supports: int
     fraction: float = 0.05
     min_duration: float = 0.1
-    _below_since: np.ndarray = field(init=False, repr=False)
-    longest: np.ndarray = field(init=False)
-    min_force: np.ndarray = field(init=False)
+    _since: list = field(init=False, repr=False)
+    _longest: list = field(init=False, repr=False)
+    _min: list = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        self._below_since = np.full(self.n_supports, np.nan)
-        self.longest = np.zeros(self.n_supports)
-        self.min_force = np.full(self.n_supports, np.inf)
+        # plain lists: a few supports, updated every few physics steps of long episodes
+        self._since = [math.nan] * self.n_supports
+        self._longest = [0.0] * self.n_supports
+        self._min = [math.inf] * self.n_supports
 
     @property
     def threshold(self) -> float:
         """Normal-force threshold [N]."""
         return self.fraction * self.weight / self.n_supports
 
+    @property
+    def longest(self) -> np.ndarray:
+        """Longest continuous time below the threshold, per support [s]."""
+        return np.array(self._longest)
+
+    @property
+    def min_force(self) -> np.ndarray:
+        """Smallest normal force seen, per support (NaN once a NaN was seen) [N]."""
+        return np.array(self._min)
+
     def update(self, t: float, normal: np.ndarray) -> None:
         """Record normal forces ``normal`` [N] at time ``t`` [s] (calls must have increasing t)."""
-        normal = np.asarray(normal, dtype=float)
-        self.min_force = np.minimum(self.min_force, normal)
-        below = normal < self.threshold
-        start = np.isnan(self._below_since) & below
-        self._below_since[start] = t
-        self._below_since[~below] = np.nan
-        run = np.where(below, t - self._below_since, 0.0)
-        self.longest = np.fmax(self.longest, run)  # run is NaN-free; fmax would skip a NaN
+        threshold, since, longest, low = self.threshold, self._since, self._longest, self._min
+        for i, f in enumerate(np.asarray(normal, dtype=float).tolist()):
+            m = low[i]
+            if f != f or m != m:  # np.minimum: NaN wins
+                low[i] = math.nan
+            elif f < m:
+                low[i] = f
+            if f < threshold:
+                start = since[i]
+                if start != start:
+                    since[i] = start = t
+                run = t - start
+                if run > longest[i]:
+                    longest[i] = run
+            else:
+                since[i] = math.nan  # a run of 0: longest (>= 0) stays
 
     @property
     def lost(self) -> bool:
         """True once any support stayed below the threshold longer than ``min_duration``."""
-        return bool(np.any(self.longest > self.min_duration))
+        return any(run > self.min_duration for run in self._longest)
 
     @property
     def longest_loss(self) -> float:
         """Longest continuous time any support spent below the threshold [s]."""
-        return float(self.longest.max(initial=0.0))
+        return float(max(self._longest, default=0.0))

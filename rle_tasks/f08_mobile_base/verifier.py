@@ -72,7 +72,9 @@ def _evaluate_arm(design, root: Path, arm: str, ctx: VerifyContext, report: Find
     quick = ctx.quick
     out: dict = {"arm": arm}
     scenes = {
-        kg: build_scene(design.fresh_spec, arm, kg, variation=_variation(ctx, f"{arm}/static/{kg}"))
+        kg: build_scene(
+            design.fresh_spec, arm, kg, variation=_variation(ctx, f"{arm}/static/{kg}"), visual=False
+        )
         for kg in (0, 1, 2)
     }
     sc0 = scenes[0]
@@ -91,7 +93,9 @@ def _evaluate_arm(design, root: Path, arm: str, ctx: VerifyContext, report: Find
     out["static_score"] = float(np.mean([c.passed for c in cases]))
     out["required_load_ok"] = not any(c.tips for c in cases if c.payload_kg <= 1)
     out["static_2kg_ok"] = all(c.passed for c in cases if c.payload_kg == 2)
-    dyn_scene = build_scene(design.fresh_spec, arm, 2, variation=_variation(ctx, f"{arm}/dynamic"))
+    dyn_scene = build_scene(
+        design.fresh_spec, arm, 2, variation=_variation(ctx, f"{arm}/dynamic"), visual=False
+    )
     dyn = B.dynamic_battery(dyn_scene, poses, derive_rng(ctx.secret, TASK_ID, f"{arm}/dynamic/rng"), quick)
     out["dynamic"] = dyn
     out["dynamic_score"] = float(np.mean([s["passed"] for s in dyn]))
@@ -110,7 +114,7 @@ def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: Findings, k
     shelf = load_catalog("shelf")
     ids = QUICK_TARGETS if ctx.quick else tuple(t.id for t in shelf.entries)
     scene = build_scene(
-        design.fresh_spec, arm, kg, shelf=True, variation=_variation(ctx, f"{arm}/shelf/{kg}")
+        design.fresh_spec, arm, kg, shelf=True, variation=_variation(ctx, f"{arm}/shelf/{kg}"), visual=False
     )
     trials = {}
     with PolicyRunner(

@@ -9,6 +9,7 @@ import pytest
 from rle_design.stability import (
     StabilityError,
     StabilityProbe,
+    SupportLossMonitor,
     SupportSet,
     force_angle,
     sample_contacts,
@@ -16,6 +17,7 @@ from rle_design.stability import (
     support_polygon,
     tip_acceleration,
 )
+from rle_design.stability.contacts import support_normals
 
 G = 9.81
 
@@ -117,3 +119,40 @@ def test_a_scenario_with_a_simulation_warning_names_it_and_a_calm_one_has_none()
     assert calm.warning is None and not calm.tipped
     assert bad.warning is not None and "mjWARN_BADQACC" in bad.warning
     assert bad.t[-1] < 0.3 - 1e-9  # the scenario ended at the warning instead of reading on
+
+
+def test_support_normals_per_contact_loop_equals_the_vectorised_sums():
+    # The few-contact loop of support_normals must give bit for bit what sample_contacts sums with
+    # np.add.at (same order of additions): sum_i max(f_i, 0) per support, m g / 4 each at rest.
+    model = mujoco.MjModel.from_xml_string(_box_on_wheels(0.3, 0.2, 0.3))
+    data = mujoco.MjData(model)
+    supports = _probe(model).supports
+    data.qvel[3:6] = (0.4, -0.3, 0.2)  # rocking: the four loads differ
+    seen = 0
+    for _ in range(400):
+        mujoco.mj_step(model, data)
+        looped = support_normals(model, data, supports)
+        np.testing.assert_array_equal(looped, sample_contacts(model, data, supports).normal)
+        seen += int(np.count_nonzero(looped) > 0 and np.ptp(looped) > 1.0)
+    assert seen > 10, "the loads never differed: the comparison was not exercised"
+    np.testing.assert_allclose(looped.sum(), 40.0 * G, rtol=0.02)
+
+
+def test_support_loss_monitor_times_the_longest_run_below_the_threshold():
+    # 4 supports sharing 40 N: threshold = 0.05 * 40 / 4 = 0.5 N. Support 0 carries 0.1 N from
+    # t = 0.10 s to t = 0.34 s (samples every 0.01 s): its longest run is 0.34 - 0.10 = 0.24 s.
+    m = SupportLossMonitor(weight=40.0, n_supports=4, fraction=0.05, min_duration=0.1)
+    assert m.threshold == pytest.approx(0.5)
+    for k in range(60):
+        t = k / 100
+        low = 0.1 if 10 <= k <= 34 else 10.0
+        m.update(t, np.array([low, 10.0, 10.0 - k / 100, 10.0]))
+    np.testing.assert_allclose(m.longest, [0.24, 0.0, 0.0, 0.0], atol=1e-12)
+    assert m.lost and m.longest_loss == pytest.approx(0.24)
+    np.testing.assert_allclose(m.min_force, [0.1, 10.0, 9.41, 10.0])
+    short = SupportLossMonitor(weight=40.0, n_supports=4, min_duration=0.1)
+    for k in range(20):  # 0.05 s below the threshold: not a sustained loss
+        short.update(k / 100, np.array([0.1 if k < 6 else 5.0, 5.0, 5.0, 5.0]))
+    assert not short.lost and short.longest_loss == pytest.approx(0.05)
+    short.update(0.2, np.array([np.nan, 5.0, 5.0, 5.0]))  # a NaN sample is kept, as np.minimum keeps it
+    assert np.isnan(short.min_force[0])

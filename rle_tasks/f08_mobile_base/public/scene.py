@@ -18,6 +18,7 @@ from rle_design.scene import (
     Variation,
     VariationSpace,
     arm_ids,
+    drop_visual_meshes,
     element_id,
     robot_constants,
 )
@@ -154,6 +155,7 @@ def build_scene(
     *,
     shelf: bool = False,
     variation: Variation | None = None,
+    visual: bool = True,
 ) -> Scene:
     """Compose and compile a scene.
 
@@ -163,6 +165,8 @@ def build_scene(
         payload_kg: 0, 1 or 2.
         shelf: Add the shelf.
         variation: A draw of ``VARIATIONS`` (its payload term is dropped without payload), or None.
+        visual: Keep the arm's visual meshes; False gives the same physics and compiles faster
+            (``rle_design.scene.drop_visual_meshes``), for scenes nobody looks at.
     """
     spec = fresh_spec()
     apply_options(spec, SceneOptions())
@@ -170,6 +174,8 @@ def build_scene(
     wheel_names = install_wheels(spec, WheelModel())
     payload = PAYLOADS[payload_kg]
     compose(spec, arm, payload, mount_site=MOUNT_SITE)
+    if arm and not visual:
+        drop_visual_meshes(spec, f"{arm}/")
     if variation is not None:
         (variation if payload else variation.select("friction")).edit_spec(spec)
     if shelf:
@@ -268,4 +274,4 @@ def hold_torque(
     mujoco.mj_fullM(m, data, full)
     err = omega**2 * (q_des - q) + 2.0 * omega * ((0.0 if qd_des is None else qd_des) - qd)
     tau = data.qfrc_bias[ch.dof_adr] + full[block] @ err
-    return np.clip(tau, lo, hi)
+    return np.minimum(np.maximum(tau, lo), hi)  # np.clip without its dispatch (called every physics step)

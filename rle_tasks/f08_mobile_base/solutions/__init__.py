@@ -41,20 +41,20 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="ab4a7a636424c1472224a0493b5065a92f67070c145d3dd584b95959eba41edc",
+            sha256="b60defce0cbb2a4e0e290b304bda9c6d6511fe8f5e707ff4a43d4d124661df55",
             quick_score=0.811911939216,
             files=((".", "solutions/reference"),),
         ),
         Solution(
             "baseline/bad_mount",
-            sha256="47cf26226093c4a3848e10dbe6a3b7e49f9cdbc7b34cbf5e6c77808b7ab716e9",
+            sha256="e2cf5805fe9b85bf8c326d79985fc902127f29665f0661c6ae3dd4df1f4a7c55",
             quick_score=0.15,
             base="reference",
             files=(("robot.xml", "solutions/baseline/bad_mount/robot.xml"),),
         ),
         Solution(
             "baseline/non_catalog_profile",
-            sha256="7967205d53567b8426003027b6d1b9fa8fbd9bb9adb4f2219d61fa8b23fb8a35",
+            sha256="385eec11e56d97bc00f96a7666d3abf860d78e7ca4c1c35af29eba55febaa8c7",
             quick_score=0.15,
             base="reference",
             transforms=(non_catalog_rail,),
@@ -68,7 +68,7 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/tall_narrow",
-            sha256="43155cc27c9015a07c3cbfaff670b0133b506640fb1ccf143415b18ac79dabf5",
+            sha256="ccff3e505ec0c96e540a139697216e54ebbd77fc9a5d7b7928250708bc3bd1da",
             quick_score=0.15,
             base="reference",
             files=(("robot.xml", "solutions/baseline/tall_narrow/robot.xml"),),

@@ -20,6 +20,7 @@ from rle_design.catalog import load_catalog
 from rle_design.kinematics.ik import chain_from_mujoco, solve_ik
 from rle_design.mjcf import load_design
 from rle_design.mjcf.compose import compose
+from rle_design.scene import drop_visual_meshes
 
 V_MAX, A_MAX, K_POS = 0.5, 0.8, 3.0
 T_ARM, T_ENTRY, T_ENTER = 1.0, 2.8, 1.2  # nominal phase times [s]; T_ARM grows with the arm motion
@@ -51,6 +52,7 @@ class _Model:
     def __init__(self, arm, payload_kg):
         spec = load_design(".").fresh_spec()
         compose(spec, arm, {1: "payload_1kg", 2: "payload_2kg"}.get(payload_kg), mount_site="arm_mount_site")
+        drop_visual_meshes(spec, f"{arm}/")  # physics and planning only: no visual meshes to compile
         shelf = load_catalog("shelf").extra
         x0, w, dep, t = shelf["front_x"], shelf["width"], shelf["depth"], shelf["board_thickness"]
         top = max(shelf["level_heights"]) + 0.30
