@@ -95,17 +95,20 @@ def run_episode(
     ep = Episode()
     step = 0
     every_step = min(periods) == 1  # then the next boundary is always the next step
+    checks = [(term.every, term.update, bool(getattr(term, "final", False))) for term in terms]
+    physics = mujoco.mj_step  # looked up per episode (a profiler may wrap it)
     while step < n_steps:
         if control is not None and step % control_every == 0:
             control(model, data, data.time - t0)
         nxt = step + 1 if every_step else _next_boundary(step, periods, n_steps)
-        mujoco.mj_step(model, data, nxt - step)
+        physics(model, data, nxt - step)
         step = nxt
         t = data.time - t0
         ended = None
-        for term in terms:
-            if step % term.every == 0 or (step == n_steps and getattr(term, "final", False)):
-                event = term.update(model, data, t)
+        last = step == n_steps
+        for every, update, final in checks:
+            if step % every == 0 or (last and final):
+                event = update(model, data, t)
                 if event is not None:
                     ep.events.append(event)
                     if ended is None and event.ends:

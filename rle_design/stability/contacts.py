@@ -112,7 +112,12 @@ def _owner_lists(ngeom: int, supports: SupportSet) -> tuple[list[int], list[bool
 
 
 def support_normals(model: mujoco.MjModel, data: mujoco.MjData, supports: SupportSet) -> np.ndarray:
-    """Normal force of each support [N] (the ``normal`` of ``sample_contacts``, without points).
+    """Normal force of each support [N] (the ``normal`` of ``sample_contacts``, without points)."""
+    return np.array(support_normal_list(model, data, supports))
+
+
+def support_normal_list(model: mujoco.MjModel, data: mujoco.MjData, supports: SupportSet) -> list[float]:
+    """``support_normals`` as a list of floats.
 
     Sampled every few physics steps in long episodes: with elliptic cones and a few contacts a plain
     loop beats the vectorised path; both add each support's forces in contact order (same sums).
@@ -122,7 +127,7 @@ def support_normals(model: mujoco.MjModel, data: mujoco.MjData, supports: Suppor
         normal = np.zeros(len(supports.names))
         fn, who, _ = _support_forces(model, data, supports)
         np.add.at(normal, who, fn)
-        return normal
+        return normal.tolist()
     owner, ground = _owner_lists(model.ngeom, supports)
     normal = [0.0] * len(supports.names)
     if n:
@@ -136,7 +141,7 @@ def support_normals(model: mujoco.MjModel, data: mujoco.MjData, supports: Suppor
         if rows:
             for i, f in zip(who, data.efc_force[rows].tolist()):
                 normal[i] += 0.0 if f < 0.0 else f  # np.maximum(f, 0.0): NaN and -0.0 kept
-    return np.array(normal)
+    return normal
 
 
 def sample_contacts(model: mujoco.MjModel, data: mujoco.MjData, supports: SupportSet) -> ContactSample:

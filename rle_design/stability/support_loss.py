@@ -50,10 +50,11 @@ class SupportLossMonitor:
         """Smallest normal force seen, per support (NaN once a NaN was seen) [N]."""
         return np.array(self._min)
 
-    def update(self, t: float, normal: np.ndarray) -> None:
+    def update(self, t: float, normal: np.ndarray | list[float]) -> None:
         """Record normal forces ``normal`` [N] at time ``t`` [s] (calls must have increasing t)."""
         threshold, since, longest, low = self.threshold, self._since, self._longest, self._min
-        for i, f in enumerate(np.asarray(normal, dtype=float).tolist()):
+        values = normal if isinstance(normal, list) else np.asarray(normal, dtype=float).tolist()
+        for i, f in enumerate(values):
             m = low[i]
             if f != f or m != m:  # np.minimum: NaN wins
                 low[i] = math.nan

@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import mujoco
-import numpy as np
 
 from rle_design.rollout import Event, Term
-from rle_design.stability.contacts import SupportSet, support_normals
+from rle_design.stability.contacts import SupportSet, support_normal_list
 from rle_design.stability.support_loss import SupportLossMonitor
 
 __all__ = ["SupportLoad", "SupportLost"]
@@ -40,14 +39,20 @@ class SupportLoad(Term):
     ) -> None:
         self.supports, self.every, self.smooth = supports, every, smooth
         self.monitor = SupportLossMonitor(weight, len(supports.names), fraction, duration)
-        self.window: list[np.ndarray] = []
+        self.window: list[list[float]] = []
 
     def update(self, model: mujoco.MjModel, data: mujoco.MjData, t: float) -> Event | None:
-        self.window.append(support_normals(model, data, self.supports))
-        if len(self.window) > self.smooth:
-            del self.window[0]
-        # the mean as np.mean computes it (sum over axis 0, then one division), without its overhead
-        self.monitor.update(float(data.time), np.add.reduce(np.array(self.window), axis=0) / len(self.window))
+        window = self.window
+        window.append(support_normal_list(model, data, self.supports))
+        if len(window) > self.smooth:
+            del window[0]
+        # the mean as np.mean computes it (rows added in order, then one division), in plain floats
+        total = list(window[0])
+        for row in window[1:]:
+            for i, f in enumerate(row):
+                total[i] += f
+        n = len(window)
+        self.monitor.update(float(data.time), [f / n for f in total])
         return None
 
     @property

@@ -250,6 +250,14 @@ def _arm_or_payload(model: mujoco.MjModel, g: int, arm: str | None) -> bool:
     return bool(arm) and name.startswith(f"{arm}/") or name.startswith("payload/")
 
 
+def _as_slice(index: np.ndarray) -> slice | np.ndarray:
+    """``index`` as a slice when it is a run of consecutive integers (a view instead of a copy)."""
+    index = np.asarray(index)
+    if index.size and np.array_equal(index, np.arange(index[0], index[0] + index.size)):
+        return slice(int(index[0]), int(index[0]) + index.size)
+    return index
+
+
 def hold_torque(
     scene: Scene,
     data: mujoco.MjData,
@@ -267,11 +275,13 @@ def hold_torque(
             np.zeros((m.nv, m.nv)),
             np.ix_(ch.dof_adr, ch.dof_adr),
             *m.actuator_ctrlrange[scene.arm_act].T,
+            _as_slice(ch.qpos_adr),
+            _as_slice(ch.dof_adr),
         )
-    full, block, lo, hi = cache
-    q = data.qpos[ch.qpos_adr]
-    qd = data.qvel[ch.dof_adr]
+    full, block, lo, hi, qpos_at, dof_at = cache
+    q = data.qpos[qpos_at]
+    qd = data.qvel[dof_at]
     mujoco.mj_fullM(m, data, full)
     err = omega**2 * (q_des - q) + 2.0 * omega * ((0.0 if qd_des is None else qd_des) - qd)
-    tau = data.qfrc_bias[ch.dof_adr] + full[block] @ err
+    tau = data.qfrc_bias[dof_at] + full[block] @ err
     return np.minimum(np.maximum(tau, lo), hi)  # np.clip without its dispatch (called every physics step)
