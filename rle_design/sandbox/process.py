@@ -341,21 +341,11 @@ class Sandbox:
 
     def _fill(self, deadline: float) -> None:
         """Append what the reply pipe holds (at least one byte) to the pending bytes."""
-        spin_until: float | None = None
         while True:
             try:
                 chunk = os.read(self._rep_r, _CHUNK)
             except BlockingIOError:
-                now = time.monotonic()
-                if spin_until is None:
-                    spin_until, polite_from = now + self.limits.reply_spin_s, now + _POLITE_AFTER_S
-                if now < spin_until:
-                    if now > polite_from:
-                        os.sched_yield()  # a long poll is polite: whoever needs this CPU gets it first
-                    continue  # a reply read while polling needs no wake-up, which costs more than the call
-                remaining = deadline - now
-                if remaining <= 0 or not select.select([self._rep_r], [], [], remaining)[0]:
-                    raise _Expired from None
+                self._await_reply(deadline)
                 continue
             if not chunk:
                 raise _ChildGone
@@ -363,41 +353,41 @@ class Sandbox:
             return
 
     def _read_exact(self, n: int, deadline: float) -> bytearray:
-        """``n`` bytes of the reply stream; small reads take up to 64 KiB at once (one syscall for a
-        whole small frame) and keep what follows for the next read."""
+        """``n`` bytes of the reply stream (the pending bytes first, then read straight into the buffer)."""
         buf = bytearray(n)
-        spin_until: float | None = None
         view, got = memoryview(buf), min(n, len(self._pending))
         if got:
             view[:got] = self._pending[:got]
             del self._pending[:got]
         while got < n:
             try:
-                if n - got < _CHUNK:
-                    chunk = os.read(self._rep_r, _CHUNK)
-                    if not chunk:
-                        raise _ChildGone
-                    take = min(len(chunk), n - got)
-                    view[got : got + take] = chunk[:take]
-                    self._pending += chunk[take:]
-                    got += take
-                else:
-                    k = os.readv(self._rep_r, [view[got:]])
-                    if k == 0:
-                        raise _ChildGone
-                    got += k
+                k = os.readv(self._rep_r, [view[got:]])
             except BlockingIOError:
-                now = time.monotonic()
-                if spin_until is None:
-                    spin_until, polite_from = now + self.limits.reply_spin_s, now + _POLITE_AFTER_S
-                if now < spin_until:
-                    if now > polite_from:
-                        os.sched_yield()
-                    continue  # poll: a waiting reader need not be woken, which costs more than the call
-                remaining = deadline - now
-                if remaining <= 0 or not select.select([self._rep_r], [], [], remaining)[0]:
-                    raise _Expired from None
+                self._await_reply(deadline)
+                continue
+            if k == 0:
+                raise _ChildGone
+            got += k
         return buf
+
+    def _await_reply(self, deadline: float) -> None:
+        """Return once the reply pipe is readable. Polls for up to ``reply_spin_s`` first (a reply read
+        while polling needs no wake-up, which costs more than a short call), yielding the CPU between
+        polls after the first ``_POLITE_AFTER_S`` so that whoever needs it gets it; then sleeps.
+
+        Raises:
+            _Expired: Nothing to read by ``deadline``.
+        """
+        fd, now = self._rep_r, time.monotonic()
+        spin_until, polite_from = now + self.limits.reply_spin_s, now + _POLITE_AFTER_S
+        while now < spin_until:
+            if select.select([fd], [], [], 0)[0]:
+                return
+            if now > polite_from:
+                os.sched_yield()
+            now = time.monotonic()
+        if deadline - now <= 0 or not select.select([fd], [], [], deadline - now)[0]:
+            raise _Expired
 
     def _drain_output(self) -> None:
         proc, cap = self._proc, self.limits.max_output_bytes
