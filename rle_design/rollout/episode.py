@@ -72,6 +72,7 @@ def run_episode(
     control: ControlFn | None = None,
     control_every: int = 1,
     terms: Sequence[Term] = (),
+    prepare: Callable[[], None] | None = None,
 ) -> Episode:
     """Run ``n_steps`` physics steps from the current ``data`` (edited in place).
 
@@ -82,6 +83,9 @@ def run_episode(
         control: Controller, called every ``control_every`` steps.
         control_every: Physics steps per control period (the decimation).
         terms: Terms, evaluated in this order at their boundaries.
+        prepare: Called one physics step before each control call after the first (e.g.
+            ``Sandbox.wake``: a sandboxed controller then wakes up during that step). The physics is
+            the same: ``mj_step`` of n steps is n single steps.
 
     Raises:
         RolloutError: A period below 1.
@@ -101,7 +105,13 @@ def run_episode(
         if control is not None and step % control_every == 0:
             control(model, data, data.time - t0)
         nxt = step + 1 if every_step else _next_boundary(step, periods, n_steps)
-        physics(model, data, nxt - step)
+        if prepare is not None and control is not None and nxt < n_steps and nxt % control_every == 0:
+            if nxt - step > 1:
+                physics(model, data, nxt - step - 1)
+            prepare()
+            physics(model, data, 1)
+        else:
+            physics(model, data, nxt - step)
         step = nxt
         t = data.time - t0
         ended = None

@@ -74,8 +74,8 @@ at its CPU-time limit if it is spinning.
 
 from rle_design.sandbox.faults import FAULT_CODES, ParticipantFault
 from rle_design.sandbox.layers import LAYERS, landlock_abi, probe_layers
-from rle_design.sandbox.limits import SandboxLimits
-from rle_design.sandbox.process import Sandbox
+from rle_design.sandbox.limits import SandboxLimits, wake_poll_for
+from rle_design.sandbox.process import Sandbox, wake_poll_total_s
 
 __all__ = [
     "FAULT_CODES",
@@ -85,4 +85,6 @@ __all__ = [
     "SandboxLimits",
     "landlock_abi",
     "probe_layers",
+    "wake_poll_for",
+    "wake_poll_total_s",
 ]

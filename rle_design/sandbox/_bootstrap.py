@@ -12,8 +12,10 @@ import importlib.util
 import json
 import os
 import resource
+import select
 import struct
 import sys
+import time
 import traceback
 
 sys.dont_write_bytecode = True
@@ -113,6 +115,17 @@ def _receive():
     del _PENDING[:size]
     header = _read_exact(n_header)
     return codec.decode_frame(bytes(header), _read_exact(n_payload))
+
+
+def _poll_request(limit):
+    """Return when request bytes are pending or readable, or after ``limit`` seconds of polling
+    (yielding the CPU between polls after the first 0.1 ms)."""
+    now = time.monotonic()
+    end, polite = now + limit, now
+    while not _PENDING and not select.select([_RFD], [], [], 0)[0] and now < end:
+        if now > polite:
+            os.sched_yield()
+        now = time.monotonic()
 
 
 def _fill():
@@ -447,6 +460,9 @@ def main():
     while True:
         meta, value = _receive()
         op = meta.get("op")
+        if op == "wake":  # a call follows shortly: poll for it rather than sleep (no reply)
+            _poll_request(_CONFIG["wake_poll_s"])
+            continue
         if op == "call":
             reply, result = _call(module, meta["fn"], value)
         elif op == "has":

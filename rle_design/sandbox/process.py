@@ -31,6 +31,14 @@ _LIVE: weakref.WeakSet[Sandbox] = weakref.WeakSet()
 _CHUNK = 1 << 16  # bytes read at once for small frames
 _IOV_MAX = 1024  # buffers per writev (Linux UIO_MAXIOV)
 _POLITE_AFTER_S = 1e-4  # a reply poll longer than this yields the CPU between reads
+_WAKE = b"".join(bytes(p) for p in codec.encode_frame({"op": "wake"}))
+_WAKE_POLL_TOTAL = [0.0]
+
+
+def wake_poll_total_s() -> float:
+    """Time the children of this process polled after ``Sandbox.wake`` so far, bounded on the caller's
+    side [s]: CPU charged to the submissions that is the platform's (benchmarks subtract it)."""
+    return _WAKE_POLL_TOTAL[0]
 
 
 class _ChildGone(Exception):
@@ -84,6 +92,8 @@ class Sandbox:
         self._drain: threading.Thread | None = None
         self._flooded = False
         self._cpu_s = 0.0
+        self._woken_at: float | None = None
+        self.wake_poll_s = 0.0  # caller-side bound of the child's polls after wake() [s]
 
     # -- lifecycle -----------------------------------------------------------------------------------
     def __enter__(self) -> Sandbox:
@@ -172,6 +182,7 @@ class Sandbox:
             "file_bytes": lim.file_bytes,
             "max_processes": lim.max_processes,
             "max_reply_bytes": lim.max_reply_bytes,
+            "wake_poll_s": lim.wake_poll_s,
         }
         try:
             self._proc = subprocess.Popen(
@@ -249,6 +260,19 @@ class Sandbox:
         value = self._request({"op": "call", "fn": function}, list(args), timeout, where)
         return check_output(value, shape=shape, finite=finite, where=where)
 
+    def wake(self) -> None:
+        """Tell a live child that a call follows shortly (one-way, no reply, never raises): it polls for
+        the call for up to ``limits.wake_poll_s`` instead of sleeping, so its wake-up overlaps what the
+        caller still does (the last physics step of a control period). A no-op when ``wake_poll_s`` is
+        0, before ``start`` and after the child died (the next call reports that)."""
+        if self._proc is None or self._death is not None or not self.limits.wake_poll_s:
+            return
+        try:
+            os.write(self._req_w, _WAKE)  # a frame below PIPE_BUF: written whole or not at all
+        except OSError:  # full pipe (BlockingIOError) or gone: the next call tells
+            return
+        self._woken_at = time.monotonic()
+
     def has(self, function: str) -> bool:
         """True if the module defines a callable ``function``."""
         return bool(
@@ -264,6 +288,11 @@ class Sandbox:
             parts = codec.encode_frame(meta, value)
         except codec.CodecError as exc:
             raise RleError(f"{where}: cannot send argument: {exc}", code="sandbox.bad_argument") from None
+        if self._woken_at is not None:  # the child polled from wake() until now, at most wake_poll_s
+            polled = min(time.monotonic() - self._woken_at, self.limits.wake_poll_s)
+            self.wake_poll_s += polled
+            _WAKE_POLL_TOTAL[0] += polled
+            self._woken_at = None
         _, result = self._exchange(parts, meta, timeout or self.limits.call_timeout_s, where)
         return result
 

@@ -254,6 +254,7 @@ class PolicyRunner:
         self._box: Sandbox | None = None
         self._starts = 0
         self._cpu_spent = 0.0
+        self._wake_poll_done = 0.0
         self._ended: tuple[str, str] | None = None  # (code, reason) once calls are refused
 
     def __enter__(self) -> PolicyRunner:
@@ -299,6 +300,7 @@ class PolicyRunner:
         if box is not None:
             box.close()
             self._cpu_spent += box.cpu_time_s
+            self._wake_poll_done += box.wake_poll_s
 
     # -- calls ---------------------------------------------------------------------------------------
     def call(
@@ -342,6 +344,18 @@ class PolicyRunner:
         except ParticipantFault as exc:
             self._fault(function, exc)
             raise
+
+    def wake(self) -> None:
+        """``Sandbox.wake`` on the live child, if any: a call follows shortly (never raises, never
+        counts as a call; a control loop passes it as ``run_episode(prepare=...)``)."""
+        if self._box is not None and self._ended is None:
+            self._box.wake()
+
+    @property
+    def wake_poll_s(self) -> float:
+        """Caller-side bound of the time children polled after ``wake`` [s] (CPU charged to them)."""
+        live = self._box.wake_poll_s if self._box is not None else 0.0
+        return self._wake_poll_done + live
 
     def try_call(self, function: str, *args: Any, **kw: Any) -> Any | None:
         """``call`` that returns None on a fault (the fault is recorded all the same)."""

@@ -121,7 +121,13 @@ def run_trial(scene: Scene, sandbox, target: np.ndarray, payload_kg: float) -> d
         np.minimum(np.maximum(np.asarray(cmd, dtype=float), lo), hi, out=d.ctrl)  # np.clip, cheaper per call
 
     ep = run_episode(
-        m, data, int(round(EPISODE_S * CONTROL_HZ)) * n_sub, control=control, control_every=n_sub, terms=terms
+        m,
+        data,
+        int(round(EPISODE_S * CONTROL_HZ)) * n_sub,
+        control=control,
+        control_every=n_sub,
+        terms=terms,
+        prepare=sandbox.wake,  # the controller wakes up during the last physics step of each period
     )
     end = ep.end
     return {

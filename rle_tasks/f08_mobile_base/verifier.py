@@ -16,7 +16,7 @@ import numpy as np
 
 from rle_design.errors import RleError
 from rle_design.mjcf import load_design, match_profiles
-from rle_design.sandbox import ParticipantFault, SandboxLimits
+from rle_design.sandbox import ParticipantFault, SandboxLimits, wake_poll_for
 from rle_design.scene import Variation, element_id
 from rle_tasks.core.policy import PolicyRunner
 from rle_tasks.core.report import Findings, VerifierReport
@@ -123,7 +123,7 @@ def _shelf(design, root: Path, arm: str, ctx: VerifyContext, report: Findings, k
         dims={"nu": scene.model.nu},
         hang_cap_s=ctx.hang_cap_s,
         budget=CONTROLLER_BUDGET,
-        limits=SandboxLimits(cpu_seconds=CONTROLLER_BUDGET.cpu_s),
+        limits=SandboxLimits(cpu_seconds=CONTROLLER_BUDGET.cpu_s, wake_poll_s=wake_poll_for(ctx.jobs)),
         workdir_files={"robot.xml": root / "robot.xml"},
     ) as controller:
         for t in shelf.entries:

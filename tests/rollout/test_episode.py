@@ -82,6 +82,27 @@ def test_chunks_in_c_give_the_same_state_as_a_python_step_loop():
     assert len(calls) == 25 and calls[1] == pytest.approx(0.01)
 
 
+@pytest.mark.parametrize("term_every", [25, 1])
+def test_prepare_runs_one_step_before_each_later_control_call_and_changes_no_physics(term_every):
+    # 250 steps, control every 10: calls at steps 0, 10, ..., 240 (25); prepare before the calls
+    # at 10..240 (24), each time with the physics one step short of the boundary. A term due every
+    # step (term_every = 1) makes the loop step one by one, and prepare keeps its place.
+    m, d1 = _slider()
+    d2 = mujoco.MjData(m)
+    seen = []
+
+    def control(model, data, t):
+        data.ctrl[0] = math.sin(7 * t)
+
+    def prepare():
+        seen.append(round(d1.time / m.opt.timestep))
+
+    run_episode(m, d1, 250, control=control, control_every=10, terms=[_Count(term_every)], prepare=prepare)
+    run_episode(m, d2, 250, control=control, control_every=10, terms=[_Count(term_every)])
+    assert seen == [10 * k - 1 for k in range(1, 25)]
+    assert d1.qpos[0] == d2.qpos[0] and d1.qvel[0] == d2.qvel[0]
+
+
 def test_terms_run_at_their_period_and_final_terms_after_the_last_step():
     m, d = _slider()
     every5, final = _Count(5), _Count(4)

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from rle_design.errors import RleError
-from rle_design.sandbox import Sandbox, SandboxLimits, codec, landlock_abi
+from rle_design.sandbox import Sandbox, SandboxLimits, codec, landlock_abi, wake_poll_for
+from rle_design.sandbox.limits import WAKE_POLL_S
 
 POLICY = """
 import os
@@ -169,11 +170,40 @@ def test_frames_larger_than_the_pipe_and_many_buffers_round_trip(policy, spin_s)
             np.testing.assert_array_equal(box.call("act", np.ones(3), shape=(3,)), -2.0 * np.ones(3))
 
 
+def test_wake_makes_the_child_poll_for_the_next_call_and_changes_no_reply(policy):
+    # wake() is one-way: no reply to read, the stream stays aligned, and the caller's bound of the
+    # child's polls is at most wake_poll_s per wake (here 2 ms each, 5 wakes: <= 10 ms).
+    limits = SandboxLimits(wake_poll_s=2e-3)
+    with Sandbox(policy, limits=limits) as box:
+        for k in range(5):
+            box.wake()
+            np.testing.assert_array_equal(box.call("act", np.full(3, k), shape=(3,)), -2.0 * np.full(3, k))
+        box.wake()
+        box.wake()  # two wakes in a row, then a pause longer than the poll: the child sleeps again
+        time.sleep(0.01)
+        np.testing.assert_array_equal(box.call("act", np.ones(3), shape=(3,)), -2.0 * np.ones(3))
+        assert 0.0 < box.wake_poll_s <= 6 * 2e-3
+    box.wake()  # after close: nothing to wake, no error
+    idle = Sandbox(policy, limits=SandboxLimits(wake_poll_s=0.0))
+    idle.wake()  # before start, and with waking turned off: a no-op
+    with idle:
+        idle.wake()
+        assert idle.call("act", np.ones(3), shape=(3,)).shape == (3,) and idle.wake_poll_s == 0.0
+
+
+def test_waking_is_only_offered_where_every_worker_and_its_child_have_a_cpu():
+    cpus = len(os.sched_getaffinity(0))
+    assert wake_poll_for(cpus) == 0.0  # 2 x cpus processes on cpus CPUs: a polling child steals
+    assert wake_poll_for(1) in (0.0, WAKE_POLL_S) if cpus >= 2 else wake_poll_for(1) == 0.0
+
+
 def test_reply_spin_is_bounded():
     with pytest.raises(ValueError, match="reply_spin_s"):
         SandboxLimits(reply_spin_s=0.5)
     with pytest.raises(ValueError, match="reply_spin_s"):
         SandboxLimits(reply_spin_s=-1e-6)
+    with pytest.raises(ValueError, match="wake_poll_s"):
+        SandboxLimits(wake_poll_s=0.5)
 
 
 def test_child_runs_the_interpreter_it_is_given(policy, tmp_path):
