@@ -118,14 +118,11 @@ def _receive():
 
 
 def _poll_request(limit):
-    """Return when request bytes are pending or readable, or after ``limit`` seconds of polling
-    (yielding the CPU between polls after the first 0.1 ms)."""
-    now = time.monotonic()
-    end, polite = now + limit, now
-    while not _PENDING and not select.select([_RFD], [], [], 0)[0] and now < end:
-        if now > polite:
-            os.sched_yield()
-        now = time.monotonic()
+    """Return when request bytes are pending or readable, or after ``limit`` seconds of polling that
+    yields the CPU between polls (whoever else needs it gets it)."""
+    end = time.monotonic() + limit
+    while not _PENDING and not select.select([_RFD], [], [], 0)[0] and time.monotonic() < end:
+        os.sched_yield()
 
 
 def _fill():

@@ -201,6 +201,7 @@ class Sandbox:
         os.set_blocking(self._req_w, False)
         os.set_blocking(self._rep_r, False)
         self._pending.clear()
+        self._woken_at = None
         _LIVE.add(self)
         self._drain = threading.Thread(
             target=self._drain_output, name=f"sandbox-{self.name}-out", daemon=True
