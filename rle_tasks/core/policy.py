@@ -254,7 +254,6 @@ class PolicyRunner:
         self._box: Sandbox | None = None
         self._starts = 0
         self._cpu_spent = 0.0
-        self._wake_poll_done = 0.0
         self._ended: tuple[str, str] | None = None  # (code, reason) once calls are refused
 
     def __enter__(self) -> PolicyRunner:
@@ -300,7 +299,6 @@ class PolicyRunner:
         if box is not None:
             box.close()
             self._cpu_spent += box.cpu_time_s
-            self._wake_poll_done += box.wake_poll_s
 
     # -- calls ---------------------------------------------------------------------------------------
     def call(
@@ -350,12 +348,6 @@ class PolicyRunner:
         counts as a call; a control loop passes it as ``run_episode(prepare=...)``)."""
         if self._box is not None and self._ended is None:
             self._box.wake()
-
-    @property
-    def wake_poll_s(self) -> float:
-        """Caller-side bound of the time children polled after ``wake`` [s] (CPU charged to them)."""
-        live = self._box.wake_poll_s if self._box is not None else 0.0
-        return self._wake_poll_done + live
 
     def try_call(self, function: str, *args: Any, **kw: Any) -> Any | None:
         """``call`` that returns None on a fault (the fault is recorded all the same)."""
