@@ -26,7 +26,7 @@ UV_COMPILE = $(TOOLS)/bin/uv pip compile --quiet --python-platform x86_64-manyli
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test test-full lint format bench clean venv lock harbor-venv libero-venv libero-demos
+.PHONY: demo test test-full lint format bench clean venv lock harbor-venv libero-venv libero-demos standin-demos
 
 venv: $(STAMP)
 
@@ -92,7 +92,14 @@ DEMO_JOBS ?= 2
 libero-demos: $(STAMP) libero-venv
 	$(PY) -m rle_tasks.envs.libero.demos --views --per-task 50 --seed 0 --jobs $(DEMO_JOBS)
 
-demo: $(STAMP) libero-venv
+# The RoboTwin stand-in's training dataset (family 05): the scripted experts' demonstrations with
+# both views, 50 per task, cached outside the repository with a checksum
+# (rle_tasks/envs/standin/demos.py). About 10 s of one core per episode: ~13 min with two jobs on
+# first use, nothing once built.
+standin-demos: $(STAMP)
+	$(PY) -m rle_tasks.envs.standin.demos --per-task 50 --jobs $(DEMO_JOBS)
+
+demo: $(STAMP) libero-venv standin-demos
 	$(VENV)/bin/rle demo
 
 lint: $(STAMP)

@@ -1,5 +1,5 @@
-"""Development workspace of ``05-libero-open``: the demonstrations, ``libero_client.py`` and the
-served evaluation client.
+"""Development workspace of the family-05 tasks: the demonstrations, ``libero_client.py`` (or
+``standin_client.py`` on the RoboTwin stand-in tracks) and the served evaluation client.
 
 ``make_dev_env`` links the read-only demonstration dataset into the workspace (``demos/``), writes the
 client and returns a ``ServedSession`` (``rle_tasks.core.devservice``) that ``rle dev`` starts with the
@@ -53,13 +53,32 @@ def connect():
     return DevClient()
 '''
 
+_STANDIN_DOC = '''"""Evaluation client of {task_id} (written by `rle dev`; episodes of the bimanual stand-in's clean scenes).
+
+    from standin_client import connect
+    with connect() as dev:
+        results = dev.evaluate("submission", [(0, 5), (2, 17)])  # charged: one episode each
+        results = dev.evaluate("submission", [(1, 3)], max_steps=60)  # a shorter horizon
+        dev.info()                                              # free: episodes used and left
+
+`evaluate(directory, episodes)` serves `directory/solution.py` (relative to this workspace; it loads
+the `ckpt.pt` you trained there) exactly as the verifier will, and runs the (task, layout seed)
+pairs: task 0-2, layout seed 0-999999 (the demonstrations used seeds from 0). Each result:
+init_index (the layout seed), success, steps, requests, fault. Budget: {budget} episodes, recorded
+in a sealed ledger outside this workspace.
+"""
+'''
+STANDIN_SEED_LIMIT = 1_000_000
+"""Layout seeds a development request may name (evaluation seeds are drawn above it)."""
+
 
 class _Session:
     """One development session: ``evaluate``, ``info``, ``seal`` (``rle_tasks.core.devservice``)."""
 
-    def __init__(self, workspace: Path, client) -> None:
+    def __init__(self, workspace: Path, client, standin: bool = False) -> None:
         self.workspace = workspace.resolve()
         self.client = client
+        self.standin = standin
         self.sealed = False
 
     def handle(self, meta: dict[str, Any], value: Any) -> tuple[dict[str, Any], Any]:
@@ -80,10 +99,15 @@ class _Session:
                 raise LedgerError(
                     "episodes must be (task, initial state) pairs", code="ledger.bad_request"
                 ) from None
-            bad = [(t, i) for t, i in episodes if not (0 <= t < 10 and 0 <= i < 50)]
+            tasks, inits, what = (
+                (3, STANDIN_SEED_LIMIT, "task 0-2 and layout seed 0-999999")
+                if self.standin
+                else (10, 50, "task 0-9 and initial state 0-49")
+            )
+            bad = [(t, i) for t, i in episodes if not (0 <= t < tasks and 0 <= i < inits)]
             if bad or not 1 <= len(episodes) <= MAX_REQUEST_EPISODES:
                 raise LedgerError(
-                    f"1..{MAX_REQUEST_EPISODES} pairs of task 0-9 and initial state 0-49; refused: {bad[:5]}",
+                    f"1..{MAX_REQUEST_EPISODES} pairs of {what}; refused: {bad[:5]}",
                     code="ledger.bad_request",
                 )
             steps = args.get("max_steps")
@@ -123,7 +147,9 @@ def open_session(*, key: bytes | None, ledger_path: Path | None, workspace: str,
             b"rehearsal-key-not-secret",
             Path(tempfile.mkdtemp(prefix="rle-f05dev-")) / "dev.jsonl",
         )
-    return _Session(Path(workspace), DevelopmentClient(ledger_path, key, task_id=task_id))
+    standin = task_id.startswith("05-robotwin")
+    client = DevelopmentClient(ledger_path, key, task_id=task_id, env="standin" if standin else "libero")
+    return _Session(Path(workspace), client, standin=standin)
 
 
 def make_dev_env(workspace: Path, task_id: str = "05-libero-open") -> ServedSession:
@@ -137,10 +163,12 @@ def make_dev_env(workspace: Path, task_id: str = "05-libero-open") -> ServedSess
 
     ws = Path(workspace)
     ws.mkdir(parents=True, exist_ok=True)
-    demos = dataset_dir()
+    standin = task_id.startswith("05-robotwin")
+    demos = dataset_dir(task_id)
     if not (demos / "manifest.sha256").is_file():
+        target = "standin-demos" if standin else "libero-demos"
         raise RleError(
-            f"the demonstration dataset is not built at {demos}: build it with `make libero-demos`",
+            f"the demonstration dataset is not built at {demos}: build it with `make {target}`",
             code="f05.no_dataset",
         )
     link = ws / "demos"
@@ -148,8 +176,11 @@ def make_dev_env(workspace: Path, task_id: str = "05-libero-open") -> ServedSess
         link.unlink()
     link.symlink_to(demos, target_is_directory=True)
     (ws / "submission").mkdir(exist_ok=True)
-    (ws / "libero_client.py").write_text(
-        _CLIENT.format(budget=f"{DEV_EPISODE_BUDGET:,}", address=CLIENT_ADDRESS, task_id=task_id)
+    text = _CLIENT
+    if standin:
+        text = _STANDIN_DOC + text[text.index("\nimport hashlib") :]
+    (ws / ("standin_client.py" if standin else "libero_client.py")).write_text(
+        text.format(budget=f"{DEV_EPISODE_BUDGET:,}", address=CLIENT_ADDRESS, task_id=task_id)
     )
     return ServedSession(
         "rle_tasks.f05_nanovla.devenv:open_session",

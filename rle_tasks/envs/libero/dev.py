@@ -1,7 +1,9 @@
-"""Development client of family 05: the agent's only way to run LIBERO, metered per episode.
+"""Development client of family 05: the agent's only way to run LIBERO (or the bimanual stand-in),
+metered per episode.
 
 ``DevelopmentClient`` serves the agent's ``solution.py`` (as the replay does) and runs the requested
-(task, initial state) episodes of the development suite; every finished episode is charged one unit
+(task, initial state) episodes of the development suite (``env="standin"``: (task, layout seed)
+episodes of the stand-in's clean scenes); every finished episode is charged one unit
 of the card's 20,000-episode budget in an HMAC-chained ledger (``rle_design.ledger``: one charged
 ``reset`` record per episode with its task, initial state, success and length; the seal counts
 them). A request that would pass the budget is refused before anything runs
@@ -36,6 +38,7 @@ class DevelopmentClient:
         budget: Episodes allowed over the whole session.
         suite: LIBERO suite the episodes come from.
         task_id: The task whose development session this is (the ledger names it).
+        env: ``"libero"`` or ``"standin"`` (``rle_tasks.envs.standin``; ``suite`` is then unused).
     """
 
     def __init__(
@@ -45,12 +48,14 @@ class DevelopmentClient:
         budget: int = DEV_EPISODE_BUDGET,
         suite: str = "libero_10",
         task_id: str = TASK_ID,
+        env: str = "libero",
     ) -> None:
         self.budget = int(budget)
-        self.suite = suite
+        self.env = env
+        self.suite = suite if env == "libero" else "standin"
         self.used = 0
         self._ledger = LedgerWriter(
-            Path(ledger_path), key, task_id, meta={"budget_episodes": self.budget, "suite": suite}
+            Path(ledger_path), key, task_id, meta={"budget_episodes": self.budget, "suite": self.suite}
         )
 
     def evaluate(
@@ -72,14 +77,14 @@ class DevelopmentClient:
                 code="f05.budget_exhausted",
             )
         out: list[EpisodeResult] = []
-        with serving(Path(solution_dir)) as policy:
+        with serving(Path(solution_dir), env=self.env) as policy:
             for task_id in sorted({t for t, _ in episodes}):
                 given = (envs or {}).get(task_id)
-                with contextlib.nullcontext(given) if given else LiberoEnv(self.suite, task_id) as env:
+                with contextlib.nullcontext(given) if given else self._env(task_id) as env:
                     for t, init in episodes:
                         if t != task_id:
                             continue
-                        res = run_episode(env, policy, init, episode=self.used, max_steps=max_steps)
+                        res = self._run(env, policy, init, episode=self.used, max_steps=max_steps)
                         self.used += 1
                         self._ledger.append(
                             "reset",
@@ -95,6 +100,20 @@ class DevelopmentClient:
                         out.append(res)
         self._ledger.flush()
         return out
+
+    def _env(self, task: int):
+        if self.env == "standin":
+            from rle_tasks.envs.standin import StandinEnv
+
+            return contextlib.nullcontext(StandinEnv(task))
+        return LiberoEnv(self.suite, task)
+
+    def _run(self, env, policy, init: int, *, episode: int, max_steps: int | None) -> EpisodeResult:
+        if self.env == "standin":
+            from rle_tasks.envs.standin.client import run_episode as run_standin
+
+            return run_standin(env, policy, init, episode=episode, max_steps=max_steps)
+        return run_episode(env, policy, init, episode=episode, max_steps=max_steps)
 
     def close(self) -> str:
         """Seal the ledger; returns the seal hash."""

@@ -1,5 +1,4 @@
-"""Shipped solutions of ``05-libero-open`` and ``05-libero-robust``, materialised by
-``rle_tasks.core.solutions``.
+"""Shipped solutions of the family-05 tasks, materialised by ``rle_tasks.core.solutions``.
 
 Each is one ``solution.py`` (the card's artifact):
 
@@ -41,7 +40,7 @@ _OPEN = SolutionSet(
     solutions=(
         Solution(
             "baseline/mean_action",
-            sha256="11c5d18cc65800656c0cc1d2e69dbd9c00a238bf41d6d6dc0a0312200e6294ae",
+            sha256="1ca85b673d14528e43aec49c97a6082587d5fb0c6adf69cac29205339fc88fce",
             quick_score=0.0,
             files=(("solution.py", "solutions/baseline/mean_action.py"),),
         ),
@@ -53,7 +52,7 @@ _OPEN = SolutionSet(
         ),
         Solution(
             "baseline/too_large",
-            sha256="5df0f8b1909e3b2bb4d8d25c2b0728d6a0dcc7aad4ab904a00b61338afabd9cc",
+            sha256="fa33cccff5200444af378c33690e364e3e8775d8cb05c3c332012f1ceb0770c5",
             quick_score=0.0,
             base="baseline/mean_action",
             transforms=(pad_to_two_mib,),
@@ -76,5 +75,33 @@ _ROBUST = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=tuple(s for s in _OPEN.solutions if s.name in ("baseline/mean_action", "baseline/too_large")),
 )
-SOLUTIONS = {"05-libero-open": _OPEN, "05-libero-robust": _ROBUST}
-"""The robust track ships the two baselines whose reasons do not depend on the episode set."""
+_STANDIN_REFERENCE = Solution(
+    "reference",
+    sha256="6ff2610445fba14cbb310a9cde84e0f2de9e0e8526c6d8aa30c9d145bb20306c",
+    quick_score=0.0,
+    files=(("solution.py", "solutions/reference/standin.py"),),
+)
+_STANDIN_OPEN = SolutionSet(
+    package="rle_tasks.f05_nanovla",
+    solutions=(
+        _STANDIN_REFERENCE,
+        *(
+            s
+            for s in _OPEN.solutions
+            if s.name in ("baseline/mean_action", "baseline/nan_server", "baseline/too_large")
+        ),
+    ),
+)
+_STANDIN_ROBUST = SolutionSet(
+    package="rle_tasks.f05_nanovla",
+    solutions=(_STANDIN_REFERENCE, *(s for s in _OPEN.solutions if s.name == "baseline/mean_action")),
+)
+SOLUTIONS = {
+    "05-libero-open": _OPEN,
+    "05-libero-robust": _ROBUST,
+    "05-robotwin-open": _STANDIN_OPEN,
+    "05-robotwin-robust": _STANDIN_ROBUST,
+}
+"""The LIBERO robust track ships the two baselines whose reasons do not depend on the episode set;
+the stand-in tracks ship the reference recipe (``solutions/reference/standin.py``) with the
+baselines whose reasons hold there."""

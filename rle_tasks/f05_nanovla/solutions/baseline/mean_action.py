@@ -1,7 +1,7 @@
 """Baseline recipe: the mean demonstrated action, whatever the observation (a recipe that must fail).
 
 ``train`` averages every action of the demonstrations into ``ckpt.pt``; ``serve`` answers every
-request with eight copies of it.
+request with eight copies of it (LIBERO's 7-D actions, or the stand-in's 14 joint targets).
 """
 
 import glob
@@ -22,4 +22,5 @@ def train(demos_dir: str) -> None:
 def serve(socket_path: str) -> int:
     with open("ckpt.pt", "rb") as f:
         chunk = np.tile(np.load(f), (8, 1))
-    return _serve(socket_path, lambda request: chunk)
+    env = "standin" if chunk.shape[1] == 14 else "libero"
+    return _serve(socket_path, lambda request: chunk, env=env)

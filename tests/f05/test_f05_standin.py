@@ -1,0 +1,157 @@
+"""05-robotwin-open / -robust on the bimanual stand-in: episode sets drawn from the secret, the card's
+completion thresholds, the instruction, the verifier on recipes that must fail for their named
+reasons and one that replays, and the development workspace."""
+
+import hashlib
+import importlib.util
+import json
+
+import numpy as np
+import pytest
+
+from rle_design.ledger.verify import verify_ledger
+from rle_tasks.core.devenv import layout_workspace, ledger_key
+from rle_tasks.core.registry import get_task
+from rle_tasks.core.secrets import PUBLIC_KEY, Secret, load_secret
+from rle_tasks.core.solutions import materialise
+from rle_tasks.core.task import VerifyContext
+from rle_tasks.core.verify import VerifierSetupError, run_verify
+from rle_tasks.envs.libero.replay import train
+from rle_tasks.f05_nanovla import verifier
+from rle_tasks.f05_nanovla.scoring import required_complete, rubric
+
+OPEN, ROBUST = verifier.STANDIN_OPEN_ID, verifier.STANDIN_ROBUST_ID
+TASK = get_task(OPEN)
+
+
+@pytest.fixture
+def demos(tmp_path, monkeypatch):
+    """A three-episode dataset in the stand-in's format (actions only matter to the baselines)."""
+    d = tmp_path / "demos"
+    d.mkdir()
+    files = {}
+    for t in range(3):
+        name = f"task{t}_seed000.npz"
+        a = np.tile(np.r_[np.array([0, -1.571, 1.571, -1.571, -1.571, 0]), 1.0], 2).astype(np.float32)
+        np.savez(
+            d / name, actions=np.tile(a, (5, 1)), state=np.zeros((6, 16), np.float32), language=np.array("x")
+        )
+        files[name] = hashlib.sha256((d / name).read_bytes()).hexdigest()
+    text = json.dumps({"files": files})
+    (d / "manifest.json").write_text(text)
+    (d / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
+    monkeypatch.setenv(verifier.STANDIN_DATASET_ENV, str(d))
+    return d
+
+
+def _ctx(**kw):
+    return VerifyContext(secret=Secret(PUBLIC_KEY, public=True), **kw)
+
+
+def _other():
+    return VerifyContext(secret=Secret(b"another key", public=False))
+
+
+@pytest.mark.parametrize(("task_id", "n", "need"), [(OPEN, 300, 285), (ROBUST, 225, 214)])
+def test_the_sets_are_the_cards_sizes_of_held_out_layouts_drawn_from_the_secret(task_id, n, need):
+    full = verifier.episode_set(task_id, _ctx())
+    assert len(full) == n and len(set(full)) == n and required_complete(n) == need
+    suite = "standin" if task_id == OPEN else "standin_robust"
+    assert {s for s, _, _ in full} == {suite}
+    assert [sum(t == k for _, t, _ in full) for k in range(3)] == [n // 3] * 3
+    lo, hi = verifier.STANDIN_SEEDS
+    assert all(lo <= seed < hi for _, _, seed in full)  # never a demonstration or development seed
+    assert full == verifier.episode_set(task_id, _ctx()) != verifier.episode_set(task_id, _other())
+    order = verifier.episode_order(task_id, _ctx())
+    assert sorted(order) == sorted(full) and {t for _, t, _ in order[:3]} == {0, 1, 2}
+
+
+def test_instruction_and_rubric_agree():
+    for task_id, n, need in ((OPEN, 300, 285), (ROBUST, 225, 214)):
+        table = rubric(task_id, n).markdown_table()
+        text = get_task(task_id).instruction
+        assert table in text and f"fewer than {need} of the {n} episodes" in table
+        assert "stand-in" in text and "16," in text and "14 values" in text
+    assert "distractor" in get_task(ROBUST).instruction and "distractor" not in TASK.instruction
+
+
+def test_an_oversized_recipe_is_refused_before_anything_runs():
+    report, internal = run_verify(TASK, materialise(TASK, "baseline/too_large"), _ctx(quick=True))
+    assert not internal and report.score == 0.0 and report.cap == 0.0 and not report.valid
+    assert [e.code for e in report.errors] == ["f05.solution_too_large"]
+    assert report.native_metrics["episodes_requested"] == verifier.STANDIN_QUICK_EPISODES
+
+
+def test_a_missing_dataset_is_the_operators_fault(tmp_path, monkeypatch):
+    monkeypatch.setenv(verifier.STANDIN_DATASET_ENV, str(tmp_path / "nothing"))
+    with pytest.raises(VerifierSetupError, match="make standin-demos"):
+        run_verify(TASK, materialise(TASK, "baseline/mean_action"), _ctx(quick=True))
+
+
+def test_the_mean_action_recipe_replays_every_episode_and_succeeds_in_none(demos):
+    report = verifier.verify(
+        materialise(TASK, "baseline/mean_action"), _ctx(episodes=3), task_id=OPEN, max_steps=6
+    )
+    nm = report.native_metrics
+    assert report.valid and report.errors == () and report.cap is None
+    assert nm["complete"] == 3 and nm["successes"] == 0 and report.score == 0.0 and nm["partial"]
+    assert [(e["suite"], e["task"], e["init_index"]) for e in nm["episodes"]] == sorted(
+        verifier.episode_order(OPEN, _ctx())[:3], key=lambda e: e[1]
+    )
+    assert all(e["steps"] == 6 and e["requests"] == 1 for e in nm["episodes"])  # one 8-action chunk
+
+
+def test_a_nan_server_completes_no_episode(demos):
+    report = verifier.verify(
+        materialise(TASK, "baseline/nan_server"), _ctx(episodes=1), task_id=OPEN, max_steps=6
+    )
+    codes = [e.code for e in report.errors]
+    assert "protocol.non_finite" in codes and "f05.incomplete" in codes
+    assert report.score == 0.0 and report.cap == 0.0 and report.native_metrics["complete"] == 0
+
+
+def test_the_robust_track_replays_in_perturbed_scenes(demos):
+    robust = get_task(ROBUST)
+    report = verifier.verify(
+        materialise(robust, "baseline/mean_action"), _ctx(episodes=1), task_id=ROBUST, max_steps=4
+    )
+    (ep,) = report.native_metrics["episodes"]
+    assert report.task_id == ROBUST and report.errors == () and ep["suite"] == "standin_robust"
+    assert (ep["suite"], ep["task"], ep["init_index"]) == verifier.episode_order(ROBUST, _ctx())[0]
+
+
+def _client(ws):
+    spec = importlib.util.spec_from_file_location("standin_client", ws / "standin_client.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_the_workspace_meters_served_episodes_of_clean_scenes(tmp_path, demos):
+    root = tmp_path / "ws"
+    ws = layout_workspace(TASK, root, serve=True, ledger_dir=tmp_path / "ledger")
+    try:
+        assert (root / "demos").resolve() == demos.resolve() and not (root / "libero_client.py").exists()
+        text = (root / "standin_client.py").read_text()
+        assert "layout seed 0-999999" in text and "20,000 episodes" in text
+        sub = root / "submission"
+        (sub / "solution.py").write_bytes(
+            (materialise(TASK, "baseline/mean_action") / "solution.py").read_bytes()
+        )
+        assert train(sub / "solution.py", demos, sub) is None
+        with _client(root).connect() as dev:
+            with pytest.raises(RuntimeError, match="ledger.bad_request"):
+                dev.evaluate("submission", [(3, 0)])  # the stand-in has tasks 0-2
+            with pytest.raises(RuntimeError, match="ledger.bad_request"):
+                dev.evaluate(
+                    "submission", [(0, verifier.STANDIN_SEEDS[0])]
+                )  # evaluation seeds are not for development
+            (res,) = dev.evaluate("submission", [(1, 42)], max_steps=3)
+            assert res["init_index"] == 42 and res["steps"] == 3 and not res["success"] and res["fault"] == ""
+            assert dev.info() == {"episodes_used": 1, "episodes_left": 19_999}
+            dev.seal()
+        ws.server.wait(30)
+    finally:
+        ws.close()
+    verdict = verify_ledger(ws.ledger_path, ledger_key(load_secret(), TASK.id), TASK.id)
+    assert verdict.valid and verdict.steps == 1, verdict
