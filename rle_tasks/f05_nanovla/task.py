@@ -89,7 +89,13 @@ def task_spec(task_id: str = "05-libero-open") -> TaskSpec:
         solutions=SOLUTION_NAMES[task_id],
         solutions_module="rle_tasks.f05_nanovla.solutions",
         episode_scored=True,
-        harbor_unsupported="its images would need the LIBERO side environment and the demonstration dataset "
-        "(several GB), and its development server (LIBERO, ledger key) a process outside the agent's user; "
-        "run it with `rle dev` and `rle verify`",
+        harbor_unsupported=(
+            "its images would need the stand-in's demonstration dataset (about 200 MB, built by `make "
+            "standin-demos`) and its development server (ledger key) a process outside the agent's user; "
+            "run it with `rle dev` and `rle verify`"
+            if task_id.startswith("05-robotwin")
+            else "its images would need the LIBERO side environment and the demonstration dataset "
+            "(several GB), and its development server (LIBERO, ledger key) a process outside the agent's user; "
+            "run it with `rle dev` and `rle verify`"
+        ),
     )

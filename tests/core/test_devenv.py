@@ -71,8 +71,8 @@ def test_cli_dev_exits_2_for_an_unimplemented_task(tmp_path, monkeypatch, capsys
     from rle_tasks.cli import main
 
     monkeypatch.setattr(registry, "get_task", lambda task_id: TaskSpec(task_id, 1, "placeholder"))
-    assert main(["dev", "05-robotwin-open", "--workspace", str(tmp_path / "ws")]) == 2
-    assert "error [task.not_implemented]: task '05-robotwin-open' is registered" in capsys.readouterr().err
+    assert main(["dev", "04-run", "--workspace", str(tmp_path / "ws")]) == 2
+    assert "error [task.not_implemented]: task '04-run' is registered" in capsys.readouterr().err
 
 
 def test_metered_workspace_serves_a_verifiable_session_without_hidden_data(tmp_path):

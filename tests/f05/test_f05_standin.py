@@ -155,3 +155,34 @@ def test_the_workspace_meters_served_episodes_of_clean_scenes(tmp_path, demos):
         ws.close()
     verdict = verify_ledger(ws.ledger_path, ledger_key(load_secret(), TASK.id), TASK.id)
     assert verdict.valid and verdict.steps == 1, verdict
+
+
+def test_the_reference_recipe_trains_and_serves_in_the_sandbox(tmp_path, monkeypatch):
+    """The shipped reference on a one-episode dataset of real views, its training cut to 20 steps (the
+    full recipe trains for minutes): training writes a checkpoint in the sandbox, serving answers
+    every request with 14-D actions, and the episode completes."""
+    from rle_tasks.envs.standin import StandinEnv
+    from rle_tasks.envs.standin.demos import record
+
+    d = tmp_path / "demos"
+    d.mkdir()
+    ok, rec = record(StandinEnv(0), 0)
+    assert ok
+    np.savez(d / "task0_seed000.npz", language=np.array("lift the pot with both arms"), **rec)
+    text = json.dumps(
+        {"files": {"task0_seed000.npz": hashlib.sha256((d / "task0_seed000.npz").read_bytes()).hexdigest()}}
+    )
+    (d / "manifest.json").write_text(text)
+    (d / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
+    monkeypatch.setenv(verifier.STANDIN_DATASET_ENV, str(d))
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    source = (materialise(TASK, "reference") / "solution.py").read_text()
+    assert "MAX_STEPS = 8_000" in source
+    (sub / "solution.py").write_text(source.replace("MAX_STEPS = 8_000", "MAX_STEPS = 20"))
+    report = verifier.verify(sub, _ctx(episodes=1), task_id=OPEN, max_steps=10)
+    nm = report.native_metrics
+    assert report.valid and report.errors == () and report.cap is None, report.errors
+    (ep,) = nm["episodes"]
+    assert ep["fault"] == "" and ep["steps"] == 10 and ep["requests"] == 2  # chunks of 5 executed actions
+    assert nm["ckpt_bytes"] > 100_000 and nm["train_s"] < 120

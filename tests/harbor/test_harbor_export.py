@@ -164,10 +164,10 @@ def test_re_export_replaces_and_foreign_directory_is_kept(tmp_path, spec):
 
 def test_unimplemented_unsupported_and_unknown_ids_are_refused(tmp_path):
     with pytest.raises(RleError) as exc:
-        export_harbor(tmp_path, ["05-robotwin-open"])
+        export_harbor(tmp_path, ["04-run"])
     assert exc.value.code == "harbor.unimplemented"
     assert str(exc.value).startswith(
-        "task '05-robotwin-open' is registered but not implemented (no verifier), so it cannot be exported. "
+        "task '04-run' is registered but not implemented (no verifier), so it cannot be exported. "
         "Implemented tasks: "
     )
     with pytest.raises(RleError) as exc:
@@ -189,10 +189,10 @@ def test_default_exports_every_implemented_task_that_can_be_exported(tmp_path):
 def test_cli_export_of_unimplemented_task_exits_2(tmp_path, capsys):
     from rle_tasks.cli import main
 
-    assert main(["export", "harbor", str(tmp_path), "--tasks", "05-robotwin-open"]) == 2
+    assert main(["export", "harbor", str(tmp_path), "--tasks", "04-run"]) == 2
     err = capsys.readouterr().err
     assert err.startswith(
-        "rle export: error [harbor.unimplemented]: task '05-robotwin-open' is registered but not implemented"
+        "rle export: error [harbor.unimplemented]: task '04-run' is registered but not implemented"
     )
 
 

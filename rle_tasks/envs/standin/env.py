@@ -18,7 +18,6 @@ import mujoco
 import numpy as np
 
 from rle_design.control.cameras import render_rgb
-from rle_design.scene.robots import robot_constants
 from rle_tasks.envs.standin import tasks as _tasks
 from rle_tasks.envs.standin.scene import (
     ARMS,
@@ -40,8 +39,10 @@ SUBSTEPS = 50
 """Physics steps per action (10 Hz at 2 ms)."""
 RAMP = 25
 """Physics steps over which a new joint target is interpolated from the previous one."""
-HOME = np.array(robot_constants("ur5e").home)
-"""Both arms' start posture [rad]: tool pointing down, 0.39 m above the table."""
+HOME = np.array((0.0, -2.1, 2.4, -1.871, -1.571, 0.0))
+"""Both arms' start posture [rad]: tool pointing down 0.22 m above the table and 0.26 m in front of
+the base, behind the objects, so that neither wrist hides them from the head camera (the catalog's
+UR5e home holds the wrists right above the work area)."""
 
 
 class StandinEnv:

@@ -60,8 +60,8 @@ GRIPPER_OPEN = 0.04
 """Travel of one finger [m]; a gripper command in [0, 1] maps to 0..0.04 m per finger."""
 CAMERAS = ("head", "front")
 """The two views a request carries: from above the work area, and facing the arms across the table."""
-HEAD_POS = (0.08, 0.0, 1.95)
-HEAD_LOOK = (0.14, 0.0, 0.75)
+HEAD_POS = (0.10, 0.0, 1.75)
+HEAD_LOOK = (0.12, 0.0, 0.75)
 FRONT_POS = (0.80, 0.0, 1.12)
 FRONT_LOOK = (0.0, 0.0, 0.84)
 
@@ -214,7 +214,8 @@ def build_spec(look: SceneLook = CLEAN) -> mujoco.MjSpec:
         p = np.asarray(pos) + np.asarray(off) + np.array([0.0, 0.0, look.table_dz])
         at = np.asarray(look_at) + np.array([0.0, 0.0, look.table_dz])
         up = (1.0, 0.0, 0.0) if name == "head" else (0.0, 0.0, 1.0)  # the head camera looks nearly down
-        world.add_camera(name=name, pos=list(p), quat=list(look_at_quat(p, at, up)), fovy=58.0)
+        fovy = 45.0 if name == "head" else 58.0
+        world.add_camera(name=name, pos=list(p), quat=list(look_at_quat(p, at, up)), fovy=fovy)
     for k, (x, y, h, r, gg, b) in enumerate(look.clutter):
         body = world.add_body(name=f"clutter{k}", pos=[x, y, top + h])
         body.add_freejoint(name=f"clutter{k}")

@@ -50,7 +50,8 @@ POT_WALL = (0.006, 0.05)
 HANDLE = (0.012, 0.035, 0.012)
 """Handle half extents [m]; one on each side of the pot along y, at the rim."""
 BAR = (0.016, 0.11, 0.016)
-BLOCK = 0.022
+BLOCK = 0.026
+"""Block half size [m] (5.2 cm cubes; the gripper opens 8 cm)."""
 TRAY = (0.075, 0.10, 0.004, 0.03)
 """Tray half extents x, y, floor half thickness and wall height [m]."""
 LIFT = 0.08

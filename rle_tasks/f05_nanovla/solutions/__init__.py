@@ -77,7 +77,7 @@ _ROBUST = SolutionSet(
 )
 _STANDIN_REFERENCE = Solution(
     "reference",
-    sha256="6ff2610445fba14cbb310a9cde84e0f2de9e0e8526c6d8aa30c9d145bb20306c",
+    sha256="12e0dec1928f1803755c25e7da2074dcfafaefc617ad6526de2e44476e9b2c6b",
     quick_score=0.0,
     files=(("solution.py", "solutions/reference/standin.py"),),
 )
