@@ -1,5 +1,6 @@
-"""Family 05: nanoVLA recipe engineering. ``05-libero-open`` and ``05-libero-robust`` are implemented;
-the RoboTwin stand-in tracks stay placeholders (see the family README)."""
+"""Family 05: nanoVLA recipe engineering. ``05-libero-open`` and ``05-libero-robust`` run on LIBERO-10
+in its side environment; ``05-robotwin-open`` and ``05-robotwin-robust`` run on the bimanual stand-in
+for RoboTwin 2.0 (``rle_tasks.envs.standin``; see the family README)."""
 
 from __future__ import annotations
 

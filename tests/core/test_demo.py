@@ -35,7 +35,7 @@ def test_demo_verifies_references_in_full_and_baselines_quick_unless_asked(tmp_p
     monkeypatch.setattr(demo, "run_verify", fake_verify)
     results = demo._verify_all(tmp_path, quick=False, jobs=1)
     scored = {t.id for t in all_tasks() if t.episode_scored}
-    assert scored == {"05-libero-open", "05-libero-robust"}
+    assert scored == {"05-libero-open", "05-libero-robust", "05-robotwin-open", "05-robotwin-robust"}
     expected = [name != "reference" or tid in scored for tid, name, _, _ in results]
     assert modes["seen"] == expected and any(expected) and not all(expected)
     modes.clear()
@@ -58,7 +58,9 @@ def test_demo_lists_what_the_operators_set_up_lacks_instead_of_failing(tmp_path,
     results = demo._verify_all(tmp_path, quick=True, jobs=1)
     assert all(not tid.startswith("05-") for tid, _, _, _ in results)
     assert {(t, n) for t, n, _ in demo.not_run} == {
-        (t, n) for t in ("05-libero-open", "05-libero-robust") for n in get_task(t).solutions
+        (t, n)
+        for t in ("05-libero-open", "05-libero-robust", "05-robotwin-open", "05-robotwin-robust")
+        for n in get_task(t).solutions
     }
     page = demo.write_html(tmp_path, results, [], None, 1.0).read_text()
     assert page.count("make libero-demos") == len(demo.not_run)

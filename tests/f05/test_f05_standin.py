@@ -186,3 +186,17 @@ def test_the_reference_recipe_trains_and_serves_in_the_sandbox(tmp_path, monkeyp
     (ep,) = nm["episodes"]
     assert ep["fault"] == "" and ep["steps"] == 10 and ep["requests"] == 2  # chunks of 5 executed actions
     assert nm["ckpt_bytes"] > 100_000 and nm["train_s"] < 120
+
+
+def test_the_same_recipe_and_secret_give_the_same_report(demos):
+    """Determinism of the stand-in verifier (the training wall time is the one measured field)."""
+    texts = []
+    for _ in range(2):
+        report = verifier.verify(
+            materialise(TASK, "baseline/mean_action"), _ctx(episodes=2), task_id=OPEN, max_steps=5
+        )
+        d = report.to_dict()
+        d.pop("elapsed_s", None)
+        d["native_metrics"].pop("train_s")
+        texts.append(json.dumps(d))
+    assert texts[0] == texts[1]

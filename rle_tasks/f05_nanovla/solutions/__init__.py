@@ -75,16 +75,22 @@ _ROBUST = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=tuple(s for s in _OPEN.solutions if s.name in ("baseline/mean_action", "baseline/too_large")),
 )
-_STANDIN_REFERENCE = Solution(
-    "reference",
-    sha256="12e0dec1928f1803755c25e7da2074dcfafaefc617ad6526de2e44476e9b2c6b",
-    quick_score=0.0,
-    files=(("solution.py", "solutions/reference/standin.py"),),
-)
+
+
+def _standin_reference(quick_score: float) -> Solution:
+    """The stand-in reference recipe, with its golden score on one track."""
+    return Solution(
+        "reference",
+        sha256="32bd99b63501240f9e1b8cb2ca522c6909acf8080c56cc5169d826fbc70e4038",
+        quick_score=quick_score,
+        files=(("solution.py", "solutions/reference/standin.py"),),
+    )
+
+
 _STANDIN_OPEN = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
-        _STANDIN_REFERENCE,
+        _standin_reference(0.5833333333333334),
         *(
             s
             for s in _OPEN.solutions
@@ -94,7 +100,10 @@ _STANDIN_OPEN = SolutionSet(
 )
 _STANDIN_ROBUST = SolutionSet(
     package="rle_tasks.f05_nanovla",
-    solutions=(_STANDIN_REFERENCE, *(s for s in _OPEN.solutions if s.name == "baseline/mean_action")),
+    solutions=(
+        _standin_reference(0.0),
+        *(s for s in _OPEN.solutions if s.name == "baseline/mean_action"),
+    ),
 )
 SOLUTIONS = {
     "05-libero-open": _OPEN,
