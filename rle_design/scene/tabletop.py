@@ -38,6 +38,7 @@ __all__ = [
     "ArmPlacement",
     "TabletopConfig",
     "add_free_box",
+    "arm_with_gripper",
     "build_tabletop",
     "finish",
     "free_body_names",
@@ -155,9 +156,13 @@ def _absolute_meshes(spec: mujoco.MjSpec, xml_path: Path) -> None:
     spec.meshdir = ""
 
 
-def _arm_spec() -> mujoco.MjSpec:
-    arm = load_robot("panda", keyframes=False)
-    _absolute_meshes(arm, robot_constants("panda").model_path)
+def arm_with_gripper(arm_id: str = "panda") -> mujoco.MjSpec:
+    """A catalog arm (no keyframes) with the robosuite Panda gripper attached at its ``tool_site``
+    under the name prefix ``hand/`` (fingers ``hand/finger_joint1/2``, position actuators
+    ``hand/gripper_finger_joint1/2``, site ``hand/grip_site`` between the pads); mesh paths are made
+    absolute so the spec can be attached anywhere."""
+    arm = load_robot(arm_id, keyframes=False)
+    _absolute_meshes(arm, robot_constants(arm_id).model_path)
     gripper_path = package_dir("robosuite") / GRIPPER_MODEL
     gripper = mujoco.MjSpec.from_file(str(gripper_path))
     _absolute_meshes(gripper, gripper_path)
@@ -210,7 +215,7 @@ def build_tabletop(config: TabletopConfig = TabletopConfig()) -> mujoco.MjSpec:
             quat=[c, 0.0, 0.0, s],
             group=5,
         )
-        attach(spec, _arm_spec(), site, placement.prefix)
+        attach(spec, arm_with_gripper("panda"), site, placement.prefix)
         target = world.add_body(name=placement.prefix + "target", mocap=True)
         target.add_site(
             name=placement.prefix + "target_site", size=[0.01, 0, 0], rgba=[0, 1, 0, 0.3], group=5

@@ -15,17 +15,16 @@ object tint, clutter); ``CLEAN`` is the open track's scene. Everything is built 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import mujoco
 import numpy as np
 
-from rle_design.paths import package_dir
 from rle_design.scene.actuators import PositionActuators
 from rle_design.scene.arena import Arena
 from rle_design.scene.attach import attach
 from rle_design.scene.camera import look_at_quat
-from rle_design.scene.robots import load_robot, robot_constants
+from rle_design.scene.robots import robot_constants
+from rle_design.scene.tabletop import arm_with_gripper
 
 __all__ = [
     "ARMS",
@@ -55,7 +54,6 @@ ARM_KV = (120.0, 120.0, 70.0, 20.0, 20.0, 8.0)
 """Joint servo damping [N m s/rad]."""
 ARM_FORCE = (150.0, 150.0, 150.0, 28.0, 28.0, 28.0)
 """Joint torque limits [N m] (the UR5e's, as in the catalog constants)."""
-GRIPPER_MODEL = "models/assets/grippers/panda_gripper.xml"
 GRIPPER_OPEN = 0.04
 """Travel of one finger [m]; a gripper command in [0, 1] maps to 0..0.04 m per finger."""
 CAMERAS = ("head", "front")
@@ -129,34 +127,19 @@ def finger_joint_names(prefix: str) -> tuple[str, str]:
     return (prefix + "hand/finger_joint1", prefix + "hand/finger_joint2")
 
 
-def _absolute_meshes(spec: mujoco.MjSpec, xml_path: Path) -> None:
-    base = xml_path.parent / (spec.meshdir or "")
-    for mesh in spec.meshes:
-        if mesh.file and not Path(mesh.file).is_absolute():
-            mesh.file = str((base / mesh.file).resolve())
-    spec.meshdir = ""
-
-
 def _arm() -> mujoco.MjSpec:
+    """The catalog UR5e with the Panda gripper, its torque motors replaced by gravity-compensated
+    position servos."""
     constants = robot_constants("ur5e")
-    arm = load_robot("ur5e", keyframes=False)
-    _absolute_meshes(arm, constants.model_path)
+    arm = arm_with_gripper("ur5e")
     for act in list(arm.actuators):
-        arm.delete(act)
+        if act.name in constants.actuators:
+            arm.delete(act)
     for joint, kp, kv, f in zip(constants.joints, ARM_KP, ARM_KV, ARM_FORCE, strict=True):
         PositionActuators((joint,), kp=kp, kv=kv, forcerange=(-f, f)).edit_spec(arm)
     for body in arm.bodies:
         if body.name:
             body.gravcomp = 1.0
-    path = package_dir("robosuite") / GRIPPER_MODEL
-    gripper = mujoco.MjSpec.from_file(str(path))
-    _absolute_meshes(gripper, path)
-    for sensor in list(gripper.sensors):
-        gripper.delete(sensor)
-    for body in gripper.bodies:
-        if body.name:
-            body.gravcomp = 1.0
-    attach(arm, gripper, "tool_site", "hand/")
     return arm
 
 
