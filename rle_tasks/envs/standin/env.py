@@ -59,7 +59,6 @@ class StandinEnv:
         self.look = look
         self.model: mujoco.MjModel | None = None
         self.data: mujoco.MjData | None = None
-        self._seed: int | None = None
 
     def _build(self) -> None:
         spec = build_spec(self.look)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from rle_design.scene.robots import robot_constants
 from rle_tasks.envs.standin import tasks as T
 from rle_tasks.envs.standin.env import ACTION_DIM, HOME, StandinEnv
 from rle_tasks.envs.standin.scene import ARMS
@@ -33,7 +34,8 @@ class _Seg:
     grip: float
 
 
-def _yaw_quat_mat(yaw: float) -> np.ndarray:
+def _tool_down(yaw: float) -> np.ndarray:
+    """Rotation matrix of a tool pointing down (z = -world z), turned by ``yaw`` about world z."""
     c, s = np.cos(yaw), np.sin(yaw)
     rz = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
     return rz @ np.diag([1.0, -1.0, -1.0])
@@ -46,7 +48,8 @@ class _Ik:
         self.site = {p: self.m.site(p + "hand/grip_site").id for p in ARMS}
         self.qadr = {p: env._q[6 * i : 6 * i + 6] for i, p in enumerate(ARMS)}
         self.dadr = {
-            p: np.array([self.m.jnt_dofadr[self.m.joint(p + j).id] for j in _joints()]) for p in ARMS
+            p: np.array([self.m.jnt_dofadr[self.m.joint(p + j).id] for j in robot_constants("ur5e").joints])
+            for p in ARMS
         }
         self.lo, self.hi = env._lo[:6], env._hi[:6]
 
@@ -75,12 +78,6 @@ class _Ik:
         self.d.qpos[self.qadr[arm]] = q
         mujoco.mj_kinematics(self.m, self.d)
         return self.d.site_xpos[self.site[arm]].copy()
-
-
-def _joints() -> tuple[str, ...]:
-    from rle_design.scene.robots import robot_constants
-
-    return robot_constants("ur5e").joints
 
 
 def _grasp_yaw(obj_yaw: float, base: float) -> float:
@@ -201,7 +198,7 @@ class Expert:
         self.t = {a: 0 for a in ARMS}  # step in the segment
         self.q = {a: HOME.copy() for a in ARMS}
         self.pos = {a: self.ik.pose(a, HOME) for a in ARMS}
-        self.rot = {a: _yaw_quat_mat(0.0) for a in ARMS}
+        self.rot = {a: _tool_down(0.0) for a in ARMS}
         self.seg: dict[str, tuple] = {}
         self.grip = {a: OPEN for a in ARMS}
 
@@ -217,7 +214,7 @@ class Expert:
                 goal = seg.pos(self.env.privileged()) if callable(seg.pos) else seg.pos
                 start = self.pos[arm].copy()
                 goal = start if goal is None else np.asarray(goal, float)
-                rot = self.rot[arm] if seg.yaw is None else _yaw_quat_mat(seg.yaw)
+                rot = self.rot[arm] if seg.yaw is None else _tool_down(seg.yaw)
                 self.seg[arm] = (start, goal, rot, seg.pos is not None or seg.yaw is not None)
             start, goal, rot, moves = self.seg[arm]
             self.t[arm] += 1
