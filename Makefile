@@ -111,9 +111,11 @@ format: $(STAMP)
 	$(VENV)/bin/ruff check --fix .
 
 # Two pytest workers (the CI machine's two cores); files stay whole on one worker (--dist loadfile)
-# so module fixtures are built once. TEST_WORKERS=0 runs in one process.
+# so module fixtures are built once. TEST_WORKERS=0 runs in one process. A worker that dies ends the
+# run at once and names the test it died in (--max-worker-restart 0): with --dist loadfile, pytest-xdist
+# can wait forever for a replaced worker (pytest-dev/pytest-xdist#784, #1323).
 TEST_WORKERS ?= 2
-PYTEST_XDIST = $(if $(filter 0,$(TEST_WORKERS)),,-n $(TEST_WORKERS) --dist loadfile)
+PYTEST_XDIST = $(if $(filter 0,$(TEST_WORKERS)),,-n $(TEST_WORKERS) --dist loadfile --max-worker-restart 0)
 
 test: $(STAMP) lint libero-venv
 	$(PY) -m pytest -q $(PYTEST_XDIST)

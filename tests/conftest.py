@@ -12,6 +12,24 @@ os.environ.setdefault("PYOPENGL_PLATFORM", os.environ["MUJOCO_GL"])
 os.environ.pop("RLE_SECRET", None)  # tests choose their secrets explicitly
 
 
+@pytest.fixture(autouse=True, scope="module")
+def _release_memory_after_each_file():
+    """Frees the cached renderers (GL contexts holding whole scenes) and returns freed heap to the
+    system after each test file: a pytest-xdist worker runs hundreds of files in one process, and two
+    of them must fit in the CI machine's memory beside the processes the tests start."""
+    yield
+    import contextlib
+    import ctypes
+    import gc
+
+    from rle_design.control.cameras import close_renderers
+
+    close_renderers()
+    gc.collect()
+    with contextlib.suppress(OSError, AttributeError):  # not glibc
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+
+
 @pytest.fixture(scope="session")
 def full_battery() -> bool:
     """True when the full (slow) physics batteries are requested."""

@@ -1,15 +1,27 @@
-"""RGB views of a scene's named cameras, one offscreen renderer per (model, camera, size), reused."""
+"""RGB views of a scene's named cameras, one offscreen renderer per (model, camera, size), reused.
+
+The renderers are kept in a least-recently-used cache of ``MAX_RENDERERS``: each holds a GL context
+with the model's meshes and textures uploaded (about 150 MB for a two-arm tabletop) and keeps its
+model alive, so a process that builds a new scene per episode would otherwise grow without bound.
+"""
 
 from __future__ import annotations
+
+from collections import OrderedDict
 
 import mujoco
 import numpy as np
 
 from rle_design.sensors import RgbdSensor
 
-__all__ = ["close_renderers", "render_rgb", "render_rgbd"]
+__all__ = ["MAX_RENDERERS", "close_renderers", "render_rgb", "render_rgbd"]
 
-_SENSORS: dict[tuple[int, str, tuple[int, int], int | None], tuple[mujoco.MjModel, RgbdSensor]] = {}
+MAX_RENDERERS = 8
+"""Renderers kept at once: the views of two or three live scenes (a kitchen has three cameras)."""
+
+_SENSORS: OrderedDict[tuple[int, str, tuple[int, int], int | None], tuple[mujoco.MjModel, RgbdSensor]] = (
+    OrderedDict()
+)
 
 
 def render_rgb(
@@ -41,16 +53,18 @@ def _sensor(
 ) -> RgbdSensor:
     key = (id(model), name, tuple(size), box_quads)
     entry = _SENSORS.get(key)
-    if entry is None or entry[0] is not model:
-        if len(_SENSORS) > 48:
-            close_renderers()
-        entry = _SENSORS[key] = (
-            model,
-            RgbdSensor(
-                model, name, size[1], size[0], fast=True, segmentation=False, sites=False, box_quads=box_quads
-            ),
-        )
-    return entry[1]
+    if entry is not None and entry[0] is model:
+        _SENSORS.move_to_end(key)
+        return entry[1]
+    if entry is not None:  # a freed model's id reused by a new one
+        _SENSORS.pop(key)[1].close()
+    while len(_SENSORS) >= MAX_RENDERERS:
+        _SENSORS.popitem(last=False)[1][1].close()
+    sensor = RgbdSensor(
+        model, name, size[1], size[0], fast=True, segmentation=False, sites=False, box_quads=box_quads
+    )
+    _SENSORS[key] = (model, sensor)
+    return sensor
 
 
 def close_renderers() -> None:

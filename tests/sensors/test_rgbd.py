@@ -220,3 +220,29 @@ def test_one_quad_per_box_face_keeps_geometry_depth_and_segmentation():
     assert np.abs(a.rgb.astype(int) - b.rgb.astype(int)).mean() < 20  # the same picture, other shading
     with pytest.raises(ValueError, match="box_quads"):
         RgbdSensor(model, "cam", 64, 48, box_quads=0)
+
+
+def test_the_view_cache_keeps_the_most_recent_renderers_and_frees_the_rest():
+    """``render_rgb`` keeps at most ``MAX_RENDERERS`` renderers, least recently used out first: a
+    process that builds a new scene per episode does not grow without bound (each renderer holds a GL
+    context with the scene uploaded)."""
+    from rle_design.control import cameras
+
+    cameras.close_renderers()
+    models = [mujoco.MjModel.from_xml_string(PLANE_XML) for _ in range(cameras.MAX_RENDERERS)]
+    first = mujoco.MjData(models[0])
+    mujoco.mj_forward(models[0], first)
+    image = cameras.render_rgb(models[0], first, ("down", "oblique"), (24, 32))["down"]
+    assert image.shape == (24, 32, 3) and len(cameras._SENSORS) == 2
+    evicted = cameras._sensor(models[0], "down", (24, 32))
+    for m in models[1:]:
+        d = mujoco.MjData(m)
+        mujoco.mj_forward(m, d)
+        cameras.render_rgb(m, d, ("down",), (24, 32))
+        cameras.render_rgb(models[0], first, ("oblique",), (24, 32))  # used again: stays
+    assert len(cameras._SENSORS) == cameras.MAX_RENDERERS
+    assert evicted.closed and not cameras._sensor(models[0], "oblique", (24, 32)).closed
+    again = cameras.render_rgb(models[0], first, ("down",), (24, 32))["down"]
+    np.testing.assert_array_equal(again, image)  # rebuilt on demand, same picture
+    cameras.close_renderers()
+    assert not cameras._SENSORS
