@@ -200,3 +200,44 @@ def test_the_same_recipe_and_secret_give_the_same_report(demos):
         d["native_metrics"].pop("train_s")
         texts.append(json.dumps(d))
     assert texts[0] == texts[1]
+
+
+def _recipe(path):
+    spec = importlib.util.spec_from_file_location("standin_recipe", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_the_robust_reference_is_the_recipe_with_image_augmentation(tmp_path):
+    from rle_tasks.f05_nanovla.solutions import ROBUST_AUGMENT, with_augmentation
+
+    clean = (materialise(TASK, "reference") / "solution.py").read_text()
+    robust = (materialise(get_task(ROBUST), "reference") / "solution.py").read_text()
+    assert "\nAUGMENT = 0\n" in clean and ROBUST_AUGMENT > 0
+    assert robust == clean.replace("\nAUGMENT = 0\n", f"\nAUGMENT = {ROBUST_AUGMENT}\n")
+    (tmp_path / "solution.py").write_text("AUGMENT = 1\n")
+    with pytest.raises(ValueError, match="no longer declares AUGMENT = 0"):
+        with_augmentation(tmp_path)
+
+
+def test_augmented_frames_are_seeded_and_recolour_the_table():
+    """On a synthetic view (a tan table, a blue block): the table's colour is found, a copy keeps the
+    frames' shape and type, the same seed gives the same copy, and the table takes new colours while
+    its pixels stay one colour (the boxes and the block aside)."""
+    recipe = _recipe(materialise(TASK, "reference") / "solution.py")
+    frames = np.empty((4, 128, 128, 3), np.uint8)
+    frames[:] = (220, 188, 148)
+    frames[:, 50:70, 50:70] = (40, 60, 200)
+    table = recipe.table_colour(frames)
+    assert np.abs(table - (220, 188, 148)).max() <= 4
+    a = recipe.augment(frames, table, np.random.default_rng(3))
+    b = recipe.augment(frames, table, np.random.default_rng(3))
+    assert a.shape == frames.shape and a.dtype == np.uint8
+    np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(a, recipe.augment(frames, table, np.random.default_rng(4)))
+    for copy in a:
+        colours, counts = np.unique(copy.reshape(-1, 3), axis=0, return_counts=True)
+        commonest = colours[counts.argmax()]
+        assert np.abs(commonest.astype(int) - (220, 188, 148)).max() > 10  # a new table colour
+        assert counts.max() > 0.6 * 128 * 128  # the table: one colour, boxes and block aside

@@ -11,10 +11,13 @@ Training (``train``):
   request's ``step``) feed a 2 x 512 MLP that
   predicts the next ``CHUNK`` actions, standardised per dimension (L1 loss, as in action chunking
   with transformers);
-* no image-shift augmentation: the cameras do not move in the open track, and a shifted map with
-  an unchanged label teaches the policy to ignore where the objects are (it halved the grasp
-  precision in development); AdamW, batch 256, seeded; it stops at ``MAX_STEPS`` or when
-  ``TIME_BUDGET_S`` of wall time have passed since ``train`` started, well inside the 1,800 s.
+* on the open track no augmentation: the cameras do not move there, and a shifted map with an
+  unchanged label teaches the policy to ignore where the objects are (it halved the grasp precision
+  in development); ``AUGMENT`` > 0 (the robust track's reference) adds that many perturbed copies of
+  every frame (``augment``: table colour, light, colour cast, distractor boxes, a shift of a few
+  pixels for a moved camera), encoded beside the original with the same labels;
+* AdamW, batch 256, seeded; it stops at ``MAX_STEPS`` or when ``TIME_BUDGET_S`` of wall time have
+  passed since ``train`` started, well inside the 1,800 s.
 
 Serving (``serve``): the same encoder on both views, the chunk's first ``EXECUTE`` actions with the
 grippers snapped to open (1) or closed (0).
@@ -55,6 +58,14 @@ them learns to copy them and drifts in closed loop; from the views and the time 
 target itself."""
 
 
+AUGMENT = 0
+"""Perturbed copies of every frame (0: none)."""
+SHIFT_PX = 3
+"""Largest image shift of an augmented copy [px] (a 3 cm camera move at about 1 m is up to 4.6 px)."""
+TABLE_TOLERANCE = 40
+"""A pixel is taken for the table when every channel is within this of the view's commonest colour
+(0-255)."""
+
 THREADS = 2
 """torch threads, fixed so that the trained weights do not depend on the machine's core count."""
 
@@ -74,6 +85,33 @@ def encode(net, images: np.ndarray) -> torch.Tensor:
                 x = b(x)
             out.append(x.half())
     return torch.cat(out)
+
+
+def table_colour(images: np.ndarray) -> np.ndarray:
+    """The commonest colour of a view (its table), from frames (N, H, W, 3), in steps of 8."""
+    q = images[:: max(1, len(images) // 8)].reshape(-1, 3) // 8
+    keys, counts = np.unique(q, axis=0, return_counts=True)
+    return keys[counts.argmax()].astype(np.float32) * 8 + 4
+
+
+def augment(images: np.ndarray, table: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """One perturbed copy of uint8 frames (N, H, W, 3), a fresh look per frame: the table's pixels
+    recoloured (shading kept), the light's intensity and colour cast changed, two to four small boxes
+    of random colour pasted, the image shifted by up to ``SHIFT_PX``."""
+    n, h, w, _ = images.shape
+    x = images.astype(np.float32)
+    mask = (np.abs(x - table).max(-1, keepdims=True) < TABLE_TOLERANCE).astype(np.float32)
+    recolour = rng.uniform(0.15, 0.9, (n, 1, 1, 3)).astype(np.float32) * 255 / np.maximum(table, 1)
+    x = x * (1 + mask * (recolour - 1))
+    x = x * rng.uniform(0.45, 1.15, (n, 1, 1, 1)) * rng.uniform(0.85, 1.15, (n, 1, 1, 3))
+    for i in range(n):
+        for _ in range(int(rng.integers(2, 5))):
+            bh, bw = rng.integers(3, 9, 2)
+            r, c = rng.integers(0, h - bh), rng.integers(0, w - bw)
+            x[i, r : r + bh, c : c + bw] = rng.uniform(10, 245, 3)
+        dy, dx = rng.integers(-SHIFT_PX, SHIFT_PX + 1, 2)
+        x[i] = np.roll(x[i], (int(dy), int(dx)), axis=(0, 1))
+    return np.clip(x, 0, 255).astype(np.uint8)
 
 
 class Policy(nn.Module):
@@ -111,19 +149,27 @@ def train(demos_dir: str) -> None:
     _threads()
     files = sorted(glob.glob(os.path.join(demos_dir, "*.npz")))
     net = load_encoder()
+    rng = np.random.default_rng(SEED)
+    tables = None
     views = ([], [])
     states, targets, langs, times = [], [], [], []
     for f in files:
         ep = np.load(f)
         a = ep["actions"].astype(np.float32)
         n = len(a)
+        if AUGMENT and tables is None:
+            tables = [table_colour(ep[name]) for name in ("head", "front")]
         for k, name in enumerate(("head", "front")):
-            views[k].append(encode(net, ep[name][:n]))
-        states.append(ep["state"][:n, FINGERS].astype(np.float32))
+            frames = ep[name][:n]
+            views[k].append(encode(net, frames))
+            for _ in range(AUGMENT):
+                views[k].append(encode(net, augment(frames, tables[k], rng)))
         pad = np.concatenate([a, np.repeat(a[-1:], CHUNK, 0)])
-        targets.append(np.stack([pad[i : i + CHUNK] for i in range(n)]))
-        langs += [str(ep["language"])] * n
-        times.append(np.arange(n, dtype=np.float32) / HORIZON)
+        for _ in range(1 + AUGMENT):
+            states.append(ep["state"][:n, FINGERS].astype(np.float32))
+            targets.append(np.stack([pad[i : i + CHUNK] for i in range(n)]))
+            langs += [str(ep["language"])] * n
+            times.append(np.arange(n, dtype=np.float32) / HORIZON)
     instructions = sorted(set(langs))
     index = {s: i for i, s in enumerate(instructions)}
     maps = [torch.cat(v) for v in views]
