@@ -91,26 +91,23 @@ def with_augmentation(root: Path) -> None:
     path.write_text(text.replace("\nAUGMENT = 0\n", f"\nAUGMENT = {ROBUST_AUGMENT}\n"), encoding="utf-8")
 
 
-def _standin_reference(quick_score: float, *, augmented: bool = False) -> Solution:
-    """The stand-in reference recipe, with its golden score on one track; ``augmented``: with the
-    robust track's image augmentation."""
+def _standin_reference(sha256: str, quick_score: float, transforms=()) -> Solution:
+    """The stand-in reference recipe on one track (``transforms``: what that track changes)."""
     return Solution(
         "reference",
-        sha256=(
-            "0376e97b0aec782038f9a3ce7f28682f7429233b46b16c2a7dd4fc7ca9fe1652"
-            if augmented
-            else "124781602d907d8eb00e3fdbc7e63e66332169beb230b5d8d8b7180bb7316c69"
-        ),
+        sha256=sha256,
         quick_score=quick_score,
         files=(("solution.py", "solutions/reference/standin.py"),),
-        transforms=(with_augmentation,) if augmented else (),
+        transforms=transforms,
     )
 
 
 _STANDIN_OPEN = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
-        _standin_reference(0.5833333333333334),
+        _standin_reference(
+            "124781602d907d8eb00e3fdbc7e63e66332169beb230b5d8d8b7180bb7316c69", 0.5833333333333334
+        ),
         *(
             s
             for s in _OPEN.solutions
@@ -121,7 +118,11 @@ _STANDIN_OPEN = SolutionSet(
 _STANDIN_ROBUST = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
-        _standin_reference(0.4166666666666667, augmented=True),
+        _standin_reference(
+            "0376e97b0aec782038f9a3ce7f28682f7429233b46b16c2a7dd4fc7ca9fe1652",
+            0.4166666666666667,
+            transforms=(with_augmentation,),
+        ),
         *(s for s in _OPEN.solutions if s.name == "baseline/mean_action"),
     ),
 )
