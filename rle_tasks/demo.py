@@ -3,7 +3,10 @@ RLE Index of the reference solutions, renders the canonical arms, and writes ``o
 
 Reference solutions are verified in full (their reports feed the RLE Index); baselines, which exist to
 fail for a named reason, are verified with the reduced (quick) batteries unless ``full_baselines`` is
-set, and the page marks every report's mode.
+set, and the page marks every report's mode. A report made in quick mode with the public development key
+is compared with the solution's golden score (``Solution.quick_score``): a difference is printed and
+marked on the page, because it means this machine or this checkout does not reproduce the pinned result
+(a recipe whose training stopped early on a loaded machine, for example).
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from tqdm import tqdm
 from rle_tasks.core.registry import all_tasks
 from rle_tasks.core.report import VerifierReport
 from rle_tasks.core.secrets import load_secret
-from rle_tasks.core.solutions import materialise
+from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify
 
@@ -72,6 +75,25 @@ def _verify_all(
     return results
 
 
+GOLDEN_TOLERANCE = 1e-6
+"""Largest difference from a golden score that still counts as reproduced (scores are written to 12
+digits)."""
+
+
+def golden_differences(results, modes: dict[tuple[str, str], bool]) -> dict[tuple[str, str], float]:
+    """(task, solution) -> golden score, for the reports made in quick mode with the public development
+    key whose score differs from the solution's golden score by more than ``GOLDEN_TOLERANCE``."""
+    tasks = {t.id: t for t in all_tasks()}
+    out = {}
+    for task_id, name, _, rep in results:
+        if not modes.get((task_id, name)) or rep.secret != "public":
+            continue
+        golden = declaration(tasks[task_id]).get(name).quick_score
+        if abs(rep.score - golden) > GOLDEN_TOLERANCE:
+            out[(task_id, name)] = golden
+    return out
+
+
 not_run: list[tuple[str, str, str]] = []
 """(task, solution, why) of the solutions the last ``_verify_all`` could not verify here."""
 
@@ -88,15 +110,19 @@ def write_html(
     index_html: Path | None,
     elapsed: float,
     modes: dict[tuple[str, str], bool] | None = None,
+    differs: dict[tuple[str, str], float] | None = None,
 ) -> Path:
     rows = []
     modes = modes or {}
+    differs = differs or {}
     for task_id, name, path, rep in results:
         mode = "quick" if modes.get((task_id, name)) else "full"
+        golden = differs.get((task_id, name))
+        note = "" if golden is None else f" <span style='color:#b00'>(golden {golden:.3f})</span>"
         reasons = "; ".join(f"{e.code}" for e in rep.errors[:4])
         failed = ", ".join(c.id for c in rep.checkpoints if not c.passed)
         rows.append(
-            f"<tr><td>{html.escape(task_id)}</td><td>{html.escape(name)}</td><td>{mode}</td><td><b>{rep.score:.3f}</b></td>"
+            f"<tr><td>{html.escape(task_id)}</td><td>{html.escape(name)}</td><td>{mode}</td><td><b>{rep.score:.3f}</b>{note}</td>"
             f"<td>{'' if rep.cap is None else rep.cap}</td><td>{html.escape(failed)}</td>"
             f"<td>{html.escape(reasons)}</td><td><a href='{path.relative_to(out)}'>json</a></td></tr>"
         )
@@ -126,7 +152,8 @@ def write_html(
 td,th{{border:1px solid #ccc;padding:4px 8px;font-size:14px}}figure{{display:inline-block;margin:6px}}</style></head>
 <body><h1>RLE-Bench demo</h1><p>Every shipped solution of every implemented task, verified with the public
 development key ({elapsed:.0f} s). References run the full batteries; baselines run the reduced (quick)
-batteries unless <code>rle demo --full-baselines</code>.</p>{index_link}
+batteries unless <code>rle demo --full-baselines</code>. A quick-mode score that differs from the solution's
+pinned golden score is shown in red beside it.</p>{index_link}
 <h2>Verifier reports</h2><table><tr><th>task</th><th>solution</th><th>mode</th><th>score</th><th>cap</th>
 <th>failed checkpoints</th><th>errors</th><th>report</th></tr>{"".join(rows)}</table>
 <h2>Design renders</h2>{"".join(figs) or "<p>(no figures)</p>"}
@@ -151,12 +178,20 @@ def run_demo(out: Path, quick: bool = False, jobs: int = 1, full_baselines: bool
         index_command(refs, html=str(index_html), name="reference solutions")
     print("rendering the canonical arms ...")
     arm_pngs = render_arms(out)
-    page = write_html(out, results, arm_pngs, index_html, time.perf_counter() - t0, modes)
+    differs = golden_differences(results, modes)
+    page = write_html(out, results, arm_pngs, index_html, time.perf_counter() - t0, modes, differs)
     summary = {f"{t}:{n}": round(r.score, 4) for t, n, _, r in results}
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     for (t, n, _, _), (key, score) in zip(results, summary.items(), strict=True):
-        print(f"  {key:<50} {score:.3f}  ({'quick' if modes[(t, n)] else 'full'})")
+        golden = differs.get((t, n))
+        note = "" if golden is None else f"  differs from its golden score {golden:.3f}"
+        print(f"  {key:<50} {score:.3f}  ({'quick' if modes[(t, n)] else 'full'}){note}")
     for t, n, why in not_run:
         print(f"  {t}:{n:<{49 - len(t)}} not run: {why}")
+    if differs:
+        print(
+            f"{len(differs)} quick-mode score(s) differ from their golden scores: this machine or checkout "
+            "does not reproduce the pinned results (see the reports' native metrics)"
+        )
     print(f"open {page}")
     return 0

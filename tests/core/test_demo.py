@@ -64,3 +64,27 @@ def test_demo_lists_what_the_operators_set_up_lacks_instead_of_failing(tmp_path,
     }
     page = demo.write_html(tmp_path, results, [], None, 1.0).read_text()
     assert page.count("make libero-demos") == len(demo.not_run)
+
+
+def test_demo_marks_quick_scores_that_differ_from_their_golden_scores(tmp_path):
+    """Only reports made in quick mode with the public key are compared: a golden score is pinned in
+    that mode; a full-mode score or one under another secret has nothing to be compared with."""
+    task = get_task("09-gello")
+    golden = declaration(task).get("reference").quick_score
+
+    def report(score, secret="public"):
+        return VerifierReport(task.id, "09", task.workflow, score=score, valid=True, secret=secret)
+
+    path = tmp_path / "r.json"
+    results = [
+        (task.id, "reference", path, report(golden)),
+        (task.id, "baseline/uncompensated", path, report(0.999)),
+        (task.id, "baseline/over_mass", path, report(0.999, secret="operator")),
+        (task.id, "baseline/hanging_trim", path, report(0.999)),
+    ]
+    modes = {(task.id, n): True for _, n, _, _ in results} | {(task.id, "baseline/hanging_trim"): False}
+    differs = demo.golden_differences(results, modes)
+    uncompensated = declaration(task).get("baseline/uncompensated").quick_score
+    assert differs == {(task.id, "baseline/uncompensated"): uncompensated}
+    page = demo.write_html(tmp_path, results, [], None, 1.0, modes, differs).read_text()
+    assert page.count("(golden ") == 1 and f"(golden {uncompensated:.3f})" in page

@@ -106,7 +106,7 @@ _STANDIN_OPEN = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
         _standin_reference(
-            "124781602d907d8eb00e3fdbc7e63e66332169beb230b5d8d8b7180bb7316c69", 0.5833333333333334
+            "08d7ce26391f180d92d5a1cf1e95df009705c9288e52a64c169289c30a61c54b", 0.5833333333333334
         ),
         *(
             s
@@ -119,7 +119,7 @@ _STANDIN_ROBUST = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
         _standin_reference(
-            "0376e97b0aec782038f9a3ce7f28682f7429233b46b16c2a7dd4fc7ca9fe1652",
+            "cebaef7d7cd9bae6c4f114240957e9fe7f05eec3130d9e83cce9473b948ce77e",
             0.4166666666666667,
             transforms=(with_augmentation,),
         ),
