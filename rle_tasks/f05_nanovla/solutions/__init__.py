@@ -106,7 +106,7 @@ _STANDIN_OPEN = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
         _standin_reference(
-            "08d7ce26391f180d92d5a1cf1e95df009705c9288e52a64c169289c30a61c54b", 0.5833333333333334
+            "d39dd433d1971a97ea53bdfc7f86f603a1f8bcc3c89ef009d41b026af0839ef4", 0.5833333333333334
         ),
         *(
             s
@@ -119,7 +119,7 @@ _STANDIN_ROBUST = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
         _standin_reference(
-            "cebaef7d7cd9bae6c4f114240957e9fe7f05eec3130d9e83cce9473b948ce77e",
+            "c87828a1afb642abd021fb2d5ad5626dcda067ff9296140d146bdb0304fb40e9",
             0.4166666666666667,
             transforms=(with_augmentation,),
         ),

@@ -47,8 +47,8 @@ TIME_BUDGET_S = 1700.0
 """Wall-time guard [s] from the start of ``train``: the sandbox allows 1,920 s (1,800 plus the 120 s
 allowance); 220 s are left for the imports before ``train`` and for saving. Unloaded, training ends at
 ``MAX_STEPS`` first (417 s open, 1,056 s with two augmented copies), so the guard changes nothing there; on
-a machine up to 1.6 times slower it still does (at 1,300 s it cut the augmented training during a busy
-``make demo``, and that run scored 4 of 12 instead of 5)."""
+a machine up to 1.6 times slower it still does (at 1,300 s it cut the augmented training of a fresh
+``make demo`` on this shared machine, and that run scored 4 of 12 instead of 5)."""
 LR = 3e-3
 """Peak learning rate (cosine decay to 0 over ``MAX_STEPS``): on five held-out demonstrations per
 task the chunk's L1 error after 3,000 steps was 0.082 at 3e-4, 0.039 at 1e-3 and 0.024 at 3e-3."""
