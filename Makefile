@@ -86,11 +86,12 @@ $(LIBERO_VENV)/.installed: $(LIBERO_LOCK)
 
 # Family 05's training dataset: the scripted experts' LIBERO-10 demonstrations with both views, 50 per
 # task (LIBERO ships 50), cached outside the repository with a checksum (rle_tasks/envs/libero/demos.py).
-# About 1 min of one core per episode: ~6.5 core-hours, so it is built on request, never by CI;
+# Both views are recorded at every 4th frame (rle_tasks/f05_nanovla/verifier.py, DATASET_VIEW_EVERY).
+# About 20 s of one core per episode: ~2 core-hours, so it is built on request, never by CI;
 # `make demo` lists the 05 solutions it cannot verify without it.
 DEMO_JOBS ?= 2
 libero-demos: $(STAMP) libero-venv
-	$(PY) -m rle_tasks.envs.libero.demos --views --per-task 50 --seed 0 --jobs $(DEMO_JOBS)
+	$(PY) -m rle_tasks.envs.libero.demos --views --view-every 4 --per-task 50 --seed 0 --jobs $(DEMO_JOBS)
 
 # The RoboTwin stand-in's training dataset (family 05): the scripted experts' demonstrations with
 # both views, 50 per task, cached outside the repository with a checksum

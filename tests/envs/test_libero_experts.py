@@ -84,6 +84,31 @@ def test_a_recorded_episode_keeps_the_views_the_policy_saw(libero10_task0_render
     assert 1e-4 < lag < 0.01  # [m, rad]: the stored state runs ahead of the observation
 
 
+def test_skipped_views_change_neither_the_episode_nor_the_views_asked_for(libero10_task0_rendered):
+    """Recording every 3rd frame's views (the other steps not rendered) gives, at frames 0, 3 and 6,
+    the very images and states of a run that renders every step, and steps without views carry
+    no images."""
+    from rle_tasks.envs.libero.experts import _Driver
+
+    env = libero10_task0_rendered
+    actions = [np.array([0.3, 0.1 * k, -0.2, 0.0, 0.0, 0.05, -1.0]) for k in range(6)]
+    runs = []
+    for every in (1, 3):
+        d = _Driver(env, 10, env.reset(0), record=True, view_every=every)
+        for a in actions:
+            d.act(a)
+        runs.append(d)
+    full, sparse = runs
+    assert sparse.view_frames == [0, 3, 6] and full.view_frames == list(range(7))
+    for v in ("agentview", "wrist"):
+        assert len(sparse.views[v]) == 3
+        for k, frame in enumerate(sparse.view_frames):
+            assert np.array_equal(sparse.views[v][k], full.views[v][frame])
+    np.testing.assert_array_equal(np.array(sparse.sim_states)[:, 1:], np.array(full.sim_states)[:, 1:])
+    obs, _ = env.step(actions[0], views=False)
+    assert set(obs) == {"state"}
+
+
 def test_a_hinged_door_is_swung_shut_and_placing_behind_it_stays_unsupported(libero_side_env):
     """LIBERO-10 task 9 (mug into the microwave, close it): the door skill alone, from the open door
     of official state 1, brings the hinge to its closed end (0 rad) within 0.05 rad; the task as a

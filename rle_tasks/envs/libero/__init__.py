@@ -120,12 +120,15 @@ class LiberoEnv:
             raise ValueError(f"init_index {init_index} outside [0, {task.n_init_states})")
         return self._box.call("reset", int(init_index))
 
-    def step(self, action: np.ndarray) -> tuple[dict[str, np.ndarray], bool]:
-        """One 20 Hz control step; returns (observation, success)."""
+    def step(self, action: np.ndarray, views: bool = True) -> tuple[dict[str, np.ndarray], bool]:
+        """One 20 Hz control step; returns (observation, success). ``views=False`` skips rendering
+        this step's two views (the observation then has ``state`` only): a step whose observation
+        no policy will see costs about a fifth as much. The views of a step that asks for them are
+        the same either way (``side/libero_server._gate_views``)."""
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if self.task is None or a.shape != (self.task.action_dim,) or not np.all(np.isfinite(a)):
             raise ValueError(f"action must be a finite {self.task.action_dim if self.task else 7}-vector")
-        obs, success = self._box.call("step", a)
+        obs, success = self._box.call("step", a, bool(views))
         return obs, bool(success)
 
     def sim_state(self) -> np.ndarray:

@@ -79,8 +79,9 @@ def run_episode(
         except ProtocolError as exc:
             return EpisodeResult(init_index, False, steps, requests, exc.code)
         requests += 1
-        for a in chunk:
-            obs, success = env.step(np.clip(a, -1.0, 1.0))
+        for i, a in enumerate(chunk):
+            # only the chunk's last observation reaches the policy: the others are not rendered
+            obs, success = env.step(np.clip(a, -1.0, 1.0), views=i == len(chunk) - 1)
             steps += 1
             if success:
                 return EpisodeResult(init_index, True, steps, requests)

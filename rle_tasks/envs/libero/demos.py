@@ -1,6 +1,7 @@
 """Demonstrations of LIBERO-10 from the scripted experts, built by a command and cached outside git.
 
-    python -m rle_tasks.envs.libero.demos [OUT] [--tasks 0 1 ...] [--per-task N] [--seed S] [--views] [--jobs J] [--noise SIGMA]
+    python -m rle_tasks.envs.libero.demos [OUT] [--tasks 0 1 ...] [--per-task N] [--seed S] [--views]
+        [--view-every K] [--jobs J] [--noise SIGMA]
 
 For each task, the expert runs from LIBERO's official initial states in order (0, 1, ...) until it has
 ``per_task`` successful episodes or the states run out; only successes are kept. An episode is one
@@ -13,7 +14,10 @@ simulator). They are recorded live, not rendered later from ``sim_states``: an o
 stored MuJoCo state by part of a control step (1-2 mm of end-effector motion), so images rendered
 from the states differ from what a policy sees in 4-19 % of their pixels. Rendering costs about
 0.1 s a step on a CPU against 0.01 s for the simulation, so view datasets are ten times slower to
-build; they are cached apart (``<suite>-<seed>-<per_task>-views``).
+build; they are cached apart (``<suite>-<seed>-<per_task>-views``). ``--view-every K`` records the
+views of every K-th frame only (frames 0, K, 2K, ...; ``view_frames`` lists them and ``agentview``
+and ``wrist`` then have one image per listed frame): the steps in between are not rendered, so a
+K = 4 dataset costs about a third of a full one (``-views4``).
 
 ``manifest.json`` lists every attempt (init state, success, steps), the kept files with their SHA-256,
 the per-task success rate of the expert and the build parameters; ``manifest.sha256`` is the digest of
@@ -41,10 +45,13 @@ MAX_FAILURES_IN_A_ROW = 10
 """A task whose expert fails this many initial states in a row is left (its attempts are listed)."""
 
 
-def default_dir(suite: str, seed: int, per_task: int, views: bool = False, noise: float = 0.0) -> Path:
+def default_dir(
+    suite: str, seed: int, per_task: int, views: bool = False, noise: float = 0.0, view_every: int = 1
+) -> Path:
     """The cache directory of a dataset built with these parameters."""
     root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    name = f"{suite}-{seed}-{per_task}{'-views' if views else ''}{f'-noise{noise:g}' if noise > 0 else ''}"
+    tag = ("-views" + (str(view_every) if view_every > 1 else "")) if views else ""
+    name = f"{suite}-{seed}-{per_task}{tag}{f'-noise{noise:g}' if noise > 0 else ''}"
     return root / "rle-bench" / "libero-demos" / name
 
 
@@ -67,21 +74,28 @@ def build_demos(
     views: bool = False,
     jobs: int = 1,
     noise: float = 0.0,
+    view_every: int = 1,
 ) -> dict:
     """Build (or complete) the dataset in ``out``; returns the manifest. Episodes already present
     with their recorded checksum are kept, so an interrupted build resumes; ``views`` records both
     camera views of every step (a dataset built otherwise is rebuilt); ``jobs`` builds that many
     tasks at once in worker processes (``rle_tasks.core.runner``; each prints its own progress);
     ``noise`` injects N(0, noise) into the executed motion actions (``experts.run_expert``), stores
-    the expert's clean actions as ``actions`` and the executed ones as ``executed_actions``."""
+    the expert's clean actions as ``actions`` and the executed ones as ``executed_actions``;
+    ``view_every`` records the views of every K-th frame only."""
     from rle_tasks.core.runner import run_parallel
 
     out.mkdir(parents=True, exist_ok=True)
     old = json.loads((out / "manifest.json").read_text()) if (out / "manifest.json").is_file() else {}
-    if bool(old.get("views")) != views or float(old.get("noise", 0.0)) != noise:
-        old = {}  # images or not, noise or not: the other kind of dataset is rebuilt
+    view_every = max(1, int(view_every)) if views else 1
+    if (
+        bool(old.get("views")) != views
+        or float(old.get("noise", 0.0)) != noise
+        or int(old.get("view_every", 1)) != view_every
+    ):
+        old = {}  # images or not, noise or not, which frames: the other kind of dataset is rebuilt
     ids = list(range(10) if tasks is None else tasks)
-    items = [(str(out), suite, t, per_task, seed, views, old, noise) for t in ids]
+    items = [(str(out), suite, t, per_task, seed, views, old, noise, view_every) for t in ids]
     if jobs > 1:
         built = run_parallel(_build_task_item, items, jobs=jobs)
     else:
@@ -98,6 +112,7 @@ def build_demos(
         "tasks": report,
         "files": dict(sorted(files.items())),
         "views": views,
+        **({"view_every": view_every} if view_every > 1 else {}),
         **({"noise": noise} if noise > 0 else {}),
     }
     text = json.dumps(manifest, indent=1, sort_keys=True)
@@ -119,6 +134,7 @@ def _build_task(
     views: bool,
     old: dict,
     noise: float = 0.0,
+    view_every: int = 1,
     progress=print,
 ) -> tuple[dict, dict[str, str]]:
     """One task's episodes: ``(manifest entry, {file: sha256})``."""
@@ -154,7 +170,12 @@ def _build_task(
                 continue
             t0 = time.perf_counter()
             res = run_expert(
-                env, init, np.random.default_rng([seed, task_id, init]), record=True, noise=noise
+                env,
+                init,
+                np.random.default_rng([seed, task_id, init]),
+                record=True,
+                noise=noise,
+                view_every=view_every,
             )
             entry["attempts"].append({"init": init, "success": res.success, "steps": res.steps})
             progress(
@@ -172,6 +193,7 @@ def _build_task(
                 sim_states=res.sim_states,
                 language=np.array(task.language),
                 **(res.views or {}),
+                **({} if res.view_frames is None else {"view_frames": res.view_frames}),
                 **({} if res.executed is None else {"executed_actions": res.executed.astype(np.float32)}),
             )
             files[name] = _sha256(out / name)
@@ -220,6 +242,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--per-task", type=int, default=20, help="successful demonstrations per task")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--views", action="store_true", help="record both 128 px views of every step")
+    p.add_argument("--view-every", type=int, default=1, help="with --views: record every K-th frame's views")
     p.add_argument("--jobs", type=int, default=1, help="tasks built at once (worker processes)")
     p.add_argument(
         "--noise",
@@ -228,7 +251,9 @@ def main(argv: list[str] | None = None) -> int:
         help="DART: N(0, noise) added to executed motion actions [action units]",
     )
     a = p.parse_args(argv)
-    out = Path(a.out) if a.out else default_dir(a.suite, a.seed, a.per_task, a.views, a.noise)
+    if a.view_every < 1:
+        p.error("--view-every must be at least 1")
+    out = Path(a.out) if a.out else default_dir(a.suite, a.seed, a.per_task, a.views, a.noise, a.view_every)
     manifest = build_demos(
         out,
         suite=a.suite,
@@ -238,6 +263,7 @@ def main(argv: list[str] | None = None) -> int:
         views=a.views,
         jobs=a.jobs,
         noise=a.noise,
+        view_every=a.view_every,
     )
     for tid, e in manifest["tasks"].items():
         if "skipped" in e:

@@ -82,11 +82,13 @@ class ExpertResult:
     observations: np.ndarray | None = None
     """(steps + 1, 8) the policy's ``state`` observation at the same instants (when recorded)."""
     views: dict[str, np.ndarray] | None = None
-    """``agentview`` and ``wrist``, uint8 (steps + 1, H, W, 3): the images the policy would have seen
-    (when recorded with a rendering environment)."""
+    """``agentview`` and ``wrist``, uint8 (len(view_frames), H, W, 3): the images the policy would
+    have seen at the frames ``view_frames`` (when recorded with a rendering environment)."""
     executed: np.ndarray | None = None
     """(steps, 7) the actions executed when noise was injected (``actions`` then holds the expert's
     clean actions: the labels); None without noise, when the two are the same."""
+    view_frames: np.ndarray | None = None
+    """Frames (0 .. steps) whose views were recorded: every ``view_every``-th (when views were)."""
 
 
 def _axis_angle(rot: np.ndarray) -> np.ndarray:
@@ -126,8 +128,11 @@ class _Driver:
         record: bool = False,
         noise: float = 0.0,
         rng: np.random.Generator | None = None,
+        view_every: int = 1,
     ) -> None:
         self.env, self.horizon, self.record = env, horizon, record
+        self.view_every = max(1, int(view_every))
+        self.view_frames: list[int] = [0]
         self.noise, self.rng = float(noise), rng
         self.executed: list[np.ndarray] = []
         self.scene = env.scene()
@@ -154,14 +159,18 @@ class _Driver:
             kick = np.r_[self.rng.normal(0.0, self.noise, 6), 0.0]  # the gripper command stays
             sent = np.clip(action + kick, -1.0, 1.0).astype(np.float32).astype(np.float64)
             self.executed.append(sent)
-        obs, self.success = self.env.step(sent)
+        frame = len(self.actions) + 1  # the frame this step's observation is
+        views = bool(self.views) and frame % self.view_every == 0
+        obs, self.success = self.env.step(sent, views=views)
         self.actions.append(np.asarray(action, dtype=np.float64))
         self.scene = self.env.scene()
         if self.record:
             self.sim_states.append(self.env.sim_state())
             self.observations.append(obs["state"])
-            for v, frames in self.views.items():
-                frames.append(obs[v])
+            if views:
+                self.view_frames.append(frame)
+                for v, frames in self.views.items():
+                    frames.append(obs[v])
 
     def toward(self, pos: np.ndarray, rot: np.ndarray, grip: float, gain: float = 1.0) -> np.ndarray:
         sc = self.scene
@@ -649,17 +658,24 @@ def _settle(d: _Driver, max_steps: int = 40) -> None:
 
 
 def run_expert(
-    env: LiberoEnv, init_index: int, rng: np.random.Generator, *, record: bool = False, noise: float = 0.0
+    env: LiberoEnv,
+    init_index: int,
+    rng: np.random.Generator,
+    *,
+    record: bool = False,
+    noise: float = 0.0,
+    view_every: int = 1,
 ) -> ExpertResult:
     """One demonstration from the official initial state ``init_index`` (``env`` started); with
     ``record`` the MuJoCo state and the policy's state observation of every step are kept, and the
     two views when ``env`` renders. ``noise`` > 0 adds N(0, noise) to the six motion components of
     every executed action (action units) while the expert's own action is kept as the label (DART):
-    the expert corrects the drift, so the data covers states a drifting policy visits."""
+    the expert corrects the drift, so the data covers states a drifting policy visits. ``view_every``
+    K > 1 records the views of frames 0, K, 2K, ... only (the other steps are not rendered)."""
     first = env.reset(init_index)
     task = env.start()
     kicks = np.random.default_rng(rng.integers(2**63)) if noise > 0.0 else None  # rng untouched without noise
-    d = _Driver(env, task.max_steps, first, record, noise, kicks)
+    d = _Driver(env, task.max_steps, first, record, noise, kicks, view_every)
     _settle(d)
     for _ in _skills(d, rng):
         if d.done:
@@ -675,4 +691,5 @@ def run_expert(
         np.asarray(d.observations) if record else None,
         {v: np.asarray(f, dtype=np.uint8) for v, f in d.views.items()} or None,
         np.asarray(d.executed).reshape(-1, 7) if noise > 0.0 else None,
+        np.asarray(d.view_frames, dtype=np.int64) if d.views else None,
     )

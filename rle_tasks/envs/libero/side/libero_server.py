@@ -46,12 +46,38 @@ def make(suite, task_id, image_size, render):
     else:
         env = ControlEnv(bddl_file_name=str(bddl), has_offscreen_renderer=False, use_camera_obs=False)
     _S.update(env=env, states=bench.get_task_init_states(int(task_id)), render=bool(render), size=size)
+    _S["views_on"] = True
     return {
         "language": str(task.language),
         "name": str(task.name),
         "n_init_states": int(len(_S["states"])),
         "action_dim": int(env.env.action_dim),
     }
+
+
+def _gate_views(inner):
+    """Render the two views only in steps whose observation a caller asked for (``step(views=True)``).
+
+    robosuite samples a camera observable once per control step, during one of its physics substeps;
+    the gate keeps that timing and only skips the rendering itself (about 60 ms a view on a CPU
+    against about 13 ms for a whole control step without it), so the views of a step that asks for
+    them are the ones an always-rendering environment returns. A reset may build new observables,
+    so this runs before every step (a gated sensor is left as it is)."""
+    for name in VIEWS:
+        observable = inner._observables[name]
+        render = observable._sensor
+        if getattr(render, "gated", False):
+            continue
+        last = {}
+
+        def gated(obs_cache, render=render, last=last):
+            if _S["views_on"] or not last:
+                last["image"] = render(obs_cache)
+            return last["image"]  # a skipped step's image is never sent (``_obs`` leaves it out)
+
+        gated.gated = True
+        gated.__modality__ = render.__modality__
+        observable._sensor = gated
 
 
 def _axis_angle(quat_xyzw):
@@ -63,12 +89,12 @@ def _axis_angle(quat_xyzw):
     return np.array([x, y, z]) / s * 2.0 * np.arccos(w)
 
 
-def _obs(raw):
+def _obs(raw, views=True):
     state = np.concatenate(
         [raw["robot0_eef_pos"], _axis_angle(raw["robot0_eef_quat"]), raw["robot0_gripper_qpos"]]
     )
     out = {"state": state.astype(np.float64)}
-    if _S["render"]:
+    if _S["render"] and views:
         # MuJoCo's offscreen images come upside down: turned by 180 degrees, as LIBERO's evaluations do
         for key, name in zip(VIEWS, ("agentview", "wrist")):
             out[name] = np.ascontiguousarray(np.asarray(raw[key], dtype=np.uint8)[::-1, ::-1])
@@ -102,10 +128,17 @@ def render_states(states):
     return {k: np.stack([o[k] for o in out]) for k in keys}
 
 
-def step(action):
-    """One 20 Hz control step with a 7-D action; returns (observation, success)."""
-    raw, _, _, _ = _S["env"].step(np.asarray(action, dtype=np.float64))
-    return _obs(raw), bool(_S["env"].check_success())
+def step(action, views=True):
+    """One 20 Hz control step with a 7-D action; returns (observation, success). With ``views``
+    false a rendering environment skips the two views of this step (the observation has none)."""
+    if _S["render"]:
+        _gate_views(_S["env"].env)
+    _S["views_on"] = bool(views)
+    try:
+        raw, _, _, _ = _S["env"].step(np.asarray(action, dtype=np.float64))
+    finally:
+        _S["views_on"] = True
+    return _obs(raw, views), bool(_S["env"].check_success())
 
 
 def _body_box(sim, body_id):

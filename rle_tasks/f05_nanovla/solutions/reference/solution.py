@@ -3,8 +3,8 @@ action-chunking policy trained by behaviour cloning.
 
 Training (``train``):
 
-* every ``stride``-th frame of every demonstration (1 when the dataset has at most 40,000 frames,
-  else 2) goes through the frozen EfficientNet-Lite0 up to its stride-16 stage (the 11 blocks before
+* every ``stride``-th frame with views of every demonstration (its ``view_frames``; 1 when the
+  dataset has at most 40,000 of them, else 2) goes through the frozen EfficientNet-Lite0 up to its stride-16 stage (the 11 blocks before
   the 192-channel stage): an 8 x 8 x 112 map per view, kept in float16;
 * the policy: per view a 1 x 1 convolution to 32 keypoint channels, a spatial softmax giving each
   keypoint's expected (x, y), and the map's average; both views, the 8-D state and a one-hot of the
@@ -100,22 +100,30 @@ def _shift(maps: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
     return torch.gather(out, 3, cols)
 
 
+def _view_frames(ep) -> np.ndarray:
+    """Frames with views that an action follows (every frame when the dataset has no list)."""
+    n = len(ep["actions"])
+    frames = ep["view_frames"] if "view_frames" in ep.files else np.arange(n + 1)
+    return frames[frames < n]
+
+
 def train(demos_dir: str) -> None:
     start = time.monotonic()
     torch.manual_seed(SEED)
     _threads()
     files = sorted(glob.glob(os.path.join(demos_dir, "*.npz")))
-    lengths = [len(np.load(f)["actions"]) for f in files]
-    stride = 1 if sum(lengths) <= MAX_FRAMES_STRIDE_1 else 2
+    framed = [_view_frames(np.load(f)) for f in files]
+    stride = 1 if sum(len(v) for v in framed) <= MAX_FRAMES_STRIDE_1 else 2
     net = load_encoder()
     views = ([], [])
     states, targets, langs = [], [], []
-    for f in files:
+    for f, frames in zip(files, framed):
         ep = np.load(f)
         a = ep["actions"].astype(np.float32)
-        t = np.arange(0, len(a), stride)
+        rows = np.arange(0, len(frames), stride)  # rows of the views; frames[rows] act on
+        t = frames[rows]
         for k, name in enumerate(("agentview", "wrist")):
-            views[k].append(encode(net, ep[name][t]))
+            views[k].append(encode(net, ep[name][rows]))
         states.append(ep["state"][t].astype(np.float32))
         pad = np.concatenate([a, np.repeat(a[-1:], CHUNK, 0)])
         targets.append(np.stack([pad[i : i + CHUNK] for i in t]))
