@@ -10,6 +10,7 @@ from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 HERE = Path(__file__).resolve().parent
 SOLUTION_NAMES = {
     "05-libero-open": (
+        "reference",
         "baseline/mean_action",
         "baseline/nan_server",
         "baseline/too_large",

@@ -109,6 +109,27 @@ def test_skipped_views_change_neither_the_episode_nor_the_views_asked_for(libero
     assert set(obs) == {"state"}
 
 
+def test_a_stove_knob_is_no_door_and_task_2_is_offered(libero_side_env):
+    """LIBERO-10 task 2 (turn on the stove, put the moka pot on it): the knob is hinged like the
+    microwave's door, but it reaches 7.1 cm from its axis, under DOOR_MIN_REACH (15 cm; the door
+    reaches 26.7 cm), so the cook region is not behind a door and the builder offers the task."""
+    from rle_tasks.envs.libero import LiberoEnv
+    from rle_tasks.envs.libero.experts import DOOR_MIN_REACH, _door_front, _joint_of, supported
+
+    with LiberoEnv("libero_10", 2, render=False) as env:
+        env.start()
+        sc = env.scene()
+    knob = sc["joints"][_joint_of(sc, "flat_stove_1_cook_region")]
+    corners = [
+        [x, y]
+        for x in (knob["part_lo"][0], knob["part_hi"][0])
+        for y in (knob["part_lo"][1], knob["part_hi"][1])
+    ]
+    reach = max(float(np.linalg.norm(np.subtract(c, knob["anchor"][:2]))) for c in corners)
+    assert knob["hinge"] and 0.05 < reach < DOOR_MIN_REACH
+    assert _door_front(sc, "flat_stove_1_cook_region") is None and supported(sc)
+
+
 def test_a_hinged_door_is_swung_shut_and_placing_behind_it_stays_unsupported(libero_side_env):
     """LIBERO-10 task 9 (mug into the microwave, close it): the door skill alone, from the open door
     of official state 1, brings the hinge to its closed end (0 rad) within 0.05 rad; the task as a

@@ -162,6 +162,36 @@ def test_the_mean_action_recipe_replays_every_episode_and_succeeds_in_none(demos
     assert (ep["suite"], ep["task"], ep["init_index"]) == verifier.episode_order(OPEN, _ctx())[0]
 
 
+def test_the_reference_recipe_trains_on_sparse_views_and_serves_in_the_sandbox(
+    tmp_path, monkeypatch, libero_side_env
+):
+    """The shipped reference on a one-episode dataset of LIBERO-10 task 0 built as `make libero-demos`
+    builds it (views at every 4th frame), its training cut to 20 steps (the full recipe trains for
+    many minutes): it trains in the sandbox, tells LIBERO from the views' names, and serves chunks
+    of 4 actions (8 steps: 2 requests) without a fault."""
+    from rle_tasks.envs.libero.demos import build_demos
+
+    d = tmp_path / "demos"
+    every = verifier.DATASET_VIEW_EVERY
+    build_demos(d, tasks=[0], per_task=1, views=True, view_every=every, progress=lambda _: None)
+    ep = np.load(d / "task00_init00.npz")
+    frames = ep["view_frames"]
+    assert list(frames) == list(range(0, len(ep["actions"]) + 1, every))
+    assert ep["agentview"].shape == (len(frames), 128, 128, 3) == ep["wrist"].shape
+    monkeypatch.setenv(verifier.DATASET_ENV, str(d))
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    source = (materialise(TASK, "reference") / "solution.py").read_text()
+    assert "MAX_STEPS = 8_000" in source
+    (sub / "solution.py").write_text(source.replace("MAX_STEPS = 8_000", "MAX_STEPS = 20"))
+    report = verifier.verify(sub, _ctx(episodes=1), max_steps=8)
+    nm = report.native_metrics
+    assert report.valid and report.errors == () and report.cap is None, report.errors
+    (ep,) = nm["episodes"]
+    assert ep["fault"] == "" and ep["steps"] == 8 and ep["requests"] == 2
+    assert nm["ckpt_bytes"] > 100_000
+
+
 def test_golden_scores_of_the_baselines_that_fail_before_an_episode():
     for name in ("baseline/too_large",):
         report, _ = run_verify(TASK, materialise(TASK, name), _ctx(quick=True))

@@ -148,7 +148,13 @@ def _build_task(
         task = env.start()
         scene = env.scene()
         goal = scene["goal"]
-        entry = {"name": task.name, "language": task.language, "goal": goal, "attempts": []}
+        entry = {
+            "name": task.name,
+            "language": task.language,
+            "goal": goal,
+            "n_init_states": task.n_init_states,
+            "attempts": [],
+        }
         if not supported(scene):
             entry["skipped"] = "no expert skill for every predicate of the goal"
             progress(f"task {task_id}: skipped ({entry['skipped']}: {goal})")
@@ -205,9 +211,15 @@ def _build_task(
 
 
 def _complete(out: Path, old: dict, task_id: int, per_task: int) -> tuple[dict, dict] | None:
-    """(task entry, files) of a task the previous build completed, when all its files are intact."""
+    """(task entry, files) of a task the previous build completed, when all its files are intact. A
+    task is complete when it has ``per_task`` episodes, or when its expert was tried from every
+    official initial state (LIBERO ships 50 a task), or was stopped by failures in a row: another
+    build would run the same seeded failures again."""
     entry = old.get("tasks", {}).get(str(task_id))
-    if not entry or entry.get("kept", 0) < per_task or old.get("per_task") != per_task:
+    if not entry or old.get("per_task") != per_task:
+        return None
+    tried_all = len(entry.get("attempts", ())) >= entry.get("n_init_states", 50) or "stopped" in entry
+    if entry.get("kept", 0) < per_task and not tried_all:
         return None
     prefix = f"task{task_id:02d}_"
     mine = {n: h for n, h in old.get("files", {}).items() if n.startswith(prefix)}

@@ -358,10 +358,16 @@ def _grasp(d: _Driver, name: str, rng: np.random.Generator) -> Iterator[None]:
         yield from _hold(d, OPEN, 6)
 
 
+DOOR_MIN_REACH = 0.15
+"""Least reach of a hinged part from its axis for it to be a door [m]: LIBERO-10's microwave door
+reaches 0.267 m, the stove's knob (task 2, whose cook region is not behind anything) 0.071 m."""
+
+
 def _door_front(sc: dict, target: str) -> np.ndarray | None:
     """Outward normal of the opening a hinged door closes (horizontal unit vector), for a region
     behind such a door (a microwave's heating region), else None. Placing into such a region has no
-    skill yet: the opening is lower than the hand holding a mug by its rim (LIBERO-10 task 9)."""
+    skill yet: the opening is lower than the hand holding a mug by its rim (LIBERO-10 task 9). A
+    hinged part that reaches less than ``DOOR_MIN_REACH`` from its axis (a knob) is no door."""
     if not target.endswith("_region") or target not in sc["sites"]:
         return None
     try:
@@ -376,7 +382,10 @@ def _door_front(sc: dict, target: str) -> np.ndarray | None:
         [[x, y] for x in (j["part_lo"][0], j["part_hi"][0]) for y in (j["part_lo"][1], j["part_hi"][1])]
     )
     radial = np.c_[far - anchor[:2], np.zeros(len(far))]
-    u = radial[int(np.argmax(np.linalg.norm(radial, axis=1)))]
+    reach = np.linalg.norm(radial, axis=1)
+    if reach.max() < DOOR_MIN_REACH:
+        return None
+    u = radial[int(np.argmax(reach))]
     u_closed = _rotation(axis, float(j["range"][1] - j["qpos"])) @ (u / np.linalg.norm(u))
     n = np.cross(axis, u_closed)
     n[2] = 0.0

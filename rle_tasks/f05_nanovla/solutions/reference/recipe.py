@@ -1,16 +1,19 @@
-"""Reference recipe of the RoboTwin stand-in tracks: frozen encoder maps, spatial-softmax keypoints,
-a small action-chunking policy trained by behaviour cloning.
+"""Reference recipe of family 05 (LIBERO and the RoboTwin stand-in): frozen encoder maps,
+spatial-softmax keypoints, a small action-chunking policy trained by behaviour cloning.
+
+The environment is told by the demonstrations' view names (``ENVS``: ``agentview`` and ``wrist`` on
+LIBERO, ``head`` and ``front`` on the stand-in) and kept in the checkpoint for serving.
 
 Training (``train``):
 
-* every frame of every demonstration goes through the frozen EfficientNet-Lite0 up to its stride-8
-  stage (the first ``BLOCKS`` blocks): a 16 x 16 x 40 map per view, kept in float16;
+* every frame with views of every demonstration (all of the stand-in's; LIBERO's dataset has the
+  views of every 4th frame, ``view_frames``) goes through the frozen EfficientNet-Lite0 up to its
+  stride-8 stage (the first ``BLOCKS`` blocks): a 16 x 16 x 40 map per view, kept in float16;
 * the policy: per view a 1 x 1 convolution to ``KEYPOINTS`` keypoint channels, a spatial softmax
-  giving each keypoint's expected (x, y); both views' keypoints, the four finger
-  positions of the state (``FINGERS``), a one-hot of the instruction and the episode time (the
-  request's ``step``) feed a 2 x 512 MLP that
-  predicts the next ``CHUNK`` actions, standardised per dimension (L1 loss, as in action chunking
-  with transformers);
+  giving each keypoint's expected (x, y); both views' keypoints, the state entries the environment
+  lets the policy see (``state``), a one-hot of the instruction and the episode time (the request's
+  ``step``) feed a 2 x 512 MLP that predicts the next ``chunk`` actions, standardised per dimension
+  (L1 loss, as in action chunking with transformers);
 * on the open track no augmentation: the cameras do not move there, and a shifted map with an
   unchanged label teaches the policy to ignore where the objects are (it halved the grasp precision
   in development); ``AUGMENT`` > 0 (the robust track's reference) adds that many perturbed copies of
@@ -19,8 +22,8 @@ Training (``train``):
 * AdamW, batch 256, seeded; it stops at ``MAX_STEPS`` or when ``TIME_BUDGET_S`` of wall time have
   passed since ``train`` started, well inside the 1,800 s.
 
-Serving (``serve``): the same encoder on both views, the chunk's first ``EXECUTE`` actions with the
-grippers snapped to open (1) or closed (0).
+Serving (``serve``): the same encoder on both views, the chunk's first ``execute`` actions with the
+grippers snapped to their two commands.
 """
 
 import glob
@@ -37,8 +40,35 @@ from rle_design.encoders import load_encoder, preprocess
 from rle_design.policy_socket import serve as _serve
 
 SEED = 0
-CHUNK = 10
-EXECUTE = 5
+ENVS = {
+    "standin": {
+        "views": ("head", "front"),
+        "action_dim": 14,
+        "chunk": 10,
+        "execute": 5,
+        "horizon": 300.0,
+        "grippers": (6, 13),
+        "grip": (0.0, 1.0),
+        "state": [6, 7, 14, 15],
+    },
+    "libero": {
+        "views": ("agentview", "wrist"),
+        "action_dim": 7,
+        "chunk": 8,
+        "execute": 4,
+        "horizon": 520.0,
+        "grippers": (6,),
+        "grip": (-1.0, 1.0),
+        "state": list(range(8)),
+    },
+}
+"""Per environment: view names, action size, the predicted ``chunk`` and the ``execute``-d part of
+it (LIBERO: 4, the dataset's view stride, so a request falls where training frames do), the time
+scale ``horizon`` [control steps], the gripper entries of an action and their two commands, and the
+state entries the policy sees. The stand-in's are its four finger positions: its joint angles are
+left out, because its actions are joint targets, nearly the current angle plus a small step, so a
+policy that sees them learns to copy them and drifts in closed loop. LIBERO's actions are end-effector
+deltas, which no state entry gives away: the policy sees all 8 (end-effector pose and fingers)."""
 KEYPOINTS = 32
 BLOCKS = 5
 """Encoder blocks run: through the 40-channel stage (stride 8: 16 x 16 at 128 px)."""
@@ -53,15 +83,6 @@ LR = 3e-3
 """Peak learning rate (cosine decay to 0 over ``MAX_STEPS``): on five held-out demonstrations per
 task the chunk's L1 error after 3,000 steps was 0.082 at 3e-4, 0.039 at 1e-3 and 0.024 at 3e-3."""
 BATCH = 256
-HORIZON = 300.0
-"""Scale of the time input [control steps]."""
-GRIPPERS = (6, 13)
-FINGERS = [6, 7, 14, 15]
-"""State entries the policy sees: the finger positions (whether a grasp closed). The joint angles are
-left out: the next joint target is nearly the current angle plus a small step, so a policy that sees
-them learns to copy them and drifts in closed loop; from the views and the time it must find the
-target itself."""
-
 
 AUGMENT = 0
 """Perturbed copies of every frame (0: none)."""
@@ -120,9 +141,7 @@ def augment(images: np.ndarray, table: np.ndarray, rng: np.random.Generator) -> 
 
 
 class Policy(nn.Module):
-    def __init__(
-        self, channels: int, n_instructions: int, state_dim: int = len(FINGERS), action_dim: int = 14
-    ):
+    def __init__(self, channels: int, n_instructions: int, state_dim: int, action_dim: int, chunk: int):
         super().__init__()
         self.key = nn.ModuleList([nn.Conv2d(channels, KEYPOINTS, 1) for _ in range(2)])
         width = 2 * 2 * KEYPOINTS + state_dim + n_instructions + 1
@@ -131,9 +150,9 @@ class Policy(nn.Module):
             nn.ReLU(),
             nn.Linear(512, 512),
             nn.ReLU(),
-            nn.Linear(512, CHUNK * action_dim),
+            nn.Linear(512, chunk * action_dim),
         )
-        self.action_dim = action_dim
+        self.action_dim, self.chunk = action_dim, chunk
 
     def forward(self, maps, state, task, time_in):
         parts = []
@@ -145,7 +164,16 @@ class Policy(nn.Module):
             p = logits.softmax(-1)
             parts += [p @ xs.reshape(-1), p @ ys.reshape(-1)]
         x = torch.cat([*parts, state, task, time_in], 1)
-        return self.mlp(x).view(-1, CHUNK, self.action_dim)
+        return self.mlp(x).view(-1, self.chunk, self.action_dim)
+
+
+def environment(files: list[str]) -> str:
+    """The environment of a dataset, told by its first demonstration's view names."""
+    keys = set(np.load(files[0]).files)
+    for name, env in ENVS.items():
+        if set(env["views"]) <= keys:
+            return name
+    raise ValueError(f"no views of a known environment in {files[0]}: {sorted(keys)}")
 
 
 def train(demos_dir: str) -> None:
@@ -153,6 +181,9 @@ def train(demos_dir: str) -> None:
     torch.manual_seed(SEED)
     _threads()
     files = sorted(glob.glob(os.path.join(demos_dir, "*.npz")))
+    name = environment(files)
+    env = ENVS[name]
+    chunk, horizon, seen = env["chunk"], env["horizon"], env["state"]
     net = load_encoder()
     rng = np.random.default_rng(SEED)
     tables = None
@@ -162,19 +193,22 @@ def train(demos_dir: str) -> None:
         ep = np.load(f)
         a = ep["actions"].astype(np.float32)
         n = len(a)
+        framed = ep["view_frames"] if "view_frames" in ep.files else np.arange(n + 1)
+        rows = np.nonzero(framed < n)[0]  # images of the frames an action follows
+        t = framed[rows]
         if AUGMENT and tables is None:
-            tables = [table_colour(ep[name]) for name in ("head", "front")]
-        for k, name in enumerate(("head", "front")):
-            frames = ep[name][:n]
+            tables = [table_colour(ep[v]) for v in env["views"]]
+        for k, v in enumerate(env["views"]):
+            frames = ep[v][rows]
             views[k].append(encode(net, frames))
             for _ in range(AUGMENT):
                 views[k].append(encode(net, augment(frames, tables[k], rng)))
-        pad = np.concatenate([a, np.repeat(a[-1:], CHUNK, 0)])
+        pad = np.concatenate([a, np.repeat(a[-1:], chunk, 0)])
         for _ in range(1 + AUGMENT):
-            states.append(ep["state"][:n, FINGERS].astype(np.float32))
-            targets.append(np.stack([pad[i : i + CHUNK] for i in range(n)]))
-            langs += [str(ep["language"])] * n
-            times.append(np.arange(n, dtype=np.float32) / HORIZON)
+            states.append(ep["state"][t][:, seen].astype(np.float32))
+            targets.append(np.stack([pad[i : i + chunk] for i in t]))
+            langs += [str(ep["language"])] * len(t)
+            times.append(t.astype(np.float32) / horizon)
     instructions = sorted(set(langs))
     index = {s: i for i, s in enumerate(instructions)}
     maps = [torch.cat(v) for v in views]
@@ -183,9 +217,10 @@ def train(demos_dir: str) -> None:
     task = F.one_hot(torch.tensor([index[s] for s in langs]), len(instructions)).float()
     t_in = torch.as_tensor(np.concatenate(times))[:, None]
     y = torch.as_tensor(np.concatenate(targets))
-    a_mu, a_sd = y.reshape(-1, 14).mean(0), y.reshape(-1, 14).std(0) + 1e-3
+    dim = env["action_dim"]
+    a_mu, a_sd = y.reshape(-1, dim).mean(0), y.reshape(-1, dim).std(0) + 1e-3
     y = (y - a_mu) / a_sd
-    policy = Policy(maps[0].shape[1], len(instructions))
+    policy = Policy(maps[0].shape[1], len(instructions), len(seen), dim, chunk)
     opt = torch.optim.AdamW(policy.parameters(), lr=LR, weight_decay=1e-4)
     sched = torch.optim.lr_scheduler.CosineAnnealingLR(opt, MAX_STEPS)
     gen = torch.Generator().manual_seed(SEED)
@@ -211,38 +246,53 @@ def train(demos_dir: str) -> None:
             "a_sd": a_sd,
             "instructions": instructions,
             "channels": maps[0].shape[1],
+            "env": name,
         },
         "ckpt.pt",
     )
     with open("meta.json", "w") as f:
-        json.dump({"frames": n, "steps": steps, "loss": loss.item(), "train_s": time.monotonic() - start}, f)
+        json.dump(
+            {
+                "env": name,
+                "frames": n,
+                "steps": steps,
+                "loss": loss.item(),
+                "train_s": time.monotonic() - start,
+            },
+            f,
+        )
 
 
 def load_policy(path: str = "ckpt.pt"):
-    """The serving function ``request -> (EXECUTE, 14) actions`` of a checkpoint."""
+    """The serving function ``request -> (execute, action_dim) actions`` of a checkpoint, and the
+    name of its environment."""
     _threads()
     ckpt = torch.load(path, map_location="cpu", weights_only=True)
+    env = ENVS[ckpt["env"]]
     instructions = list(ckpt["instructions"])
-    policy = Policy(int(ckpt["channels"]), len(instructions))
+    seen, grippers = env["state"], list(env["grippers"])
+    low, high = env["grip"]
+    policy = Policy(int(ckpt["channels"]), len(instructions), len(seen), env["action_dim"], env["chunk"])
     policy.load_state_dict(ckpt["policy"])
     policy.eval()
     net = load_encoder()
 
     def act(request):
         maps = [encode(net, request.views[k : k + 1]) for k in range(2)]
-        state = (torch.as_tensor(request.state[None, FINGERS]) - ckpt["mu"]) / ckpt["sd"]
+        state = (torch.as_tensor(request.state[None, seen]) - ckpt["mu"]) / ckpt["sd"]
         task = torch.zeros(1, len(instructions))
         if request.instruction in instructions:
             task[0, instructions.index(request.instruction)] = 1.0
-        t_in = torch.tensor([[request.step / HORIZON]], dtype=torch.float32)
+        t_in = torch.tensor([[request.step / env["horizon"]]], dtype=torch.float32)
         with torch.no_grad():
-            chunk = policy(maps, state, task, t_in)[0, :EXECUTE] * ckpt["a_sd"] + ckpt["a_mu"]
+            chunk = policy(maps, state, task, t_in)[0, : env["execute"]] * ckpt["a_sd"] + ckpt["a_mu"]
         chunk = chunk.numpy().astype(np.float32)
-        chunk[:, GRIPPERS] = np.where(chunk[:, GRIPPERS] >= 0.5, 1.0, 0.0)
+        chunk[:, grippers] = np.where(chunk[:, grippers] >= (low + high) / 2, high, low)
         return chunk
 
-    return act
+    return act, ckpt["env"]
 
 
 def serve(socket_path: str) -> int:
-    return _serve(socket_path, load_policy(), env="standin")
+    act, env = load_policy()
+    return _serve(socket_path, act, env=env)
