@@ -157,7 +157,7 @@ def test_the_workspace_meters_served_episodes_of_clean_scenes(tmp_path, demos):
     assert verdict.valid and verdict.steps == 1, verdict
 
 
-def test_the_reference_recipe_trains_and_serves_in_the_sandbox(tmp_path, monkeypatch):
+def test_the_reference_recipe_trains_and_serves_in_the_sandbox(tmp_path, monkeypatch, short_reference):
     """The shipped reference on a one-episode dataset of real views, its training cut to 20 steps (the
     full recipe trains for minutes): training writes a checkpoint in the sandbox, serving answers
     every request with 14-D actions, and the episode completes."""
@@ -175,11 +175,7 @@ def test_the_reference_recipe_trains_and_serves_in_the_sandbox(tmp_path, monkeyp
     (d / "manifest.json").write_text(text)
     (d / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
     monkeypatch.setenv(verifier.STANDIN_DATASET_ENV, str(d))
-    sub = tmp_path / "sub"
-    sub.mkdir()
-    source = (materialise(TASK, "reference") / "solution.py").read_text()
-    assert "MAX_STEPS = 8_000" in source
-    (sub / "solution.py").write_text(source.replace("MAX_STEPS = 8_000", "MAX_STEPS = 20"))
+    sub = short_reference(TASK)
     report = verifier.verify(sub, _ctx(episodes=1), task_id=OPEN, max_steps=10)
     nm = report.native_metrics
     assert report.valid and report.errors == () and report.cap is None, report.errors

@@ -163,7 +163,7 @@ def test_the_mean_action_recipe_replays_every_episode_and_succeeds_in_none(demos
 
 
 def test_the_reference_recipe_trains_on_sparse_views_and_serves_in_the_sandbox(
-    tmp_path, monkeypatch, libero_side_env
+    tmp_path, monkeypatch, libero_side_env, short_reference
 ):
     """The shipped reference on a one-episode dataset of LIBERO-10 task 0 built as `make libero-demos`
     builds it (views at every 4th frame), its training cut to 20 steps (the full recipe trains for
@@ -179,11 +179,7 @@ def test_the_reference_recipe_trains_on_sparse_views_and_serves_in_the_sandbox(
     assert list(frames) == list(range(0, len(ep["actions"]) + 1, every))
     assert ep["agentview"].shape == (len(frames), 128, 128, 3) == ep["wrist"].shape
     monkeypatch.setenv(verifier.DATASET_ENV, str(d))
-    sub = tmp_path / "sub"
-    sub.mkdir()
-    source = (materialise(TASK, "reference") / "solution.py").read_text()
-    assert "MAX_STEPS = 8_000" in source
-    (sub / "solution.py").write_text(source.replace("MAX_STEPS = 8_000", "MAX_STEPS = 20"))
+    sub = short_reference(TASK)
     report = verifier.verify(sub, _ctx(episodes=1), max_steps=8)
     nm = report.native_metrics
     assert report.valid and report.errors == () and report.cap is None, report.errors
