@@ -146,6 +146,11 @@ class LiberoEnv:
         half-size), ``joints`` (articulated fixtures) and the BDDL ``goal``."""
         return self._box.call("scene")
 
+    def far_box(self, name: str) -> dict | None:
+        """Object ``name``'s collision box whose centre lies farthest from the body's vertical axis
+        (a mug's handle bar): ``pos``, ``rot``, ``half`` [m]; None without box geoms. For experts."""
+        return self._box.call("far_box", name)
+
     def close(self) -> None:
         if self._box.alive:  # a broken child is killed below anyway
             with contextlib.suppress(Exception):

@@ -163,6 +163,36 @@ def _body_box(sim, body_id):
     return lo, hi
 
 
+def far_box(name):
+    """The collision box of object ``name`` farthest from its body's vertical axis (experts only)."""
+    env = _S["env"].env
+    return _far_box(env.sim, env.obj_body_id[str(name)])
+
+
+def _far_box(sim, body_id):
+    """The object's collision box geom whose centre lies farthest from the body's vertical axis (a
+    mug's handle bar): centre, rotation, half-sizes [m]; None for an object without box geoms."""
+    m = sim.model
+    body_pos = sim.data.body_xpos[body_id]
+    best, far = None, -1.0
+    for g in range(m.ngeom):
+        b = int(m.geom_bodyid[g])
+        while b not in (0, body_id):
+            b = int(m.body_parentid[b])
+        if b != body_id or m.geom_type[g] != 6 or m.geom_contype[g] == 0 and m.geom_conaffinity[g] == 0:
+            continue
+        r = float(np.hypot(*(sim.data.geom_xpos[g][:2] - body_pos[:2])))
+        if r > far:
+            best, far = g, r
+    if best is None:
+        return None
+    return {
+        "pos": np.array(sim.data.geom_xpos[best], dtype=np.float64),
+        "rot": np.array(sim.data.geom_xmat[best], dtype=np.float64).reshape(3, 3),
+        "half": np.array(m.geom_size[best], dtype=np.float64),
+    }
+
+
 def _handle(sim, body_id):
     """The part's highest-reaching box geom (a knob's bar): centre, rotation, half-sizes [m]."""
     m = sim.model
@@ -248,6 +278,7 @@ def scene():
                 "anchor": np.array(sim.data.xanchor[j], dtype=np.float64),
                 "part_lo": world.min(0),  # world box of the moving part (and what it carries)
                 "part_hi": world.max(0),
+                "part_corners": world,  # the same part's box in its own frame: its 8 world corners
                 "handle": _handle(sim, body),
             }
     return out
