@@ -75,10 +75,11 @@ HAND_BACK, STAGE_OFF = 0.22, 0.10
 """A hand pointing horizontally, with its forearm, occupies this far behind its grip point [m]
 (task 9: at 0.17 m the hand met the other mug); an object whose grasp it would block is first set
 down this far in front of the region behind the door [m]."""
-HANDLE_SHIFT, DOOR_APPROACH, DOOR_CLEARANCE, DOOR_DEPTH = 0.0, 0.07, 0.02, 0.075
-"""Placing through a door: the grip point this far past the pinched part's centre [m]; approach and
-back-out distance in front of it and of the opening [m]; the object's bottom lifted this far over the
-region's floor [m]; its body released this far past the region's front [m]."""
+DOOR_APPROACH, DOOR_CLEARANCE, DOOR_DEPTH = 0.07, 0.02, 0.075
+"""Placing through a door: approach and back-out distance in front of the pinched part and of the
+opening [m]; the object's bottom lifted this far over the region's floor [m]; its body carried
+this far past the region's front [m], or until the hand meets the door's frame (task 9: the hand
+stops first, the mug's body 5.5 cm past the front)."""
 SETTLE_STEPS = 20
 """Steps held after the last skill for released objects to come to rest (success is checked per step)."""
 STALL_STEPS, STALL_CENTRED = 8, 0.008
@@ -520,7 +521,8 @@ def _through_door(
     """Place ``name`` in a region behind a hinged door (a mug into a microwave, task 9): the hand,
     pointing through the opening with its fingers horizontal, pinches the object's part that faces
     the opening's outside (a mug's handle bar), lifts it over the cavity's floor, carries it in until
-    its body is ``DOOR_DEPTH`` past the region's front, lowers it, lets go and backs out. From above,
+    its body is ``DOOR_DEPTH`` past the region's front or the hand meets the frame, lowers it, lets
+    go and backs out. From above,
     the hand holding a mug's rim is higher than the opening (README)."""
     bar = d.env.far_box(name)
     obj = d.scene["objects"][name]
@@ -528,8 +530,6 @@ def _through_door(
         d.log.append(f"{name} -> {target}: no part of it faces the opening's outside")
         return
     inward = -front
-    side = np.cross([0.0, 0.0, 1.0], front)
-    side /= np.linalg.norm(side)
 
     def pointing(approach: np.ndarray) -> np.ndarray:
         """Fingers horizontal, approach axis ``approach``: of the two such hands the one nearer the
