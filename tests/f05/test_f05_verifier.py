@@ -165,16 +165,17 @@ def test_the_mean_action_recipe_replays_every_episode_and_succeeds_in_none(demos
 def test_the_reference_recipe_trains_on_sparse_views_and_serves_in_the_sandbox(
     tmp_path, monkeypatch, libero_side_env, short_reference
 ):
-    """The shipped reference on a one-episode dataset of LIBERO-10 task 0 built as `make libero-demos`
-    builds it (views at every 4th frame), its training cut to 20 steps (the full recipe trains for
+    """The shipped reference on a one-episode dataset of LIBERO-10 task 5 (the shortest expert
+    episode, 185 steps) built as `make libero-demos` builds it (views at every 4th frame), its
+    training cut to 20 steps (the full recipe trains for
     many minutes): it trains in the sandbox, tells LIBERO from the views' names, and serves chunks
     of 4 actions (8 steps: 2 requests) without a fault."""
     from rle_tasks.envs.libero.demos import build_demos
 
     d = tmp_path / "demos"
     every = verifier.DATASET_VIEW_EVERY
-    build_demos(d, tasks=[0], per_task=1, views=True, view_every=every, progress=lambda _: None)
-    ep = np.load(d / "task00_init00.npz")
+    build_demos(d, tasks=[5], per_task=1, views=True, view_every=every, progress=lambda _: None)
+    ep = np.load(d / "task05_init00.npz")
     frames = ep["view_frames"]
     assert list(frames) == list(range(0, len(ep["actions"]) + 1, every))
     assert ep["agentview"].shape == (len(frames), 128, 128, 3) == ep["wrist"].shape
