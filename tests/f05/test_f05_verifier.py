@@ -167,9 +167,9 @@ def test_the_reference_recipe_trains_on_sparse_views_and_serves_in_the_sandbox(
 ):
     """The shipped reference on a one-episode dataset of LIBERO-10 task 5 (the shortest expert
     episode, 185 steps) built as `make libero-demos` builds it (views at every 4th frame), its
-    training cut to 20 steps (the full recipe trains for
-    many minutes): it trains in the sandbox, tells LIBERO from the views' names, and serves chunks
-    of 4 actions (8 steps: 2 requests) without a fault."""
+    training cut to 20 steps (the full recipe trains for many minutes): it trains in the sandbox,
+    tells LIBERO from the views' names, and serves chunks of 4 actions (8 steps: 2 requests)
+    without a fault."""
     from rle_tasks.envs.libero.demos import build_demos
 
     d = tmp_path / "demos"
