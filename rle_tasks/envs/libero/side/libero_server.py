@@ -45,6 +45,7 @@ def make(suite, task_id, image_size, render):
         env = OffScreenRenderEnv(bddl_file_name=str(bddl), camera_heights=size, camera_widths=size)
     else:
         env = ControlEnv(bddl_file_name=str(bddl), has_offscreen_renderer=False, use_camera_obs=False)
+    _S.pop("fixtures", None)  # another task's placement
     _S.update(env=env, states=bench.get_task_init_states(int(task_id)), render=bool(render), size=size)
     _S["views_on"] = True
     return {
@@ -101,11 +102,32 @@ def _obs(raw, views=True):
     return out
 
 
+def _pin_fixtures(env):
+    """Put every fixture (table, microwave, cabinet, stove...) where the process's first reset put it.
+
+    LIBERO samples the fixtures' placement at every reset and, even after ``seed(0)``, draws a
+    different one each time (a microwave moved by up to 1.5 cm between two resets of one process),
+    while an official initial state sets only joints: an episode would then depend on how many
+    resets its process ran before it. Pinned, every episode sees a fresh process's placement, and a
+    demonstration replays exactly in another process whatever its position in the build."""
+    e = env.env
+    m = e.sim.model
+    bodies = {name: m.body_name2id(f.root_body) for name, f in getattr(e, "fixtures_dict", {}).items()}
+    if "fixtures" not in _S:
+        _S["fixtures"] = {name: (m.body_pos[b].copy(), m.body_quat[b].copy()) for name, b in bodies.items()}
+        return
+    for name, b in bodies.items():
+        if name in _S["fixtures"]:
+            m.body_pos[b], m.body_quat[b] = _S["fixtures"][name]
+
+
 def reset(init_index):
-    """Reset to LIBERO's official initial state ``init_index``; returns the observation."""
+    """Reset to LIBERO's official initial state ``init_index``, the fixtures where the process's
+    first reset placed them (``_pin_fixtures``); returns the observation."""
     env = _S["env"]
     env.seed(0)
     env.reset()
+    _pin_fixtures(env)
     raw = env.set_init_state(_S["states"][int(init_index)])
     return _obs(raw)
 
