@@ -266,15 +266,13 @@ def _world_box(obj: dict) -> tuple[np.ndarray, np.ndarray]:
     return world.min(0), world.max(0)
 
 
-def _hand_overlap(
-    center: np.ndarray, finger_dir: np.ndarray, z_bottom: float, others: list[dict], width: float = HAND_WIDTH
-) -> float:
-    """Summed overlap [m^2] of the hand's footprint (HAND_HALF along the fingers, ``width``/2 across)
+def _hand_overlap(center: np.ndarray, finger_dir: np.ndarray, z_bottom: float, others: list[dict]) -> float:
+    """Summed overlap [m^2] of the hand's footprint (HAND_HALF along the fingers, HAND_WIDTH/2 across)
     with the horizontal boxes of the objects whose tops rise above the hand's lower face."""
     across = np.array([-finger_dir[1], finger_dir[0]])
     corners = np.array(
         [
-            center[:2] + a * HAND_HALF * finger_dir[:2] + b * width / 2 * across
+            center[:2] + a * HAND_HALF * finger_dir[:2] + b * HAND_WIDTH / 2 * across
             for a in (-1, 1)
             for b in (-1, 1)
         ]
