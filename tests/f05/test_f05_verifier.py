@@ -2,7 +2,10 @@
 baselines that must fail for their named reasons (artifact, training, serving) and one that replays."""
 
 import hashlib
+import importlib.util
 import json
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +21,7 @@ from rle_tasks.f05_nanovla.scoring import EPISODE_SET, required_complete, rubric
 
 TASK = get_task("05-libero-open")
 OPEN, ROBUST = verifier.OPEN_ID, verifier.ROBUST_ID
+REFERENCE_RECIPE = Path(verifier.__file__).parent / "solutions" / "reference" / "recipe.py"
 
 
 @pytest.fixture
@@ -222,3 +226,33 @@ def test_a_server_that_never_connects_fails_every_episode_of_its_unit(demos, tmp
     (err, inc) = report.errors
     assert err.code == "protocol.no_policy" and "weights do not load" in err.message
     assert inc.code == "f05.incomplete"
+
+
+def _language(bddl) -> str:
+    return re.search(r"\(:language\s+(.*?)\)", bddl.read_text(), re.S).group(1).strip()
+
+
+def test_the_reference_maps_libero_pros_paraphrases_to_their_originals():
+    """An instruction the recipe was not trained on takes the trained one nearest by the bundle's
+    text features: 9 of LIBERO-PRO's 10 paraphrased LIBERO-10 instructions land on their own task
+    (task 6's "place white mug on plate and chocolate pudding to right" lands on task 4's two
+    plates); a trained instruction is itself."""
+    from rle_tasks.envs.libero import libero_python
+
+    spec = importlib.util.spec_from_file_location("libero_recipe", REFERENCE_RECIPE)
+    recipe = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(recipe)
+    (bddl,) = libero_python().parent.parent.glob("lib/python3*/site-packages/libero/libero/bddl_files")
+    originals = {f.name: _language(f) for f in sorted((bddl / "libero_10").glob("*.bddl"))}
+    trained = sorted(originals.values())
+    assert len(trained) == 10
+    assert all(recipe.nearest_instruction(t, trained) == i for i, t in enumerate(trained))
+    right, wrong = 0, []
+    for f in sorted((bddl / "libero_10_lan").glob("*.bddl")):
+        said = _language(f)
+        assert said not in trained
+        if trained[recipe.nearest_instruction(said, trained)] == originals[f.name]:
+            right += 1
+        else:
+            wrong.append(said)
+    assert right == 9 and wrong == ["place white mug on plate and chocolate pudding to right"]

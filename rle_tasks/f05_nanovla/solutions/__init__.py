@@ -46,7 +46,7 @@ _OPEN = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="475eaa5f911d152e9d80879c09544feb8ee71c3557f61d8cb97700e66137ff70",
+            sha256="3b298342aee73bf69a4ca5183a6acad86ebf06dc385737913f18242e61ee01ec",
             quick_score=0.0,
             files=(("solution.py", "solutions/reference/recipe.py"),),
         ),
@@ -118,7 +118,7 @@ _STANDIN_OPEN = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
         _standin_reference(
-            "475eaa5f911d152e9d80879c09544feb8ee71c3557f61d8cb97700e66137ff70", 0.5833333333333334
+            "3b298342aee73bf69a4ca5183a6acad86ebf06dc385737913f18242e61ee01ec", 0.5833333333333334
         ),
         *(
             s
@@ -131,7 +131,7 @@ _STANDIN_ROBUST = SolutionSet(
     package="rle_tasks.f05_nanovla",
     solutions=(
         _standin_reference(
-            "e646dc88234daa79ba2dc1b64b72838a3ba2d3fc40a86470d8816c2a522a1301",
+            "5dfc742b6e15bba63dcc62956254e24a6da52ef6bb3ab9a7e64316eab151d2ae",
             0.4166666666666667,
             transforms=(with_augmentation,),
         ),

@@ -23,7 +23,9 @@ Training (``train``):
   passed since ``train`` started, well inside the 1,800 s.
 
 Serving (``serve``): the same encoder on both views, the chunk's first ``execute`` actions with the
-grippers snapped to their two commands.
+grippers snapped to their two commands. An instruction not seen in training (a paraphrase on the
+robust tracks) takes the one-hot of the trained instruction nearest to it by the bundle's text features
+(``rle_design.encoders.text_features``, cosine).
 """
 
 import glob
@@ -36,7 +38,7 @@ import torch
 from torch import nn
 from torch.nn import functional as F
 
-from rle_design.encoders import load_encoder, preprocess
+from rle_design.encoders import load_encoder, preprocess, text_features
 from rle_design.policy_socket import serve as _serve
 
 SEED = 0
@@ -263,6 +265,16 @@ def train(demos_dir: str) -> None:
         )
 
 
+def nearest_instruction(text: str, instructions: list[str], known: np.ndarray | None = None) -> int:
+    """Index of the trained instruction a request's ``text`` stands for: the text itself, else the
+    nearest by the bundle's text features (cosine; ``known``: the instructions' features)."""
+    if text in instructions:
+        return instructions.index(text)
+    if known is None:
+        known = text_features(instructions)
+    return int(np.argmax(known @ text_features([text])[0]))
+
+
 def load_policy(path: str = "ckpt.pt"):
     """The serving function ``request -> (execute, action_dim) actions`` of a checkpoint, and the
     name of its environment."""
@@ -276,13 +288,13 @@ def load_policy(path: str = "ckpt.pt"):
     policy.load_state_dict(ckpt["policy"])
     policy.eval()
     net = load_encoder()
+    known = text_features(instructions)
 
     def act(request):
         maps = [encode(net, request.views[k : k + 1]) for k in range(2)]
         state = (torch.as_tensor(request.state[None, seen]) - ckpt["mu"]) / ckpt["sd"]
         task = torch.zeros(1, len(instructions))
-        if request.instruction in instructions:
-            task[0, instructions.index(request.instruction)] = 1.0
+        task[0, nearest_instruction(request.instruction, instructions, known)] = 1.0
         t_in = torch.tensor([[request.step / env["horizon"]]], dtype=torch.float32)
         with torch.no_grad():
             chunk = policy(maps, state, task, t_in)[0, : env["execute"]] * ckpt["a_sd"] + ckpt["a_mu"]
