@@ -4,9 +4,8 @@ Each is one ``solution.py`` (the card's artifact):
 
 - ``reference``: ``solutions/reference/recipe.py``, one behaviour-cloning recipe for LIBERO and the
   stand-in (it tells them apart by the demonstrations' view names). On LIBERO its golden quick score
-  is 0.0: the two quick episodes of the public order are task 2, which had no demonstrations in the
-  dataset it was measured on, and task 3 from state 42, which it fails; on the first 20 episodes
-  it succeeds in 5 (README).
+  is 0.0: the two quick episodes of the public order, task 2 from state 12 and task 3 from state 42,
+  both fail in the 20-episode run on the 10-task dataset, which succeeds in 3 of 20 (README).
 
 - ``baseline/mean_action``: serves the mean demonstrated action whatever it sees: replays and
   completes every episode, succeeds in none.
