@@ -17,7 +17,7 @@ SOLUTION_NAMES = {
         "baseline/over_budget",
         "baseline/reads_eval_states",
     ),
-    "05-libero-robust": ("baseline/mean_action", "baseline/too_large"),
+    "05-libero-robust": ("reference", "baseline/mean_action", "baseline/too_large"),
     "05-robotwin-open": ("reference", "baseline/mean_action", "baseline/nan_server", "baseline/too_large"),
     "05-robotwin-robust": ("reference", "baseline/mean_action"),
 }

@@ -31,17 +31,14 @@ CHECKED = (
 )
 
 
-NO_REFERENCE_YET = {
-    "05-libero-robust": ("rle_tasks/f05_nanovla/README.md", "`05-libero-robust` declares no reference yet"),
-}
+NO_REFERENCE_YET: dict[str, tuple[str, str]] = {}
 """Implemented tasks whose reference does not score yet, each with its README line saying so."""
 
 
 def test_every_implemented_family_ships_references():
     """Every family ships a reference; where a task has none (family 01's L1/L2 levels without a program,
     family 02's groups beyond those with a reference harness) its family README says so, and a task
-    whose reference is not measured yet (05's robust LIBERO track) says so in its README and declares
-    none."""
+    whose reference is not measured yet (none at present) says so in its README and declares none."""
     from pathlib import Path
 
     assert IMPLEMENTED, "no implemented task"
