@@ -123,7 +123,9 @@ def _cmd_index(args: argparse.Namespace) -> int:
 def _cmd_demo(args: argparse.Namespace) -> int:
     from rle_tasks.demo import run_demo
 
-    return run_demo(Path(args.out), quick=args.quick, jobs=args.jobs, full_baselines=args.full_baselines)
+    return run_demo(
+        Path(args.out), quick=args.quick, jobs=args.jobs, full_baselines=args.full_baselines, tasks=args.task
+    )
 
 
 def _cmd_audit(args: argparse.Namespace) -> int:
@@ -235,6 +237,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--full-baselines", action="store_true", help="full batteries for baselines too (default: quick)"
     )
     s.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 2)))
+    s.add_argument(
+        "--task",
+        action="append",
+        metavar="ID",
+        help="only this task (an id, or a family number such as 05); repeatable (default: every task)",
+    )
     s.set_defaults(fn=_cmd_demo)
 
     s = sub.add_parser("catalog", help="list the catalogs, or one catalog's entries with their units")

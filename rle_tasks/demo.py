@@ -14,15 +14,17 @@ from __future__ import annotations
 import html
 import json
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 from tqdm import tqdm
 
+from rle_design.errors import RleError
 from rle_tasks.core.registry import all_tasks
 from rle_tasks.core.report import VerifierReport
 from rle_tasks.core.secrets import load_secret
 from rle_tasks.core.solutions import declaration, materialise
-from rle_tasks.core.task import VerifyContext
+from rle_tasks.core.task import TaskSpec, VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify
 
 TEST_BASE = Path(__file__).parent / "demo_assets" / "test_base.xml"
@@ -46,10 +48,36 @@ def _mode(name: str, quick: bool, full_baselines: bool, episode_scored: bool = F
     return quick or episode_scored or (name != "reference" and not full_baselines)
 
 
+def select_tasks(patterns: Sequence[str] | None) -> list[TaskSpec]:
+    """The implemented tasks named by ``patterns`` (task ids, or family numbers such as ``05``), in
+    registry order; every implemented task when ``patterns`` is empty.
+
+    Raises:
+        RleError: ``demo.unknown_task`` for a pattern that names no implemented task (the message lists
+            them).
+    """
+    implemented = [t for t in all_tasks() if t.implemented]
+    if not patterns:
+        return implemented
+    chosen: set[str] = set()
+    for pattern in patterns:
+        hits = {
+            t.id for t in implemented if t.id == pattern or (pattern.isdigit() and t.family == int(pattern))
+        }
+        if not hits:
+            raise RleError(
+                f"'{pattern}' names no implemented task; give a task id or a family number. "
+                f"Implemented: {', '.join(t.id for t in implemented)}",
+                code="demo.unknown_task",
+            )
+        chosen |= hits
+    return [t for t in implemented if t.id in chosen]
+
+
 def _verify_all(
-    out: Path, quick: bool, jobs: int, full_baselines: bool = False
+    out: Path, quick: bool, jobs: int, full_baselines: bool = False, tasks: Sequence[str] | None = None
 ) -> list[tuple[str, str, Path, VerifierReport]]:
-    runs = [(t, name) for t in all_tasks() if t.implemented for name in t.solutions]
+    runs = [(t, name) for t in select_tasks(tasks) for name in t.solutions]
     secret = load_secret(None)
     results = []
     not_run.clear()
@@ -111,7 +139,9 @@ def write_html(
     elapsed: float,
     modes: dict[tuple[str, str], bool] | None = None,
     differs: dict[tuple[str, str], float] | None = None,
+    subset: list[str] | None = None,
 ) -> Path:
+    """Write ``out/index.html``; ``subset`` lists the task ids when the demo ran only some tasks."""
     rows = []
     modes = modes or {}
     differs = differs or {}
@@ -147,10 +177,17 @@ def write_html(
         if index_html
         else ""
     )
+    scope = (
+        "Every shipped solution of every implemented task"
+        if not subset
+        else "The shipped solutions of the selected tasks only ("
+        + html.escape(", ".join(subset))
+        + "; the RLE Index counts every other task 0)"
+    )
     page = f"""<!doctype html><html><head><meta charset="utf-8"><title>RLE-Bench demo</title>
 <style>body{{font-family:sans-serif;margin:2em;max-width:1400px}}table{{border-collapse:collapse}}
 td,th{{border:1px solid #ccc;padding:4px 8px;font-size:14px}}figure{{display:inline-block;margin:6px}}</style></head>
-<body><h1>RLE-Bench demo</h1><p>Every shipped solution of every implemented task, verified with the public
+<body><h1>RLE-Bench demo</h1><p>{scope}, verified with the public
 development key ({elapsed:.0f} s). References run the full batteries; baselines run the reduced (quick)
 batteries unless <code>rle demo --full-baselines</code>. A quick-mode score that differs from the solution's
 pinned golden score is shown in red beside it.</p>{index_link}
@@ -163,10 +200,26 @@ pinned golden score is shown in red beside it.</p>{index_link}
     return path
 
 
-def run_demo(out: Path, quick: bool = False, jobs: int = 1, full_baselines: bool = False) -> int:
+def run_demo(
+    out: Path,
+    quick: bool = False,
+    jobs: int = 1,
+    full_baselines: bool = False,
+    tasks: Sequence[str] | None = None,
+) -> int:
+    """Verify the shipped solutions of ``tasks`` (every implemented task by default), write the page.
+
+    With a subset of the tasks the RLE Index on the page covers only those references (every other
+    task counts 0), and the page says so.
+    """
+    selected = select_tasks(tasks)
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
-    results = _verify_all(out, quick, jobs, full_baselines)
+    results = _verify_all(out, quick, jobs, full_baselines, tasks)
+    every = [t for t in all_tasks() if t.implemented]
+    subset = (
+        "" if len(selected) == len(every) else f" of {len(selected)} of the {len(every)} implemented tasks"
+    )
     scored = {t.id for t in all_tasks() if t.episode_scored}
     modes = {(t, n): _mode(n, quick, full_baselines, t in scored) for t, n, _, _ in results}
     index_html = None
@@ -175,11 +228,20 @@ def run_demo(out: Path, quick: bool = False, jobs: int = 1, full_baselines: bool
         from rle_tasks.core.index import index_command
 
         index_html = out / "rle_index.html"
-        index_command(refs, html=str(index_html), name="reference solutions")
+        index_command(refs, html=str(index_html), name="reference solutions" + subset)
     print("rendering the canonical arms ...")
     arm_pngs = render_arms(out)
     differs = golden_differences(results, modes)
-    page = write_html(out, results, arm_pngs, index_html, time.perf_counter() - t0, modes, differs)
+    page = write_html(
+        out,
+        results,
+        arm_pngs,
+        index_html,
+        time.perf_counter() - t0,
+        modes,
+        differs,
+        [t.id for t in selected] if subset else None,
+    )
     summary = {f"{t}:{n}": round(r.score, 4) for t, n, _, r in results}
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     for (t, n, _, _), (key, score) in zip(results, summary.items(), strict=True):

@@ -88,3 +88,33 @@ def test_demo_marks_quick_scores_that_differ_from_their_golden_scores(tmp_path):
     assert differs == {(task.id, "baseline/uncompensated"): uncompensated}
     page = demo.write_html(tmp_path, results, [], None, 1.0, modes, differs).read_text()
     assert page.count("(golden ") == 1 and f"(golden {uncompensated:.3f})" in page
+
+
+def test_demo_runs_the_tasks_it_is_given_by_id_or_family_number(tmp_path, monkeypatch):
+    import pytest
+
+    from rle_design.errors import RleError
+
+    seen = []
+
+    def fake_verify(task, directory, ctx):
+        seen.append(task.id)
+        return VerifierReport(task.id, f"{task.family:02d}", task.workflow, score=0.5, valid=True), False
+
+    monkeypatch.setattr(demo, "run_verify", fake_verify)
+    assert [t.id for t in demo.select_tasks(["05", "09-gello"])] == [
+        "05-libero-open",
+        "05-libero-robust",
+        "05-robotwin-open",
+        "05-robotwin-robust",
+        "09-gello",
+    ]
+    demo._verify_all(tmp_path, quick=True, jobs=1, tasks=["09-gello"])
+    assert seen == ["09-gello"] * len(get_task("09-gello").solutions)
+    for pattern in ("9-gello", "04-run", "10"):  # a typo, a registered task without a verifier, no family
+        with pytest.raises(RleError, match="names no implemented task") as err:
+            demo.select_tasks([pattern])
+        assert "09-gello" in str(err.value)
+    page = demo.write_html(tmp_path, [], [], None, 1.0, subset=["09-gello"]).read_text()
+    assert "selected tasks only (09-gello" in page
+    assert "every implemented task" in demo.write_html(tmp_path, [], [], None, 1.0).read_text()
