@@ -20,17 +20,37 @@ PACKAGE = "rle_tasks.f02_harness_transfer"
 BASELINES = ("empty", "missing_function", "reads_hidden_state")
 
 
-SHARED_MODULES = ("robot.py", "geometry.py")
-"""Kitchen harness modules the reference harness uses unchanged (generated into it, not stored twice)."""
+SHARED_MODULES = ("robot.py", "geometry.py", "motion.py")
+"""Kitchen harness modules the reference harness uses (generated into it, not stored twice)."""
+TUNED_CONSTANTS = {"motion.py": {"CORRECT_GAIN": "0.25", "CORRECT_MAX": "0.08", "CORRECT_MAX_ROT": "0.0"}}
+"""Module -> top-level constant -> the reference's value. The reference integrates the position error
+near a goal at half the kitchen harness's gain with twice its bound, and does not correct the
+orientation (a zero bound keeps the orientation bias at zero, so the target is the goal itself)."""
+
+
+def tune_constants(text: str, values: dict[str, str]) -> str:
+    """``text`` with each top-level ``NAME = ...`` line of ``values`` set to its value.
+
+    Raises:
+        ValueError: A name is not assigned on exactly one top-level line (the kitchen harness changed).
+    """
+    lines = text.splitlines(keepends=True)
+    for name, value in values.items():
+        hits = [i for i, line in enumerate(lines) if line.startswith(f"{name} = ")]
+        if len(hits) != 1:
+            raise ValueError(f"{name} is assigned on {len(hits)} top-level lines, not one")
+        lines[hits[0]] = f"{name} = {value}\n"
+    return "".join(lines)
 
 
 def add_harness_modules(directory: Path) -> None:
-    """Copy the kitchen harness's ``SHARED_MODULES`` into ``agent_harness/`` (the harness must be
-    self-contained: a fresh agent has nothing else)."""
+    """Copy the kitchen harness's ``SHARED_MODULES`` into ``agent_harness/`` with the reference's
+    ``TUNED_CONSTANTS`` (the harness must be self-contained: a fresh agent has nothing else)."""
     from rle_tasks.envs.kitchen.workspace import HARNESS
 
     for name in SHARED_MODULES:
         text = (HARNESS / name).read_text().replace("from harness.", "from agent_harness.")
+        text = tune_constants(text, TUNED_CONSTANTS.get(name, {}))
         (directory / "agent_harness" / name).write_text(text)
 
 
@@ -57,9 +77,9 @@ BASELINE_PINS: dict[str, tuple[str, float]] = {
 """The baselines are the same files for every group (checksum, golden quick score)."""
 REFERENCE_PINS: dict[str, tuple[str, float]] = {
     # quick mode runs two of the five agents (the others count 0): 2 successes -> 0.4
-    "02-group-01": ("f53176d5b31c578b4353551e1c8172dc72e41fd8b48d779e416a0914a46c6d49", 0.4),
-    "02-group-09": ("f53176d5b31c578b4353551e1c8172dc72e41fd8b48d779e416a0914a46c6d49", 0.4),
-    "02-group-12": ("f53176d5b31c578b4353551e1c8172dc72e41fd8b48d779e416a0914a46c6d49", 0.4),
+    "02-group-01": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 0.4),
+    "02-group-09": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 0.4),
+    "02-group-12": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 0.4),
 }
 """Task id -> the reference's (checksum, golden quick score under the public key)."""
 BASELINE_GROUPS = ("02-group-01", "02-group-09", "02-group-12")
