@@ -11,7 +11,8 @@ verifies each shipped solution in full, so the slow ones are not repeated).
 - ``reference`` (C): ``reference_c/model.pt`` trained by ``python -m rle_tasks.f06_pose_estimation.train``.
 - ``baseline/nan_output`` (C): a TorchScript model returning NaN; ``baseline/big_model`` (C): 25 M
   tensor elements, refused before inference (both built by ``make_models.py``).
-- ``baseline/slow``: the reference burning about 0.2 s of CPU per frame (a few frames/s: speed deduction).
+- ``baseline/slow``: the reference taking ``SLOW_UPDATE_CPU_S`` of CPU per frame (about 2 frames/s: speed
+  deduction).
 """
 
 from __future__ import annotations
@@ -52,10 +53,33 @@ def shift_shape(directory: Path) -> None:
     )
 
 
+SLOW_UPDATE_CPU_S = 0.5
+"""CPU time of every ``update`` of ``baseline/slow`` [s], whatever the machine: about 2 frames/s."""
+
+
 def slow_down(directory: Path) -> None:
-    """Burn about 0.2 s of CPU (200 products of 200 x 200 matrices) at the start of every ``update``."""
-    burn = "    a = np.full((200, 200), 1e-3)\n    for _ in range(200):\n        a = np.tanh(a @ a)\n"
-    _edit(directory, "def update(obs):\n", "def update(obs):\n" + burn)
+    """Wrap ``update`` so that every call takes ``SLOW_UPDATE_CPU_S`` of the process's CPU time: the
+    reference's work, then a busy wait on ``time.process_time`` (a fixed amount of CPU, not of
+    arithmetic, so the frame rate and the speed deduction do not depend on how fast the CPU is)."""
+    path = directory / "estimator.py"
+    path.write_text(
+        path.read_text()
+        + f"""
+
+import time as _time
+
+_reference_update = update
+SLOW_UPDATE_CPU_S = {SLOW_UPDATE_CPU_S!r}
+
+
+def update(obs):
+    t0 = _time.process_time()
+    out = _reference_update(obs)
+    while _time.process_time() - t0 < SLOW_UPDATE_CPU_S:
+        pass
+    return out
+"""
+    )
 
 
 def estimator_solutions(pins: dict[str, tuple[str, float]]) -> tuple[Solution, ...]:
