@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 from rle_design.errors import RleError
+from rle_tasks.core.secrets import ATTEMPT_ENV
 
 
 def _cmd_tasks(args: argparse.Namespace) -> int:
@@ -68,6 +69,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         ray_address=args.ray_address,
         quick=args.quick,
         episodes=args.episodes,
+        attempt=args.attempt or os.environ.get(ATTEMPT_ENV) or None,
     )
     report, internal = run_verify(task, args.dir, ctx)
     if out_json:
@@ -96,7 +98,12 @@ def _cmd_preview(args: argparse.Namespace) -> int:
 def _cmd_dev(args: argparse.Namespace) -> int:
     from rle_tasks.core.devenv import make_workspace
 
-    make_workspace(args.task, Path(args.workspace), serve=not args.no_serve)
+    make_workspace(
+        args.task,
+        Path(args.workspace),
+        serve=not args.no_serve,
+        attempt=args.attempt or os.environ.get(ATTEMPT_ENV) or None,
+    )
     return 0
 
 
@@ -196,6 +203,12 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="episode-scored tasks: a seeded subset of N episodes (a partial report, never official)",
     )
+    s.add_argument(
+        "--attempt",
+        default=None,
+        help=f"the attempt being verified (default: ${ATTEMPT_ENV}); a session ledger of another attempt is "
+        "refused. Without it the ledger's own attempt is taken and the report says it was unbound",
+    )
     s.set_defaults(fn=_cmd_verify)
 
     s = sub.add_parser("preview", help="meshcat preview (prints the URL) or an offscreen PNG")
@@ -216,6 +229,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("task")
     s.add_argument("--workspace", required=True)
     s.add_argument("--no-serve", action="store_true", help="lay out files only")
+    s.add_argument(
+        "--attempt",
+        default=None,
+        help=f"attempt id issued by the operator (default: ${ATTEMPT_ENV}, else one derived from the workspace "
+        "path); one metered session per attempt, its hidden scenes bound to it",
+    )
     s.set_defaults(fn=_cmd_dev)
 
     s = sub.add_parser("export", help="export tasks")

@@ -120,6 +120,11 @@ class TabletopEnv(MeteredEnv):
     def action_size(self, model: mujoco.MjModel) -> int:
         return self.arm_action_size * len(self.arms)
 
+    def action_range(self, model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
+        """Every entry of the layout lies in [-1, 1] (``step`` clips to it)."""
+        size = self.action_size(model)
+        return np.full(size, -1.0), np.full(size, 1.0)
+
     def step(self, model: mujoco.MjModel, data: mujoco.MjData, ctrl: np.ndarray) -> None:
         act = np.clip(np.nan_to_num(np.asarray(ctrl, dtype=float)), -1.0, 1.0)
         arms = self._arm_ctl(model)

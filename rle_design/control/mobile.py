@@ -120,6 +120,11 @@ class MobileManipulatorEnv(MeteredEnv):
     def action_size(self, model: mujoco.MjModel) -> int:
         return ACTION_SIZE
 
+    def action_range(self, model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
+        """Every entry of the layout lies in [-1, 1] (``step`` clips to it)."""
+        size = self.action_size(model)
+        return np.full(size, -1.0), np.full(size, 1.0)
+
     def reset(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         super().reset(model, data)
         self.hold_pose(model, data)

@@ -41,6 +41,15 @@ class OscGains:
     singular_eps: float = 1e-4
 
 
+def _indexer(indices: np.ndarray) -> slice | np.ndarray:
+    """A slice where the indices are consecutive (a view: faster than fancy indexing, same values),
+    else the index array."""
+    idx = np.asarray(indices, dtype=int)
+    if idx.size and np.array_equal(idx, np.arange(idx[0], idx[0] + idx.size)):
+        return slice(int(idx[0]), int(idx[0]) + int(idx.size))
+    return idx
+
+
 def orientation_error(target_quat: np.ndarray, current_quat: np.ndarray) -> np.ndarray:
     """Rotation vector [rad] (world frame) that turns ``current_quat`` into ``target_quat`` (w, x, y, z)."""
     inv = np.zeros(4)
@@ -85,6 +94,12 @@ class OperationalSpaceController:
         self.qadr = np.array([model.jnt_qposadr[j] for j in jids])
         self.motors = np.array([element_id(model, "actuator", a) for a in motors])
         self.limits = model.actuator_ctrlrange[self.motors].copy()
+        self._lo, self._hi = self.limits[:, 0].copy(), self.limits[:, 1].copy()
+        self._dof_s, self._qadr_s = _indexer(self.dof), _indexer(self.qadr)
+        self._quat, self._inv, self._qerr = np.zeros(4), np.zeros(4), np.zeros(4)
+        self._vel, self._err = np.zeros(3), np.zeros(6)
+        self._ix = np.ix_(self.dof, self.dof)
+        self._kd_null = 2.0 * np.sqrt(gains.kp_null)
         self.home = np.asarray(home, dtype=float)
         self.gains = gains
         self.kp = np.array([gains.kp_pos] * 3 + [gains.kp_rot] * 3)
@@ -107,7 +122,7 @@ class OperationalSpaceController:
         mujoco.mj_jacSite(self.model, data, self._jacp, self._jacr, self.site)
         jac = np.vstack([self._jacp[:, self.dof], self._jacr[:, self.dof]])
         mujoco.mj_fullM(self.model, data, self._mass)
-        mass = self._mass[np.ix_(self.dof, self.dof)]
+        mass = self._mass[self._ix]
         minv = np.linalg.inv(mass)
         lam = np.linalg.inv(jac @ minv @ jac.T + self._eps6)
         self._jac, self._arm_mass = jac, mass
@@ -124,15 +139,23 @@ class OperationalSpaceController:
         """
         if refresh or self._jac is None:
             self.refresh(data)
-        pos, quat = self.site_pose(data)
-        err = np.concatenate([np.asarray(target_pos) - pos, orientation_error(np.asarray(target_quat), quat)])
-        dq = data.qvel[self.dof]
+        # the same arithmetic as ``site_pose`` and ``orientation_error``, in preallocated buffers
+        quat, inv, qerr, err = self._quat, self._inv, self._qerr, self._err
+        mujoco.mju_mat2Quat(quat, data.site_xmat[self.site])
+        np.subtract(target_pos, data.site_xpos[self.site], out=err[:3])
+        mujoco.mju_negQuat(inv, quat)
+        mujoco.mju_mulQuat(qerr, np.asarray(target_quat, dtype=float), inv)
+        if qerr[0] < 0:
+            np.negative(qerr, out=qerr)
+        mujoco.mju_quat2Vel(self._vel, qerr, 1.0)
+        err[3:] = self._vel
+        dq = data.qvel[self._dof_s]
         acc = self.kp * err - self.kd * (self._jac @ dq)
-        tau = self._jt_lam @ acc + data.qfrc_bias[self.dof]
+        tau = self._jt_lam @ acc + data.qfrc_bias[self._dof_s]
         kn = self.gains.kp_null
-        posture = self._arm_mass @ (kn * (self.home - data.qpos[self.qadr]) - 2.0 * np.sqrt(kn) * dq)
+        posture = self._arm_mass @ (kn * (self.home - data.qpos[self._qadr_s]) - self._kd_null * dq)
         tau += self._proj @ posture
-        return np.clip(tau, self.limits[:, 0], self.limits[:, 1])
+        return np.minimum(np.maximum(tau, self._lo), self._hi)  # np.clip's values, without its overhead
 
     def apply(
         self, data: mujoco.MjData, target_pos: np.ndarray, target_quat: np.ndarray, refresh: bool = True

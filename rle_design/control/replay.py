@@ -20,13 +20,26 @@ import numpy as np
 from rle_design.errors import RleError
 from rle_design.rollout.env import EnvDefinition
 
-__all__ = ["ReplayError", "replay"]
+__all__ = ["ReplayError", "check_range", "replay"]
 
 
 class ReplayError(RleError):
     """A ledger cannot be replayed on the environment (other scene, malformed action, divergence)."""
 
     code = "replay.error"
+
+
+def check_range(action: np.ndarray, low: np.ndarray, high: np.ndarray, seq: object) -> None:
+    """Refuse a recorded action outside the environment's range: the server records actions as
+    applied (clipped), so only an altered or foreign ledger holds one (``ledger.action_out_of_range``)."""
+    outside = np.flatnonzero((action < low) | (action > high))
+    if outside.size:
+        i = int(outside[0])
+        raise ReplayError(
+            f"seq {seq}: action entry {i} is {action[i]!r}, outside the range [{low[i]}, {high[i]}] the server "
+            f"applies ({outside.size} entries outside)",
+            code="ledger.action_out_of_range",
+        )
 
 
 def replay(
@@ -49,7 +62,8 @@ def replay(
 
     Raises:
         ReplayError: ``replay.other_scene`` (the ledger names another model digest),
-            ``replay.bad_action`` (an action of the wrong length), ``replay.diverged`` (simulation
+            ``replay.bad_action`` (an action of the wrong length), ``ledger.action_out_of_range``
+            (an action the server would have clipped), ``replay.diverged`` (simulation
             time differs from the recorded one), ``replay.malformed``.
     """
     model = env.build() if model is None else model
@@ -57,6 +71,7 @@ def replay(
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     size = env.action_size(model)
+    low, high = env.action_range(model)
     n_actions = 0
     try:
         lines = Path(ledger_path).read_text().splitlines()
@@ -91,6 +106,7 @@ def replay(
                         f"seq {rec.get('seq')}: action has {action.size} numbers, the environment takes {size}",
                         code="replay.bad_action",
                     )
+                check_range(action, low, high, rec.get("seq"))
                 env.step(model, data, action.copy())
                 n_actions += 1
                 if on_step is not None:

@@ -14,9 +14,13 @@ the ledger proves nothing and is only a rehearsal.
 
 A ``SceneSet`` serves many scenes in one session (a development phase, then a terminal evaluation
 phase of trials, ``scenes``); ``replay_trials`` re-executes its trials for a verifier.
+
+Verifiers pass a submitted ledger through ``check_ledger`` (``gate``): authenticity, the attempt, and
+every card limit recounted from the records.
 """
 
 from rle_design.ledger.client import LedgerClient
+from rle_design.ledger.gate import GATE_CODES, GateResult, Limits, TrialCount, check_ledger
 from rle_design.ledger.records import LedgerError, LedgerWriter
 from rle_design.ledger.scenes import (
     EvaluationPhase,
@@ -31,7 +35,12 @@ from rle_design.ledger.session import MeteredEnv, MeteredSession
 from rle_design.ledger.verify import VERDICT_CODES, LedgerVerdict, verify_ledger
 
 __all__ = [
+    "GATE_CODES",
     "VERDICT_CODES",
+    "GateResult",
+    "Limits",
+    "TrialCount",
+    "check_ledger",
     "EvaluationPhase",
     "SceneSession",
     "SceneSet",

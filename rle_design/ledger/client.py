@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from multiprocessing.connection import Client
 from pathlib import Path
 from typing import Any
@@ -30,6 +31,8 @@ class LedgerClient:
                 code="ledger.no_server",
             ) from None
         self.steps_used = 0
+        self.clipped_actions = 0
+        """Actions the server clipped to the environment's range (see ``info()["action_low"/"action_high"]``)."""
 
     def _request(self, op: str, value: Any = None) -> tuple[dict, Any]:
         try:
@@ -50,8 +53,23 @@ class LedgerClient:
         return self._request("reset", options or None)[1]
 
     def step(self, action: Any) -> dict[str, Any]:
-        """Apply ``action`` (the actuators' ctrl) for one control period (costs one step)."""
-        return self._request("step", action)[1]
+        """Apply ``action`` (the actuators' ctrl) for one control period (costs one step).
+
+        Entries outside the action range are clipped to it (the ledger records the applied action);
+        the first clipped action of a connection warns (``RuntimeWarning``), ``clipped_actions``
+        counts them."""
+        meta, obs = self._request("step", action)
+        clipped = meta.get("clipped", 0)
+        if clipped:
+            if not self.clipped_actions:
+                warnings.warn(
+                    f"{clipped} action entries were outside the action range and were clipped to it "
+                    "(env.info() gives action_low / action_high); the ledger records the clipped action",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
+            self.clipped_actions += 1
+        return obs
 
     def observe(self) -> dict[str, Any]:
         """Current observation (free)."""

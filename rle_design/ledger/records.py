@@ -12,16 +12,20 @@ A record is one line of canonical JSON with the fields, in this order::
 - ``mac`` is HMAC-SHA256(key, line without its ``,"mac":"..."`` member), so it covers every byte of
   every other field.
 
-A ``steps`` record's payload is ``{"actions": [hex, ...], "steps": n, "time": t}``: each action's
-float64 bytes in hex (native order, little-endian on x86-64 and arm64), the charged steps used after
-the last of them and the simulation time then [s]. Grouping consecutive actions in one record
-(group commit, ``actions_per_record``) keeps the per-action cost of the chain low; a reset or the
-seal always closes the open group first. A ``reset`` payload is ``{"steps": n, "time": t}``.
+A ``steps`` record's payload is ``{"actions": [hex, ...], "steps": n, "time": t, "wall": w}``: each
+action's float64 bytes in hex (native order, little-endian on x86-64 and arm64) as applied (after any
+clipping to the action range), the charged steps used after the last of them, the simulation time
+then [s] and the session's wall clock when the last of them was charged [s since the session opened,
+floored to the millisecond]. Grouping consecutive actions in one record (group commit,
+``actions_per_record``) keeps the per-action cost of the chain low; a reset or the seal always closes
+the open group first. A ``reset`` payload is ``{"steps": n, "time": t, "wall": w}``.
 
-The open record carries a random nonce; the seal records the number of records before it, the
-charged step count, the head hash (``prev`` of the seal) and the ledger id (SHA-256 of the open line),
-so a seal cannot be moved to another ledger. A time-limited session states its limit in the open
-record (``wall_time_s``) and the wall time it used in the seal (``elapsed_s``) [s]. The key never appears in the file.
+The open record carries the format (``FORMAT``), a random nonce and the attempt the session belongs to
+(``attempt``, issued by the operator; "" when unbound); the seal records the number of records before
+it, the charged step count, the head hash (``prev`` of the seal) and the ledger id (SHA-256 of the open
+line), so a seal cannot be moved to another ledger. A time-limited session states its limit in the open
+record (``wall_time_s``) and the wall time it used in the seal (``elapsed_s``) [s]. The key never
+appears in the file. ``rle_design.ledger.gate`` re-checks every limit on these records.
 """
 
 from __future__ import annotations
@@ -36,6 +40,8 @@ from typing import Any
 
 from rle_design.errors import RleError
 
+FORMAT = 2
+"""Ledger format: 2 adds the attempt to the open record and wall stamps to charged records."""
 GENESIS = "0" * 64
 KINDS = ("open", "reset", "steps", "seal")
 CHARGED = ("reset", "steps")
@@ -111,7 +117,13 @@ class LedgerWriter:
         self.seq = 0
         self.prev = GENESIS
         self.sealed = False
-        open_payload = {"nonce": secrets.token_hex(16), "created": round(time.time(), 3), **(meta or {})}
+        open_payload = {
+            "format": FORMAT,
+            "attempt": "",
+            "nonce": secrets.token_hex(16),
+            "created": round(time.time(), 3),
+            **(meta or {}),
+        }
         self.ledger_id = self._append("open", canonical(open_payload))
 
     def _append(self, kind: str, payload_json: str) -> str:
@@ -137,13 +149,14 @@ class LedgerWriter:
             raise LedgerError(f"record kind '{kind}' cannot be appended. Kinds: {', '.join(CHARGED)}")
         return self._append(kind, canonical(payload))
 
-    def append_steps(self, action_hexes: list[str], steps: int, sim_time: float) -> str:
-        """Fast path of ``append("steps", {"actions": ..., "steps": ..., "time": ...})`` (same bytes).
+    def append_steps(self, action_hexes: list[str], steps: int, sim_time: float, wall: float) -> str:
+        """Fast path of ``append("steps", {"actions": ..., "steps": ..., "time": ..., "wall": ...})`` (same bytes).
 
         Args:
             action_hexes: Each action's float64 bytes in hex, in execution order (non-empty).
             steps: Charged steps used after the last of them.
             sim_time: Simulation time after the last of them [s].
+            wall: Session wall clock when the last of them was charged [s].
         """
         if self.sealed:
             raise LedgerError(
@@ -154,7 +167,10 @@ class LedgerWriter:
         # Hex strings need no escaping, keys are sorted and json.dumps writes floats with
         # float.__repr__: the bytes are identical to canonical().
         actions = '","'.join(action_hexes)
-        return self._append("steps", f'{{"actions":["{actions}"],"steps":{steps:d},"time":{sim_time!r}}}')
+        return self._append(
+            "steps",
+            f'{{"actions":["{actions}"],"steps":{steps:d},"time":{sim_time!r},"wall":{float(wall)!r}}}',
+        )
 
     def seal(self, steps: int, extra: dict[str, Any] | None = None) -> str:
         """Write the seal (record count, step count, head, ledger id, then ``extra`` such as the wall

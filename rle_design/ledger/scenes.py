@@ -170,12 +170,15 @@ class SceneSession(MeteredSession):
         if self.sealed:
             raise LedgerError("the session is sealed; no more resets or steps", code="ledger.sealed")
         phase = self.scenes.evaluation
+        if self._eval_t0 is None:  # the phase's clock starts with the charge of its first reset
+            self._eval_t0 = time.monotonic()
         if phase.wall_time_s is not None and time.monotonic() - self._eval_t0 > phase.wall_time_s:
             raise LedgerError(
                 f"the evaluation phase's {phase.wall_time_s:.0f} s are over; the seal still works",
                 code="ledger.time_exhausted",
             )
         self.steps_used += 1
+        self._stamp()
 
     def _check_dev_budget(self) -> None:
         if self.budget is not None and self.dev_steps >= self.budget:
@@ -205,7 +208,6 @@ class SceneSession(MeteredSession):
                     code="ledger.bad_request",
                 )
             self.phase = EVALUATION
-            self._eval_t0 = time.monotonic()
         if self.phase == EVALUATION:
             if options:
                 raise LedgerError(
@@ -228,13 +230,14 @@ class SceneSession(MeteredSession):
             self.dev_resets += 1
         if model is not self.model:
             self.env, self.model, self.data = env, model, mujoco.MjData(model)
-            self._ctrl = np.empty(env.action_size(model))
+            self._set_action_range()
         self.key = key
         env.reset(self.model, self.data)
         if self.writer is not None:
             payload = {
                 "steps": self.steps_used,
                 "time": self.data.time,
+                "wall": self._wall,
                 "scene": key,
                 "scene_sha256": env.fingerprint(),
                 "phase": self.phase,
@@ -392,6 +395,7 @@ class _Run:
         self.data = mujoco.MjData(model)
         env.reset(model, self.data)
         self.size = env.action_size(model)
+        self.low, self.high = env.action_range(model)
         self.actions = 0
         self.success_at: int | None = None
 
@@ -423,7 +427,7 @@ class _Run:
         return cls(scenes, trial, key, env, model)
 
     def step(self, action_hex: Any, seq: Any) -> None:
-        from rle_design.control.replay import ReplayError
+        from rle_design.control.replay import ReplayError, check_range
 
         try:
             action = np.frombuffer(bytes.fromhex(action_hex), dtype=np.float64)
@@ -434,6 +438,7 @@ class _Run:
                 f"seq {seq}: action has {action.size} numbers, the environment takes {self.size}",
                 code="replay.bad_action",
             )
+        check_range(action, self.low, self.high, seq)
         self.env.step(self.model, self.data, action.copy())
         self.actions += 1
         if self.success_at is None and self.scenes.success(self.env, self.model, self.data):

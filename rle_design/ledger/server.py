@@ -50,6 +50,8 @@ def _handle(session: MeteredSession, meta: dict[str, Any], value: Any) -> tuple[
     op = meta.get("op")
     if op == "step":
         obs = session.step(value, defer_record=True)  # recorded right after the reply is sent
+        if session.last_clipped:
+            return {"ok": True, "steps_used": session.steps_used, "clipped": session.last_clipped}, obs
     elif op == "reset":
         if value is not None and not isinstance(value, dict):
             raise LedgerError("reset options must be a dict", code="ledger.bad_request")
@@ -112,6 +114,7 @@ def serve(
     budget: int | None,
     actions_per_record: int = 16,
     wall_time_s: float | None = None,
+    attempt: str = "",
     ready: Connection | None = None,
 ) -> None:
     """Serve one metered session until sealed or signalled (runs in the server process).
@@ -130,6 +133,7 @@ def serve(
             ledger_path=ledger_path,
             actions_per_record=actions_per_record,
             wall_time_s=wall_time_s,
+            attempt=attempt,
         )
         del key
         old_umask = os.umask(0o077)
@@ -168,6 +172,7 @@ class LedgerServer:
         budget: Charged steps allowed, or None for unlimited.
         actions_per_record: Executed actions grouped per ledger record (see ``MeteredSession``).
         wall_time_s: Wall-clock time the session may charge steps for [s] (see ``MeteredSession``).
+        attempt: The attempt the session belongs to (recorded in the ledger's open record).
     """
 
     def __init__(
@@ -181,6 +186,7 @@ class LedgerServer:
         budget: int | None,
         actions_per_record: int = 16,
         wall_time_s: float | None = None,
+        attempt: str = "",
     ) -> None:
         if len(str(socket_path)) > 100:
             raise LedgerError(
@@ -199,6 +205,7 @@ class LedgerServer:
             budget=budget,
             actions_per_record=actions_per_record,
             wall_time_s=wall_time_s,
+            attempt=attempt,
         )
         self._process = ctx.Process(
             target=serve,

@@ -98,6 +98,12 @@ class MeteredSession:
             verifier can require a time-limited session.
         model: ``env.build()`` when the caller compiled it already (``env.prepare`` done).
         meta: Extra fields of the open record.
+        attempt: The attempt the session belongs to (issued by the operator, recorded in the open
+            record; a verifier told the attempt refuses a ledger of another).
+
+    An action outside the environment's range (``action_range``) is clipped, as the environment
+    would; the ledger stores the applied action and the reply says how many entries were clipped
+    (``clipped``; ``info()["actions_clipped"]`` counts the actions clipped so far).
     """
 
     def __init__(
@@ -112,6 +118,7 @@ class MeteredSession:
         wall_time_s: float | None = None,
         model: mujoco.MjModel | None = None,
         meta: dict[str, Any] | None = None,
+        attempt: str = "",
     ) -> None:
         if actions_per_record < 1:
             raise ValueError(f"actions_per_record must be >= 1, got {actions_per_record}")
@@ -134,6 +141,7 @@ class MeteredSession:
                 raise LedgerError("a metered session needs a ledger path", code="ledger.no_path")
             meta = {
                 **(meta or {}),
+                "attempt": str(attempt),
                 "budget": budget,
                 "model_sha256": env.fingerprint(),
                 "n_substeps": env.n_substeps,
@@ -142,11 +150,19 @@ class MeteredSession:
             if wall_time_s is not None:
                 meta["wall_time_s"] = float(wall_time_s)
             self.writer = LedgerWriter(ledger_path, key, task_id, meta)
-        self._ctrl = np.empty(env.action_size(self.model))
+        self.attempt = str(attempt)
+        self._set_action_range()
         self.actions_per_record = actions_per_record
         self._group: list[str] = []
-        self._group_end: tuple[int, float] = (0, 0.0)
+        self._group_end: tuple[int, float, float] = (0, 0.0, 0.0)
+        self._wall = 0.0
+        self.actions_clipped = 0
+        self.last_clipped = 0
         mujoco.mj_forward(self.model, self.data)
+
+    def _set_action_range(self) -> None:
+        self._ctrl = np.empty(self.env.action_size(self.model))
+        self._low, self._high = (np.asarray(b, dtype=np.float64) for b in self.env.action_range(self.model))
 
     @property
     def elapsed_s(self) -> float:
@@ -173,6 +189,11 @@ class MeteredSession:
                 code="ledger.budget_exhausted",
             )
         self.steps_used += 1
+        self._stamp()
+
+    def _stamp(self) -> None:
+        """The wall clock of the step being charged, floored to the millisecond [s]."""
+        self._wall = math.floor(self.elapsed_s * 1000.0) / 1000.0
 
     def reset(self, options: dict[str, Any] | None = None) -> dict[str, Any]:
         """Reset the simulation (one charged step); returns the observation.
@@ -188,7 +209,9 @@ class MeteredSession:
         self._charge()
         self.env.reset(self.model, self.data)
         if self.writer is not None:
-            self.writer.append("reset", {"steps": self.steps_used, "time": self.data.time})
+            self.writer.append(
+                "reset", {"steps": self.steps_used, "time": self.data.time, "wall": self._wall}
+            )
         return self.observe()
 
     def step(self, action: Any, *, defer_record: bool = False) -> dict[str, Any]:
@@ -217,11 +240,16 @@ class MeteredSession:
         self._ctrl[:] = arr
         if not np.isfinite(self._ctrl).all():
             raise LedgerError("action holds NaN or infinity", code="ledger.bad_action")
+        outside = (self._ctrl < self._low) | (self._ctrl > self._high)
+        self.last_clipped = int(outside.sum())
         self._charge()
+        if self.last_clipped:
+            np.clip(self._ctrl, self._low, self._high, out=self._ctrl)
+            self.actions_clipped += 1
         self.env.step(self.model, self.data, self._ctrl)
         if self.writer is not None:
             self._group.append(self._ctrl.tobytes().hex())
-            self._group_end = (self.steps_used, self.data.time)
+            self._group_end = (self.steps_used, self.data.time, self._wall)
             if not defer_record and len(self._group) >= self.actions_per_record:
                 self.commit()
         return self.observe()
@@ -260,6 +288,10 @@ class MeteredSession:
             "nv": self.model.nv,
             "nu": self.model.nu,
             "action_size": int(self._ctrl.size),
+            "action_low": [float(v) if np.isfinite(v) else None for v in self._low],
+            "action_high": [float(v) if np.isfinite(v) else None for v in self._high],
+            "actions_clipped": self.actions_clipped,
+            "attempt": self.attempt,
             "n_substeps": self.env.n_substeps,
             "timestep": float(self.model.opt.timestep),
         }

@@ -80,6 +80,17 @@ class EnvDefinition:
         layout onto its actuators (e.g. ``rle_design.control.TabletopEnv``) says its own."""
         return model.nu
 
+    def action_range(self, model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
+        """(low, high) of each action entry: the actuators' ``ctrlrange`` where limited (MuJoCo clamps
+        ctrl there), unbounded elsewhere; an environment with its own layout states its own."""
+        size = self.action_size(model)
+        low, high = np.full(size, -np.inf), np.full(size, np.inf)
+        if size == model.nu:
+            limited = model.actuator_ctrllimited.astype(bool)
+            low[limited] = model.actuator_ctrlrange[limited, 0]
+            high[limited] = model.actuator_ctrlrange[limited, 1]
+        return low, high
+
     def action(self, model: mujoco.MjModel, action: Any) -> np.ndarray:
         """``action`` as a finite ctrl vector; raises ``ActionError`` naming what is wrong."""
         try:

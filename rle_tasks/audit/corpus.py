@@ -184,7 +184,7 @@ def _ledger(
         w.append("reset", {"seed": 0, "steps": 1})
         for i in range(19):
             action = struct.pack("<2d", 0.1 * i, 0.0).hex()
-            w.append_steps([action], steps=i + 2, sim_time=0.02 * (i + 1))
+            w.append_steps([action], steps=i + 2, sim_time=0.02 * (i + 1), wall=0.0)
         w.seal(20)
         lines = path.read_bytes().splitlines(keepends=True)
         path.write_bytes(b"".join(tamper(lines)))
@@ -761,4 +761,18 @@ def cases() -> list[Case]:
     from rle_tasks.audit.generated import generated_cases
 
     out += generated_cases(F09, _edit_xml, F09_DESIGN_CAP) + generated_cases(F08, _edit_xml, 0.15)
+    return out + family_cases()
+
+
+def family_cases() -> list[Case]:
+    """The cases each family keeps beside its tasks (``rle_tasks/<family>/audit.py``: ``cases()``)."""
+    import importlib
+    import pkgutil
+
+    import rle_tasks
+
+    out: list[Case] = []
+    for mod in sorted(m.name for m in pkgutil.iter_modules(rle_tasks.__path__) if m.name[:1] == "f"):
+        if importlib.util.find_spec(f"rle_tasks.{mod}.audit") is not None:
+            out += importlib.import_module(f"rle_tasks.{mod}.audit").cases()
     return out

@@ -38,6 +38,7 @@ class Case:
         max_score: Highest score allowed (0, or the documented cap).
         wall_cap_s: The case fails if verification takes longer [s].
         run: Custom runner returning a report (ledger cases); default runs the task's verifier.
+        attempt: The attempt the verifier is told it verifies (``VerifyContext.attempt``).
     """
 
     name: str
@@ -47,6 +48,7 @@ class Case:
     max_score: float = 0.0
     wall_cap_s: float = 60.0
     run: Callable[[Path, Secret], VerifierReport] | None = field(default=None, compare=False)
+    attempt: str | None = None
 
 
 @dataclass(frozen=True)
@@ -119,6 +121,7 @@ def run_case(case: Case, workdir: Path, secret: Secret = AUDIT_SECRET, hang_cap_
             quick=True,
             hang_cap_s=hang_cap_s,
             jobs=min(2, os.cpu_count() or 1),
+            attempt=case.attempt,
         )
         report, internal = run_verify(get_task(case.task_id), artifact, ctx)
     seconds = time.perf_counter() - t0

@@ -13,23 +13,34 @@ socket_path=)``, ``stop()``, ``wait()`` and ``socket_path``, started with the sa
         obs = env.step(action)     # one step: ctrl applied for n_substeps physics steps
         env.observe(); env.info()  # free
 
-The ledger file is written outside the workspace (``<workspace>.ledger/session-NNN.jsonl`` unless
+The ledger file is written outside the workspace (``<workspace>.ledger/<attempt>.jsonl`` unless
 ``ledger_dir`` says otherwise), so the agent cannot reach it through the workspace; the key, the
 secret and hidden seeds are never written anywhere in the workspace. ``rle dev`` keeps serving in the
 foreground until a client calls ``seal()`` or the command is interrupted (Ctrl-C seals the ledger).
+
+Attempts: every session belongs to one attempt, an id the operator issues (``--attempt``; a Harbor
+trial's id) or, without one, derived from the workspace's path (``default_attempt``). The attempt is
+recorded in the ledger's open record and mixed into the session's hidden scenes
+(``Secret.for_attempt``); a metered attempt has one session: its ledger ``<attempt>.jsonl`` is created
+once, and a second ``rle dev`` of the same attempt is refused (``ledger.attempt_used``). An operator
+gives each attempt a fresh id and a ledger directory the agent cannot write, and verifies with
+``rle verify --attempt ID`` so that a ledger of any other attempt is refused (``ledger.wrong_attempt``).
 """
 
 from __future__ import annotations
 
 import hashlib
 import hmac
+import os
+import signal
 import tempfile
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
 from rle_design.errors import RleError
 from rle_design.ledger import LedgerServer, MeteredEnv, SceneSet
-from rle_tasks.core.secrets import Secret, load_secret
+from rle_tasks.core.secrets import Secret, load_secret, using_secret
 from rle_tasks.core.task import TaskSpec
 
 LEDGER_LABEL = b"rle-bench ledger key v1"
@@ -67,6 +78,7 @@ class DevWorkspace:
         files: Paths written into the workspace, relative to it, sorted.
         server: The ledger server (None when the task is not metered or ``serve=False``).
         ledger_path: The ledger the server writes (outside the workspace), or None.
+        attempt: The attempt the session belongs to.
     """
 
     task_id: str
@@ -74,6 +86,7 @@ class DevWorkspace:
     files: tuple[str, ...]
     server: LedgerServer | None = None
     ledger_path: Path | None = None
+    attempt: str = ""
 
     def close(self) -> None:
         """Seal the ledger and stop the server, if one runs."""
@@ -95,12 +108,37 @@ def _socket_path(workspace: Path) -> Path:
     return Path(tempfile.gettempdir()) / f"rle-ledger-{digest}.sock"
 
 
-def _next_ledger(ledger_dir: Path) -> Path:
+def default_attempt(workspace: Path) -> str:
+    """The attempt of a workspace laid out without ``--attempt``: ``ws-`` and 16 hex digits of its path."""
+    return "ws-" + hashlib.sha256(str(Path(workspace).resolve()).encode()).hexdigest()[:16]
+
+
+def attempt_ledger(ledger_dir: Path, attempt: str) -> Path:
+    """The one ledger of a metered attempt; refused when the attempt already had its session.
+
+    Raises:
+        RleError: ``ledger.attempt_used``.
+    """
     ledger_dir.mkdir(parents=True, exist_ok=True)
-    n = 1 + sum(1 for _ in ledger_dir.glob("session-*.jsonl"))
-    while (ledger_dir / f"session-{n:03d}.jsonl").exists():
+    path = ledger_dir / f"{attempt}.jsonl"
+    if path.exists():
+        raise RleError(
+            f"attempt '{attempt}' has had its session already (ledger {path}); a task allows one session per "
+            "attempt. Submit that ledger, or start a new attempt (a fresh workspace, or --attempt with a new id "
+            "issued by the operator)",
+            code="ledger.attempt_used",
+            path=str(path),
+        )
+    return path
+
+
+def _next_ledger(ledger_dir: Path, attempt: str) -> Path:
+    """A served session's ledger: several processes of one attempt share its budget."""
+    ledger_dir.mkdir(parents=True, exist_ok=True)
+    n = 1
+    while (ledger_dir / f"{attempt}-session-{n:03d}.jsonl").exists():
         n += 1
-    return ledger_dir / f"session-{n:03d}.jsonl"
+    return ledger_dir / f"{attempt}-session-{n:03d}.jsonl"
 
 
 def layout_workspace(
@@ -110,11 +148,17 @@ def layout_workspace(
     *,
     secret: Secret | None = None,
     ledger_dir: Path | None = None,
+    attempt: str | None = None,
 ) -> DevWorkspace:
     """Lay out the workspace of ``spec`` and start its ledger server when metered and ``serve``.
 
+    ``attempt`` (default: ``default_attempt(workspace)``) binds the session's hidden scenes and its
+    ledger (module docstring).
+
     Raises:
-        RleError: ``task.not_implemented`` for a registered task without an implementation.
+        RleError: ``task.not_implemented`` for a registered task without an implementation,
+            ``ledger.attempt_used`` when the attempt has had its metered session,
+            ``attempt.invalid`` for a malformed attempt id.
     """
     if not spec.implemented:
         raise RleError(
@@ -123,10 +167,16 @@ def layout_workspace(
             code="task.not_implemented",
         )
     workspace = Path(workspace).resolve()
+    attempt = default_attempt(workspace) if attempt is None else attempt
+    bound = (secret if secret is not None else load_secret()).for_attempt(attempt)
+    ledgers = ledger_dir or workspace.with_name(workspace.name + ".ledger")
+    if serve and (ledgers / f"{attempt}.jsonl").exists():
+        attempt_ledger(ledgers, attempt)  # refuses before anything is laid out or served
     workspace.mkdir(parents=True, exist_ok=True)
     (workspace / "instruction.md").write_text(spec.instruction.rstrip() + "\n")
-    env = spec.make_dev_env(workspace) if spec.make_dev_env is not None else None
-    ws = DevWorkspace(spec.id, workspace, ())
+    with using_secret(bound):
+        env = spec.make_dev_env(workspace) if spec.make_dev_env is not None else None
+    ws = DevWorkspace(spec.id, workspace, (), attempt=attempt)
     if isinstance(env, (MeteredEnv, SceneSet)):
         if isinstance(env, SceneSet):
             nu = env.action_size()
@@ -154,8 +204,8 @@ def layout_workspace(
             )
         )
         if serve:
-            ws.ledger_path = _next_ledger(ledger_dir or workspace.with_name(workspace.name + ".ledger"))
-            key = ledger_key(secret if secret is not None else load_secret(), spec.id)
+            ws.ledger_path = attempt_ledger(ledgers, attempt)
+            key = ledger_key(bound, spec.id)
             ws.server = LedgerServer(
                 env,
                 key=key,
@@ -164,13 +214,14 @@ def layout_workspace(
                 task_id=spec.id,
                 budget=spec.budget.steps,
                 wall_time_s=spec.budget.wall_time_s,
+                attempt=attempt,
             )
             del key
             ws.server.start()
     elif serve and env is not None and callable(getattr(env, "start", None)):
         # a served environment of the family's own (renders, evaluations): same key, ledger and socket
-        ws.ledger_path = _next_ledger(ledger_dir or workspace.with_name(workspace.name + ".ledger"))
-        key = ledger_key(secret if secret is not None else load_secret(), spec.id)
+        ws.ledger_path = _next_ledger(ledgers, attempt)
+        key = ledger_key(bound, spec.id)
         env.start(key=key, ledger_path=ws.ledger_path, socket_path=_socket_path(workspace))
         del key
         ws.server = env
@@ -178,35 +229,50 @@ def layout_workspace(
     return ws
 
 
-def make_workspace(task_id: str, workspace: Path, serve: bool = True, *, wait: bool = True) -> DevWorkspace:
-    """``rle dev TASK --workspace DIR``: lay out the workspace and serve its metered environment.
+def make_workspace(
+    task_id: str, workspace: Path, serve: bool = True, *, wait: bool = True, attempt: str | None = None
+) -> DevWorkspace:
+    """``rle dev TASK --workspace DIR [--attempt ID]``: lay out the workspace and serve its environment.
 
     With a metered environment and ``serve``, prints how to connect and, with ``wait``, blocks until
-    a client seals the session; Ctrl-C (KeyboardInterrupt) seals the ledger and stops the server.
+    a client seals the session; Ctrl-C or SIGTERM (also of a background ``rle dev &``) seals the
+    ledger and stops the server.
 
     Raises:
-        RleError: ``task.unknown`` or ``task.not_implemented`` (the CLI exits with status 2).
+        RleError: ``task.unknown``, ``task.not_implemented``, ``ledger.attempt_used``,
+            ``attempt.invalid`` (the CLI exits with status 2).
     """
     from rle_tasks.core.registry import get_task
 
-    ws = layout_workspace(get_task(task_id), workspace, serve)
+    ws = layout_workspace(get_task(task_id), workspace, serve, attempt=attempt)
     tops: dict[str, int] = {}
     for f in ws.files:
         top = f.split("/", 1)[0]
         tops[top] = tops.get(top, 0) + 1
     shown = ", ".join(f"{t}/ ({n} files)" if n > 1 or "/" in t else t for t, n in sorted(tops.items()))
-    print(f"workspace {ws.workspace} laid out for {task_id}: {shown or '(no files)'}")
+    print(f"workspace {ws.workspace} laid out for {task_id} (attempt {ws.attempt}): {shown or '(no files)'}")
     if ws.server is not None:
         print(
-            f"metered environment listening on {ws.server.socket_path}; connect with "
+            f"serving in the foreground (process {os.getpid()}): run `rle dev` in its own terminal or with `&`. "
+            f"Metered environment listening on {ws.server.socket_path}; connect with "
             f"`from client import connect` in the workspace. Ledger: {ws.ledger_path}. "
-            "Ctrl-C seals the ledger and stops the server.",
+            f"Ctrl-C, `kill {os.getpid()}` or a client's seal() seals the ledger and stops the server.",
             flush=True,
         )
         if wait:
+            main = threading.current_thread() is threading.main_thread()  # signals reach the main thread only
+            sigs = (signal.SIGTERM, signal.SIGINT) if main else ()
+            old = {sig: signal.signal(sig, _interrupt) for sig in sigs}
             try:
                 ws.server.wait()
             except KeyboardInterrupt:
                 ws.close()
-                print(f"ledger sealed: {ws.ledger_path}")
+                print(f"ledger sealed: {ws.ledger_path}", flush=True)
+            finally:
+                for sig, handler in old.items():
+                    signal.signal(sig, handler)
     return ws
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt

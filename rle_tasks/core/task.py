@@ -71,6 +71,9 @@ class VerifyContext:
         hang_cap_s: Per-call timeout for submitted code [s] (the card's 30 s hang cap by default).
         episodes: Run a seeded subset of this many episodes of a task's fixed episode set (tasks
             scored over episodes); the report marks it partial, never an official score. None: all.
+        attempt: The attempt being verified (the operator's id, a Harbor trial's): a session ledger
+            of another attempt is refused (``ledger.wrong_attempt``). None takes the ledger's own
+            attempt and reports the verification as unbound.
     """
 
     secret: Secret
@@ -81,6 +84,7 @@ class VerifyContext:
     quick: bool = False
     hang_cap_s: float = 30.0
     episodes: int | None = None
+    attempt: str | None = None
 
 
 VerifyFn = Callable[[Path, VerifyContext], "VerifierReport"]

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from rle_tasks.core.secrets import Secret, derive_seed, load_secret
+from rle_tasks.core.secrets import Secret, current_secret, derive_seed
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 from rle_tasks.envs.kitchen.env import KitchenScenes
 from rle_tasks.envs.kitchen.workspace import lay_out_harness
@@ -135,7 +135,7 @@ def task_specs() -> list[TaskSpec]:
                 workspace: Path, kitchen: KitchenTaskId = kitchen, level: int = level
             ) -> KitchenScenes:
                 lay_out_harness(workspace, level)
-                return scenes(kitchen, level, load_secret())
+                return scenes(kitchen, level, current_secret())
 
             specs.append(
                 TaskSpec(

@@ -2,18 +2,22 @@
 
 Protocol:
 
-1. ``ledger.jsonl`` must be a regular file holding a sealed, authentic ledger of this task under the
-   ledger key of the verifier secret (``rle_design.ledger.verify_ledger``); otherwise score 0 with the
-   verdict's code (``ledger.missing``, ``ledger.unsealed``, ``ledger.altered`` ...).
-2. The session must have been served as the task's: its open record names this task's scene set, a
-   development budget of 50,000 steps, the card's evaluation phase (5 trials, 1,000 actions, 1 h) and
-   a wall-time limit of at most 8 h (``f01.wrong_session`` otherwise).
+1. ``ledger.jsonl`` passes the ledger gate (``rle_design.ledger.check_ledger``) under the ledger key
+   of the verifier secret: a regular file holding a sealed, authentic ledger of this task, of the
+   attempt being verified (``ctx.attempt``; unbound when None), served with the card's limits, and
+   within them on its own records: at most 50,000 development steps, at most 5 evaluation trials of
+   at most 1,000 actions, every step charged within the session's 8 h and the evaluation phase's
+   1 h, the seal's counts equal to the records'. Otherwise score 0 with the gate's code
+   (``ledger.altered``, ``ledger.over_budget``, ``ledger.trial_too_long``, ``ledger.wrong_attempt`` ...).
+2. The session must have been served as this task's: its open record names this task's scene set
+   (``f01.wrong_session`` otherwise).
 3. ``d`` is the charged steps before the first evaluation reset. Each evaluation trial is rebuilt from
-   the secret and its recorded actions re-executed (``rle_design.ledger.replay_trials``); a trial
-   succeeds when the task's success predicate held after one of its actions. The verifier's replay
-   decides, not the session's account in the seal (a disagreement is reported as
-   ``f01.success_mismatch``); a trial whose scene or actions do not replay makes the ledger
-   unverifiable (score 0, ``replay.*``). Missing trials count as failures.
+   the secret bound to the ledger's attempt and its recorded actions re-executed
+   (``rle_design.ledger.replay_trials``); a trial succeeds when the task's success predicate held
+   after one of its actions. The verifier's replay decides; where the seal's account differs, the
+   trial counts as failed (``ledger.seal_mismatch``). A trial whose scene or actions do not replay
+   makes the ledger unverifiable (score 0, ``replay.*``, ``ledger.action_out_of_range``). Missing
+   trials count as failures.
 4. R = s [0.80 + 0.20 (1 - d / 50,000)] with s = successes / 5.
 """
 
@@ -22,7 +26,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from rle_design.control.replay import ReplayError
-from rle_design.ledger import development_steps, replay_trials, verify_ledger
+from rle_design.ledger import Limits, check_ledger, replay_trials
 from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.scoring import Outcome
@@ -45,24 +49,14 @@ def _invalid(task_id: str, code: str, message: str, findings: Findings, **native
     )
 
 
-def _session_problem(opened: dict, expected_set: str) -> str | None:
-    evaluation = opened.get("evaluation") or {}
-    limit = opened.get("wall_time_s")
-    if opened.get("scene_set") != expected_set:
-        return "the ledger was not recorded in this task's kitchen session (its scene set differs)"
-    if opened.get("budget") != STEP_BUDGET:
-        return f"the session's development budget was {opened.get('budget')!r} steps, the task's is {STEP_BUDGET}"
-    if (
-        evaluation.get("trials") != TRIALS
-        or evaluation.get("actions_per_trial") != ACTIONS_PER_TRIAL
-        or evaluation.get("wall_time_s") != EVAL_WALL_S
-    ):
-        return f"the session's evaluation phase was {evaluation}, the task's is {TRIALS} trials of {ACTIONS_PER_TRIAL} actions in {EVAL_WALL_S:.0f} s"
-    if not (isinstance(limit, (int, float)) and 0 < limit <= BUDGET.wall_time_s):
-        return (
-            f"the session was limited to {limit!r} s of wall time, the task allows {BUDGET.wall_time_s:.0f} s"
-        )
-    return None
+LIMITS = Limits(
+    budget=STEP_BUDGET,
+    wall_time_s=BUDGET.wall_time_s,
+    trials=TRIALS,
+    actions_per_trial=ACTIONS_PER_TRIAL,
+    evaluation_wall_time_s=EVAL_WALL_S,
+)
+"""The card's limits, re-checked on every submitted ledger."""
 
 
 def _render_trials(trials, scene_set, path: Path) -> None:
@@ -115,28 +109,36 @@ def verifier(kitchen: KitchenTaskId, level: int):
             return _invalid(
                 task_id, "ledger.missing", f"{LEDGER_FILE} is missing or not a regular file", findings
             )
-        verdict = verify_ledger(path, ledger_key(ctx.secret, task_id), task_id)
-        if not verdict.valid:
-            return _invalid(task_id, verdict.code, verdict.message, findings)
-        scene_set = scenes(kitchen, level, ctx.secret, image_size=None)
-        problem = _session_problem(verdict.opened, scene_set.fingerprint())
-        if problem:
-            return _invalid(task_id, "f01.wrong_session", problem, findings)
-        d = development_steps(path)
+        gate = check_ledger(path, ledger_key(ctx.secret, task_id), task_id, LIMITS, ctx.attempt)
+        if not gate.ok:
+            return _invalid(task_id, gate.code, gate.message, findings)
+        attempt = {"id": gate.attempt, "bound": gate.attempt_bound}
+        scene_set = scenes(kitchen, level, ctx.secret.for_attempt(gate.attempt), image_size=None)
+        if gate.opened.get("scene_set") != scene_set.fingerprint():
+            return _invalid(
+                task_id,
+                "f01.wrong_session",
+                "the ledger was not recorded in this task's kitchen session (its scene set differs)",
+                findings,
+            )
+        d = gate.development_steps
         try:
             trials = replay_trials(scene_set, path)
         except ReplayError as exc:
             return _invalid(task_id, exc.code, exc.message, findings, development_steps=d)
+        disputed = set()
         for t in trials:
             if t.recorded_success is not None and t.recorded_success != t.success:
+                disputed.add(t.trial)
                 findings.add_error(
-                    "f01.success_mismatch",
-                    f"trial {t.trial}: the session recorded success={t.recorded_success}, the replay finds {t.success}",
+                    "ledger.seal_mismatch",
+                    f"trial {t.trial}: the seal records success={t.recorded_success}, the replay finds {t.success}; "
+                    "the trial counts as failed",
                     LEDGER_FILE,
                 )
         if ctx.out_dir is not None and trials:
             _render_trials(trials, scene_set, Path(ctx.out_dir) / "trials.png")
-        wins = sum(t.success for t in trials)
+        wins = sum(t.success and t.trial not in disputed for t in trials)
         s = wins / TRIALS
         eff = s * max(0.0, 1.0 - d / STEP_BUDGET)
         per_trial = [
@@ -162,8 +164,9 @@ def verifier(kitchen: KitchenTaskId, level: int):
                 "development_steps": d,
                 "successes": wins,
                 "trials": per_trial,
-                "steps": verdict.steps,
+                "steps": gate.steps,
                 "level": level,
+                "attempt": attempt,
             },
         )
 

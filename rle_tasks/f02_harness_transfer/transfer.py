@@ -35,7 +35,7 @@ import mujoco
 import numpy as np
 
 from rle_design.control.replay import ReplayError, replay
-from rle_design.ledger import LedgerServer, verify_ledger
+from rle_design.ledger import LedgerServer, Limits, check_ledger
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
 from rle_tasks.envs.kitchen.env import KitchenEnv
 from rle_tasks.envs.kitchen.scene import build_scene
@@ -337,14 +337,15 @@ def run_unit(unit: TransferUnit) -> TransferResult:
                 agent, message = _run_command(stage, unit)
         finally:
             server.stop()
-        verdict = verify_ledger(ledger, unit.key, unit.ledger_task)
-        if not verdict.valid:
+        # the verifier's own server wrote it; the gate still recounts the card's limits on it
+        gate = check_ledger(ledger, unit.key, unit.ledger_task, Limits(unit.steps, unit.wall_time_s))
+        if not gate.ok:
             return TransferResult(
                 unit.trial,
                 "no_session",
                 agent,
-                f"{message} (ledger: {verdict.message})",
-                ledger=verdict.code,
+                f"{message} (ledger: {gate.message})",
+                ledger=gate.code,
                 elapsed_s=time.monotonic() - t0,
             )
         try:
@@ -371,8 +372,8 @@ def run_unit(unit: TransferUnit) -> TransferResult:
             len(names),
             success,
             score,
-            verdict.steps,
-            verdict.code,
+            gate.steps,
+            gate.code,
             time.monotonic() - t0,
         )
     finally:

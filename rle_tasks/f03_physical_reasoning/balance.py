@@ -9,6 +9,8 @@ from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 HERE = Path(__file__).resolve().parent
 TASK_ID = "03-balance-coins"
 BUDGET_STEPS = 50_000
+WALL_TIME_S = 9 * 3600.0
+"""Wall time of the one continuous attempt [s] (card: 9 h)."""
 
 
 def instruction() -> str:
@@ -20,12 +22,12 @@ def instruction() -> str:
 
 def make_dev_env(workspace: Path):
     """The metered environment of the instance of the current secret (the public one without a secret)."""
-    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.secrets import current_secret
 
     from .balance_env import make_env
     from .balance_verifier import instance
 
-    return make_env(instance(load_secret()))
+    return make_env(instance(current_secret()))
 
 
 def task_spec() -> TaskSpec:
@@ -36,7 +38,7 @@ def task_spec() -> TaskSpec:
         family=3,
         title="Tabletop physical reasoning: find the heavy cube among nine with a balance",
         instruction=instruction(),
-        budget=Budget(wall_time_s=9 * 3600.0, cpus=4, gpus=1, steps=BUDGET_STEPS, verifier_timeout_s=1800.0),
+        budget=Budget(wall_time_s=WALL_TIME_S, cpus=4, gpus=1, steps=BUDGET_STEPS, verifier_timeout_s=1800.0),
         contract=ArtifactContract(
             required=("ledger.jsonl",),
             description="ledger.jsonl: the sealed ledger of the metered development session (written by the "

@@ -9,10 +9,12 @@ Protocol:
    actions replayed on its environment (``rle_design.control.replay``); a ledger recorded on another
    scene or diverging in time scores 0 with the replay's code. The weighings are read from the
    replayed state (``balance_env`` counts them while stepping, exactly as the server did).
-3. The final cube poses and balance angles are copied into the robot-free scene, the beam locked,
-   and the scene settled for ``SETTLE_S``: a cube held by the gripper falls.
-4. A cube is on the mat when its centre lies over the mat and it rests on the table top (centre
-   height within ``REST_TOL`` of half a cube). Score: 0 unless the heavy cube is the only cube on the
+3. The final cube poses and velocities and the balance's angles and rates are copied into the
+   robot-free scene, the beam locked, and the scene settled for ``SETTLE_S``: a cube held by the
+   gripper falls, a cube still sliding at the end slides on.
+4. A cube is on the mat when its centre lies over the mat, it lies on the table top (centre height
+   within ``REST_TOL`` of half a cube) and it is at rest (``scene.at_rest`` over the last
+   ``scene.REST_WINDOW_S``: moved under ``REST_DISP_M`` and turned under ``REST_ANGLE``). Score: 0 unless the heavy cube is the only cube on the
    mat; then 1 for w <= 2 weighings, else 2 / w.
 """
 
@@ -40,10 +42,12 @@ from .balance_env import (
     make_env,
     robotless_spec,
 )
-from .session import LEDGER_FILE, replay_ledger
+from .scene import REST_ANGLE, REST_DISP_M, REST_SAMPLE_S, REST_WINDOW_S, rest_motion
+from .session import LEDGER_FILE, open_ledger, replay_ledger, tabletop_limits
 
-SETTLE_S = 1.0
-"""Robot-free settling time [s]: a dropped 30 mm cube lands and stops well within it."""
+SETTLE_S = 3.0
+"""Robot-free settling time [s]: a cube dropped from 5 cm lands within 0.1 s and stops well within
+1 s; the last ``scene.REST_WINDOW_S`` = 2 s of it judge rest (``scene.at_rest``)."""
 REST_TOL = 0.003
 """Tolerance on a resting cube's centre height [m] (contact penetration is < 1 mm)."""
 OPTIMAL_WEIGHINGS = 2
@@ -91,22 +95,37 @@ class FinalScene:
 
 
 def settle_final(inst: BalanceInstance, model: mujoco.MjModel, data: mujoco.MjData) -> FinalScene:
-    """Copy the cubes and balance of a replayed state into the robot-free scene and settle it."""
+    """Copy the cubes and balance of a replayed state (positions and velocities) into the robot-free
+    scene, lock the beam, settle it and judge rest over the last ``REST_WINDOW_S``."""
     spec = robotless_spec(inst)
     m2 = spec.compile()
     d2 = mujoco.MjData(m2)
     for j in range(m2.njnt):
-        name = m2.joint(j).name
-        src = model.joint(name).id
-        n = 7 if m2.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE else 1
-        d2.qpos[m2.jnt_qposadr[j] : m2.jnt_qposadr[j] + n] = data.qpos[
-            model.jnt_qposadr[src] : model.jnt_qposadr[src] + n
+        src = model.joint(m2.joint(j).name).id
+        free = m2.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE
+        nq, nv = (7, 6) if free else (1, 1)
+        d2.qpos[m2.jnt_qposadr[j] : m2.jnt_qposadr[j] + nq] = data.qpos[
+            model.jnt_qposadr[src] : model.jnt_qposadr[src] + nq
+        ]
+        d2.qvel[m2.jnt_dofadr[j] : m2.jnt_dofadr[j] + nv] = data.qvel[
+            model.jnt_dofadr[src] : model.jnt_dofadr[src] + nv
         ]
     mujoco.mj_forward(m2, d2)
     bs.lock(m2, d2)
-    for _ in range(int(round(SETTLE_S / m2.opt.timestep))):
-        mujoco.mj_step(m2, d2)
-    pos = np.array([d2.xpos[m2.body(bs.cube_name(i)).id] for i in range(bs.N_CUBES)])
+    bodies = [m2.body(bs.cube_name(i)).id for i in range(bs.N_CUBES)]
+    dt = m2.opt.timestep
+    n_sample = max(1, int(round(REST_SAMPLE_S / dt)))
+    n_window = n_sample * int(round(REST_WINDOW_S / (n_sample * dt)))
+    mujoco.mj_step(m2, d2, int(round(SETTLE_S / dt)) - n_window)
+    start = [(d2.xpos[b].copy(), d2.xquat[b].copy()) for b in bodies]
+    resting = [True] * bs.N_CUBES
+    for _ in range(n_window // n_sample):
+        mujoco.mj_step(m2, d2, n_sample)
+        mujoco.mj_kinematics(m2, d2)  # xpos/xquat of the state reached
+        for i, b in enumerate(bodies):
+            disp, angle = rest_motion(*start[i], d2.xpos[b], d2.xquat[b])
+            resting[i] = resting[i] and disp < REST_DISP_M and angle < REST_ANGLE
+    pos = np.array([d2.xpos[b] for b in bodies])
     half = inst.cubes.size / 2
     on = tuple(
         i
@@ -114,6 +133,7 @@ def settle_final(inst: BalanceInstance, model: mujoco.MjModel, data: mujoco.MjDa
         if abs(p[0] - MAT_CENTRE[0]) <= MAT_HALF
         and abs(p[1] - MAT_CENTRE[1]) <= MAT_HALF
         and abs(p[2] - (TABLE.top_z + half)) <= REST_TOL
+        and resting[i]
     )
     return FinalScene(on, pos)
 
@@ -130,9 +150,12 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
+    from .balance import BUDGET_STEPS, WALL_TIME_S
+
     findings = Findings()
-    inst = instance(ctx.secret)
-    gate = replay_ledger(root, ctx.secret, TASK_ID, make_env(inst, image_size=None))
+    opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)
+    inst = instance(opened.secret)
+    gate = replay_ledger(opened, make_env(inst, image_size=None))
     if not gate.ok:
         return _invalid(gate.code, gate.message, findings)
     model, data = gate.model, gate.data
@@ -149,7 +172,13 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     else:
         message = f"cube(s) {list(final.on_mat)} rest on the mat: not the heavy cube"
     measured = {"weighings": weighings, "cubes_on_mat": list(final.on_mat), "heavy_only": heavy_only}
-    native = {"weighings": weighings, "steps": gate.steps, "actions": gate.actions, "settle_s": SETTLE_S}
+    native = {
+        "weighings": weighings,
+        "steps": gate.steps,
+        "actions": gate.actions,
+        "settle_s": SETTLE_S,
+        "attempt": gate.attempt,
+    }
     return RUBRIC.report(
         {"identified": Outcome({"scene": score}, message, measured)},
         valid=True,

@@ -4,11 +4,12 @@ Instance (from the secret): block length L in [0.14, 0.18] m, cross-section 0.04
 spruce-like density 450 kg/m^3; the four blocks lie on the table, long axis along x (the edge
 normal), at four secret-jittered spots.
 
-Measurement (after the robot-free settle, ``scene.settle``): a block counts when its centre is above
-the table top and it is at rest; its reach along the edge normal is ``x_c + (L/2)|u_x|`` with ``u``
-its long axis, so turning a block in yaw never lengthens it (the 3-D diagonal trick cannot beat the
-2-D optimum); the overhang is the largest reach minus ``edge_x``, and the score is
-``overhang / ((15 - 4 sqrt 2)/8 L)`` clipped to [0, 1].
+Measurement (after the robot-free settle, ``scene.settle``, from the replayed poses and velocities): a
+block counts when its centre is above the table top and it is at rest (moved under ``REST_DISP_M`` and
+``REST_ANGLE`` over the last ``REST_WINDOW_S`` of ``SETTLE_S``); its reach along the edge normal is
+``x_c + (L/2)|u_x|`` with ``u`` its long axis, so turning a block in yaw never lengthens it (the 3-D
+diagonal trick cannot beat the 2-D optimum); the overhang is the largest reach minus ``edge_x``, and
+the score is ``overhang / ((15 - 4 sqrt 2)/8 L)`` clipped to [0, 1].
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from rle_tasks.core.task import VerifyContext
 
 from .scene import CONFIG, Piece, make_env, settle
 from .scoring import CANTILEVER_ID, CANTILEVER_RUBRIC, PZ4
-from .session import LEDGER_FILE, final_poses
+from .session import LEDGER_FILE, final_poses, open_ledger, tabletop_limits
 
 __all__ = ["DENSITY", "Instance", "instance", "measure", "verify"]
 
@@ -86,15 +87,16 @@ def reach(pose: np.ndarray, length: float) -> float:
     return float(pose[0] + 0.5 * length * abs(u_x))
 
 
-def measure(inst: Instance, poses: dict[str, np.ndarray]) -> dict[str, float]:
-    """Settle ``poses`` without the robot and measure the overhang (see the module docstring)."""
-    model, data, speed = settle(inst.pieces, poses)
+def measure(
+    inst: Instance, poses: dict[str, np.ndarray], velocities: dict[str, np.ndarray] | None = None
+) -> dict[str, float]:
+    """Settle ``poses`` (with ``velocities``, the replayed state's, when given) without the robot and
+    measure the overhang (see the module docstring)."""
+    settled = settle(inst.pieces, poses, velocities=velocities)
     reaches, standing = [], 0
     for piece in inst.pieces:
-        adr = model.jnt_qposadr[model.joint(piece.name).id]
-        pose = data.qpos[adr : adr + 7]
-        vel = data.qvel[model.jnt_dofadr[model.joint(piece.name).id] :][:3]
-        if pose[2] > CONFIG.top_z and np.linalg.norm(vel) < 0.01:
+        pose = settled.poses[piece.name]
+        if pose[2] > CONFIG.top_z and settled.at_rest[piece.name]:
             standing += 1
             reaches.append(reach(pose, inst.length))
     overhang = max(reaches, default=CONFIG.edge_x) - CONFIG.edge_x
@@ -103,20 +105,25 @@ def measure(inst: Instance, poses: dict[str, np.ndarray]) -> dict[str, float]:
         "optimum_m": inst.optimum,
         "ratio": max(0.0, overhang) / inst.optimum,
         "blocks_on_table": standing,
-        "max_speed_mps": speed,
+        "max_window_disp_m": settled.max_disp_m,
     }
 
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Ledger gate, replay, robot-free settle, overhang / Paterson-Zwick optimum."""
+    from .task import BUDGET
+
     findings = Findings()
-    inst = instance(ctx.secret)
-    gate = final_poses(root, ctx.secret, CANTILEVER_ID, make_env(inst.pieces, images=False), inst.pieces)
+    opened = open_ledger(
+        root, ctx.secret, CANTILEVER_ID, tabletop_limits(BUDGET.steps, BUDGET.wall_time_s), ctx.attempt
+    )
+    inst = instance(opened.secret)
+    gate = final_poses(opened, make_env(inst.pieces, images=False), inst.pieces)
     if not gate.ok:
         findings.add_error(gate.code, gate.message, LEDGER_FILE)
         outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
         return CANTILEVER_RUBRIC.report({"overhang": outcome}, valid=False, errors=findings.errors)
-    m = measure(inst, gate.poses)
+    m = measure(inst, gate.poses, gate.velocities)
     message = (
         f"overhang {1000 * m['overhang_m']:.1f} mm of the optimum {1000 * m['optimum_m']:.1f} mm "
         f"({m['blocks_on_table']} of 4 blocks on the table)"
@@ -124,7 +131,7 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     outcome = Outcome({"scene": CANTILEVER_RUBRIC.spec("overhang").score(m["ratio"])}, message, m)
     return CANTILEVER_RUBRIC.report(
         {"overhang": outcome}, valid=True, errors=findings.errors,
-        native_metrics={"steps": gate.steps, "block_length_m": inst.length},
+        native_metrics={"steps": gate.steps, "block_length_m": inst.length, "attempt": gate.attempt},
     )  # fmt: skip
 
 

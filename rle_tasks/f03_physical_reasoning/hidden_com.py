@@ -25,12 +25,12 @@ def instruction() -> str:
 
 def make_dev_env(workspace: Path):
     """The metered environment of the instance of the current secret (the public one without a secret)."""
-    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.secrets import current_secret
 
     from .hidden_com_env import make_env
     from .hidden_com_verifier import instance
 
-    return make_env(instance(load_secret()))
+    return make_env(instance(current_secret()))
 
 
 def task_spec() -> TaskSpec:

@@ -33,7 +33,7 @@ from .hidden_com_env import (
     make_env,
     recorded_answers,
 )
-from .session import LEDGER_FILE, replay_ledger
+from .session import LEDGER_FILE, open_ledger, replay_ledger, tabletop_limits
 
 RUBRIC = Rubric(
     task_id=TASK_ID,
@@ -68,9 +68,12 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
+    from .hidden_com import BUDGET_STEPS
+
     findings = Findings()
-    inst = instance(ctx.secret)
-    gate = replay_ledger(root, ctx.secret, TASK_ID, make_env(inst, image_size=None), WALL_TIME_S)
+    opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)
+    inst = instance(opened.secret)
+    gate = replay_ledger(opened, make_env(inst, image_size=None))
     if not gate.ok:
         return _invalid(gate.code, gate.message, findings)
     data = gate.data
@@ -89,7 +92,13 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         "ignored_answer_actions": int(data.userdata[INVALID]),
         "late_answer_actions": late,
     }
-    native = {"steps": gate.steps, "actions": gate.actions, "elapsed_s": gate.elapsed_s, **measured}
+    native = {
+        "steps": gate.steps,
+        "actions": gate.actions,
+        "elapsed_s": gate.elapsed_s,
+        "attempt": gate.attempt,
+        **measured,
+    }
     return RUBRIC.report(
         {"answers": Outcome({"boxes": correct / N_BOXES}, message, measured)},
         valid=True,

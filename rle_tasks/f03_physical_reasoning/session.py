@@ -1,39 +1,79 @@
-"""The family's ledger gate: a sealed, authentic ledger of the task, replayed to its final state.
+"""The family's ledger gate: a sealed ledger of the task, checked against the card, replayed to its final state.
 
 A submission is the directory holding ``ledger.jsonl``, the sealed ledger the metered server wrote
-for the agent's session. ``replay_ledger`` checks it with ``verify_ledger`` under the task's ledger
-key (derived from the verifier secret, ``rle_tasks.core.devenv.ledger_key``); a missing, unsealed,
-truncated or altered ledger fails with the verdict's code and message. With ``wall_time_s`` the
-session must also have been limited to that wall time by its server (``ledger.no_time_limit``
-otherwise). A valid ledger is replayed on the instance's environment (``rle_design.control.replay``):
-the scene is rebuilt from the secret and the recorded resets and actions re-executed, so the final
-state is exactly the one the session ended with; nothing is taken from the submission itself.
-``final_poses`` reads the free pieces' poses off that state.
+for the agent's session. ``open_ledger`` passes it through the shared gate
+(``rle_design.ledger.check_ledger``) under the task's ledger key (derived from the verifier secret,
+``rle_tasks.core.devenv.ledger_key``) with the card's ``Limits``: a missing, unsealed, truncated or
+altered ledger, one of another attempt, one served with other limits (budget, wall time) or one that
+breaks them on its own records fails with the gate's code and message. The instance is then drawn
+from the secret bound to the ledger's attempt (``OpenedLedger.secret``), and ``replay_ledger``
+replays the ledger on its environment (``rle_design.control.replay``): the scene is rebuilt and the
+recorded resets and actions re-executed, so the final state is exactly the one the session ended
+with; nothing is taken from the submission itself. ``final_poses`` reads the free pieces' poses and
+velocities off that state.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
 from rle_design.control import ReplayError, TabletopEnv, replay
-from rle_design.ledger import verify_ledger
+from rle_design.ledger import GateResult, Limits, check_ledger
 from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.secrets import Secret
 
-from .scene import Piece, piece_poses
+from .scene import Piece, piece_poses, piece_velocities
 
-__all__ = ["LEDGER_FILE", "LedgerOutcome", "final_poses", "replay_ledger"]
+__all__ = [
+    "LEDGER_FILE",
+    "LedgerOutcome",
+    "OpenedLedger",
+    "final_poses",
+    "open_ledger",
+    "replay_ledger",
+    "tabletop_limits",
+]
 
 LEDGER_FILE = "ledger.jsonl"
 
 
+def tabletop_limits(budget: int, wall_time_s: float) -> Limits:
+    """The card's limits of a tabletop session: ``budget`` charged steps in ``wall_time_s`` [s]."""
+    return Limits(budget=budget, wall_time_s=wall_time_s)
+
+
+@dataclass(frozen=True)
+class OpenedLedger:
+    """A ledger through the gate (``ok``) or the reason it was refused.
+
+    Attributes:
+        ok: Authentic, of the attempt, within the card's limits.
+        code: ``"ledger.valid"`` or the failure code.
+        message: Reason, naming the line or record.
+        path: The ledger file.
+        gate: The gate's result (counts, attempt).
+        secret: The verifier secret bound to the ledger's attempt (draw the instance from it).
+    """
+
+    ok: bool
+    code: str
+    message: str
+    path: Path
+    gate: GateResult
+    secret: Secret
+
+    @property
+    def attempt(self) -> dict:
+        return {"id": self.gate.attempt, "bound": self.gate.attempt_bound}
+
+
 @dataclass(frozen=True)
 class LedgerOutcome:
-    """Result of the ledger gate.
+    """Result of the ledger gate and the replay.
 
     Attributes:
         ok: The ledger is valid and replayed.
@@ -45,6 +85,9 @@ class LedgerOutcome:
         data: The replayed final state (None unless ``ok``).
         actions: Executed actions replayed.
         elapsed_s: Wall time the seal records for a time-limited session [s] (None otherwise).
+        velocities: Final free-joint velocity of each piece (vx, vy, vz, wx, wy, wz) [m/s, rad/s]
+            (``final_poses`` only).
+        attempt: The ledger's attempt and whether the verification named it.
     """
 
     ok: bool
@@ -56,51 +99,57 @@ class LedgerOutcome:
     data: mujoco.MjData | None = None
     actions: int = 0
     elapsed_s: float | None = None
+    velocities: dict[str, np.ndarray] = field(default_factory=dict)
+    attempt: dict = field(default_factory=dict)
 
 
-def replay_ledger(
-    root: Path, secret: Secret, task_id: str, env: TabletopEnv, wall_time_s: float | None = None
-) -> LedgerOutcome:
-    """Verify ``root/ledger.jsonl`` (time-limited to ``wall_time_s`` [s] when given) and replay it on
-    ``env``; never raises on a bad ledger."""
+def open_ledger(
+    root: Path, secret: Secret, task_id: str, limits: Limits, attempt: str | None = None
+) -> OpenedLedger:
+    """``root/ledger.jsonl`` through the shared gate; never raises on a bad ledger."""
     path = Path(root) / LEDGER_FILE
-    if path.is_symlink() or (path.exists() and not path.is_file()):
-        return LedgerOutcome(False, "ledger.missing", f"{LEDGER_FILE} is not a regular file", {})
-    verdict = verify_ledger(path, ledger_key(secret, task_id), task_id)
-    if not verdict.valid:
-        return LedgerOutcome(False, verdict.code, verdict.message, {})
-    limit = verdict.opened.get("wall_time_s")
-    if wall_time_s is not None and not (isinstance(limit, (int, float)) and 0 < limit <= wall_time_s):
-        return LedgerOutcome(
-            False,
-            "ledger.no_time_limit",
-            f"{LEDGER_FILE}: the session was limited to {limit!r} s of wall time, the task allows "
-            f"{wall_time_s:.0f} s; record it in the task's metered environment (rle dev)",
-            {},
-        )
+    gate = check_ledger(path, ledger_key(secret, task_id), task_id, limits, attempt)
+    message = gate.message
+    if gate.code == "ledger.wrong_limits":
+        message += "; record it in the task's metered environment (rle dev)"
+    return OpenedLedger(gate.ok, gate.code, message, path, gate, secret.for_attempt(gate.attempt))
+
+
+def refused(opened: OpenedLedger) -> LedgerOutcome:
+    """The outcome of a ledger the gate refused."""
+    return LedgerOutcome(False, opened.code, opened.message, {}, attempt=opened.attempt)
+
+
+def replay_ledger(opened: OpenedLedger, env: TabletopEnv) -> LedgerOutcome:
+    """Replay a ledger that passed ``open_ledger`` on ``env``; never raises on a bad ledger."""
+    if not opened.ok:
+        return refused(opened)
     try:
-        model, data, n_actions = replay(env, path)
+        model, data, n_actions = replay(env, opened.path)
     except ReplayError as exc:
-        return LedgerOutcome(False, exc.code, exc.message, {})
-    elapsed = verdict.sealed.get("elapsed_s")
+        return LedgerOutcome(False, exc.code, exc.message, {}, attempt=opened.attempt)
+    elapsed = opened.gate.sealed.get("elapsed_s")
     return LedgerOutcome(
         True,
-        verdict.code,
-        verdict.message,
+        opened.code,
+        opened.message,
         {},
-        verdict.steps,
+        opened.gate.steps,
         model,
         data,
         n_actions,
         float(elapsed) if isinstance(elapsed, (int, float)) else None,
+        attempt=opened.attempt,
     )
 
 
-def final_poses(
-    root: Path, secret: Secret, task_id: str, env: TabletopEnv, pieces: tuple[Piece, ...]
-) -> LedgerOutcome:
-    """``replay_ledger`` and the final pose of each of ``pieces``; never raises on a bad ledger."""
-    gate = replay_ledger(root, secret, task_id, env)
+def final_poses(opened: OpenedLedger, env: TabletopEnv, pieces: tuple[Piece, ...]) -> LedgerOutcome:
+    """``replay_ledger`` and the final pose and velocity of each of ``pieces``."""
+    gate = replay_ledger(opened, env)
     if not gate.ok:
         return gate
-    return replace(gate, poses=piece_poses(gate.model, gate.data, pieces))
+    return replace(
+        gate,
+        poses=piece_poses(gate.model, gate.data, pieces),
+        velocities=piece_velocities(gate.model, gate.data, pieces),
+    )

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.secrets import current_secret as _current_secret
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 HERE = Path(__file__).resolve().parent
@@ -44,8 +44,8 @@ def tabletop_task(
 ) -> TaskSpec:
     """A tabletop TaskSpec whose development environment serves the instance of the loaded secret.
 
-    ``pieces()`` derives the instance from ``load_secret()`` in the ``rle dev`` process (which holds
-    the secret to derive the ledger key anyway); the scene reaches the ledger server, never the
+    ``pieces()`` derives the instance from ``current_secret()`` (the attempt's) in the ``rle dev``
+    process (which holds the secret to derive the ledger key anyway); the scene reaches the ledger server, never the
     agent's workspace.
     """
     from .scene import make_env
@@ -68,5 +68,5 @@ def tabletop_task(
 
 
 def current_secret():
-    """The secret ``rle dev`` and the verifier load (``--secret-file``/``RLE_SECRET``/public)."""
-    return load_secret()
+    """The secret of the session ``rle dev`` serves (bound to its attempt), else the loaded one."""
+    return _current_secret()

@@ -8,8 +8,10 @@ of the table, shuffled by the secret.
 
 Allowed resting orientations: the face a piece spawns on, any heading (what a top-down grasp keeps).
 H* = ``tower_optimum.optimal_tower`` (5 deg tipping margin at every interface). The measurement takes
-the robot-free settled scene (``scene.settle``) and reports the highest point of any piece that is
-above the table top and at rest, minus the table top; score = height / H*, clipped to [0, 1].
+the robot-free settled scene (``scene.settle``: the replayed velocities, ``SETTLE_S``, at rest = moved
+under ``REST_DISP_M`` / ``REST_ANGLE`` over the last ``REST_WINDOW_S``) and reports the highest point
+of any piece that is above the table top and at rest, minus the table top; score = height / H*,
+clipped to [0, 1].
 """
 
 from __future__ import annotations
@@ -25,9 +27,9 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
-from .scene import CONFIG, REST_SPEED, Piece, make_env, settle
+from .scene import CONFIG, Piece, make_env, settle
 from .scoring import TOWER_ID, TOWER_RUBRIC
-from .session import LEDGER_FILE, final_poses
+from .session import LEDGER_FILE, final_poses, open_ledger, tabletop_limits
 from .tower_optimum import Block, TowerPlan, optimal_tower
 
 __all__ = ["BUILD_SPOT", "DENSITY", "Instance", "instance", "measure", "reference_plan", "verify"]
@@ -95,15 +97,16 @@ def _top(pose: np.ndarray, half: tuple[float, float, float]) -> float:
     return float(pose[2] + np.abs(row) @ np.asarray(half))
 
 
-def measure(inst: Instance, poses: dict[str, np.ndarray]) -> dict[str, float]:
-    """Settle ``poses`` without the robot; height of the highest resting piece above the table top."""
-    model, data, speed = settle(inst.pieces, poses)
+def measure(
+    inst: Instance, poses: dict[str, np.ndarray], velocities: dict[str, np.ndarray] | None = None
+) -> dict[str, float]:
+    """Settle ``poses`` (with ``velocities``, the replayed state's, when given) without the robot
+    (``scene.settle``); height of the highest piece above the table top that is at rest."""
+    settled = settle(inst.pieces, poses, velocities=velocities)
     height, on_table = 0.0, 0
     for piece in inst.pieces:
-        adr = model.jnt_qposadr[model.joint(piece.name).id]
-        pose = data.qpos[adr : adr + 7]
-        vel = data.qvel[model.jnt_dofadr[model.joint(piece.name).id] :][:3]
-        if pose[2] > CONFIG.top_z and np.linalg.norm(vel) < REST_SPEED:
+        pose = settled.poses[piece.name]
+        if pose[2] > CONFIG.top_z and settled.at_rest[piece.name]:
             on_table += 1
             height = max(height, _top(pose, piece.half_size) - CONFIG.top_z)
     return {
@@ -111,25 +114,30 @@ def measure(inst: Instance, poses: dict[str, np.ndarray]) -> dict[str, float]:
         "optimum_m": inst.optimum,
         "ratio": height / inst.optimum,
         "pieces_on_table": on_table,
-        "max_speed_mps": speed,
+        "max_window_disp_m": settled.max_disp_m,
     }
 
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Ledger gate, replay, robot-free settle, tower height / H*."""
+    from .task import BUDGET
+
     findings = Findings()
-    inst = instance(ctx.secret)
-    gate = final_poses(root, ctx.secret, TOWER_ID, make_env(inst.pieces, images=False), inst.pieces)
+    opened = open_ledger(
+        root, ctx.secret, TOWER_ID, tabletop_limits(BUDGET.steps, BUDGET.wall_time_s), ctx.attempt
+    )
+    inst = instance(opened.secret)
+    gate = final_poses(opened, make_env(inst.pieces, images=False), inst.pieces)
     if not gate.ok:
         findings.add_error(gate.code, gate.message, LEDGER_FILE)
         outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
         return TOWER_RUBRIC.report({"height": outcome}, valid=False, errors=findings.errors)
-    m = measure(inst, gate.poses)
+    m = measure(inst, gate.poses, gate.velocities)
     message = f"tower {1000 * m['height_m']:.1f} mm of H* = {1000 * m['optimum_m']:.1f} mm"
     outcome = Outcome({"scene": TOWER_RUBRIC.spec("height").score(m["ratio"])}, message, m)
     return TOWER_RUBRIC.report(
         {"height": outcome}, valid=True, errors=findings.errors,
-        native_metrics={"steps": gate.steps, "optimal_order": list(inst.plan.order)},
+        native_metrics={"steps": gate.steps, "optimal_order": list(inst.plan.order), "attempt": gate.attempt},
     )  # fmt: skip
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import json
 from pathlib import Path
 
 import numpy as np
@@ -10,8 +11,8 @@ import pytest
 
 from rle_design.errors import RleError
 from rle_design.ledger import MeteredEnv, verify_ledger
-from rle_tasks.core.devenv import layout_workspace, ledger_key
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret, derive_seed
+from rle_tasks.core.devenv import default_attempt, layout_workspace, ledger_key
+from rle_tasks.core.secrets import PUBLIC_KEY, Secret, current_secret, derive_seed
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 SECRET = Secret(b"private-verifier-secret-for-devenv-tests", public=False)
@@ -80,7 +81,9 @@ def test_metered_workspace_serves_a_verifiable_session_without_hidden_data(tmp_p
     try:
         assert ws.files == ("client.py", "instruction.md", "scene.xml")
         assert (ws.workspace / "instruction.md").read_text() == "# Do the thing\nBuild a device.\n"
-        assert ws.ledger_path == tmp_path / "ws.ledger" / "session-001.jsonl"  # outside the workspace
+        attempt = default_attempt(tmp_path / "ws")
+        assert ws.attempt == attempt and attempt.startswith("ws-")
+        assert ws.ledger_path == tmp_path / "ws.ledger" / f"{attempt}.jsonl"  # outside the workspace
         with _client_module(ws.workspace).connect() as env:
             obs = env.reset()
             assert set(obs) == {"qpos", "qvel", "time"}
@@ -154,6 +157,57 @@ def test_cli_dev_serves_in_the_foreground_until_the_agent_seals(tmp_path, monkey
     thread.join(10)
     assert steps == [2]
     out = capsys.readouterr().out
-    assert f"metered environment listening on {workspace / '.rle' / 'ledger.sock'}" in out
+    assert f"Metered environment listening on {workspace / '.rle' / 'ledger.sock'}" in out
+    assert out.splitlines()[1].startswith("serving in the foreground")
     public = Secret(PUBLIC_KEY, public=True)  # no secret given: public key
-    assert verify_ledger(tmp_path / "ws.ledger" / "session-001.jsonl", ledger_key(public, TASK), TASK).valid
+    ledger = tmp_path / "ws.ledger" / f"{default_attempt(workspace)}.jsonl"
+    assert verify_ledger(ledger, ledger_key(public, TASK), TASK).valid
+
+
+def _seal_one(ws) -> None:
+    try:
+        with _client_module(ws.workspace).connect() as env:
+            env.reset()
+            env.seal()
+        ws.server.wait(10)
+    finally:
+        ws.close()
+
+
+def test_an_attempt_has_one_metered_session(tmp_path, monkeypatch, capsys):
+    import rle_tasks.core.registry as registry
+    from rle_tasks.cli import main
+
+    ws = layout_workspace(_spec(), tmp_path / "ws", secret=SECRET, attempt="trial-42")
+    _seal_one(ws)
+    assert ws.ledger_path == tmp_path / "ws.ledger" / "trial-42.jsonl"
+    opened = json.loads(ws.ledger_path.read_text().splitlines()[0])["payload"]
+    assert opened["attempt"] == "trial-42"
+    with pytest.raises(RleError) as info:  # the same attempt again, even from another workspace name
+        layout_workspace(_spec(), tmp_path / "ws", secret=SECRET, attempt="trial-42")
+    assert info.value.code == "ledger.attempt_used" and "trial-42.jsonl" in str(info.value)
+    monkeypatch.setattr(registry, "get_task", lambda task_id: _spec())
+    assert main(["dev", TASK, "--workspace", str(tmp_path / "ws"), "--attempt", "trial-42"]) == 2
+    assert "error [ledger.attempt_used]" in capsys.readouterr().err
+    other = layout_workspace(_spec(), tmp_path / "ws", secret=SECRET, attempt="trial-43")  # a new attempt
+    _seal_one(other)
+    assert other.ledger_path.name == "trial-43.jsonl"
+
+
+def test_the_development_environment_is_built_from_the_attempts_secret(tmp_path):
+    seen = []
+
+    def record(workspace: Path):
+        seen.append(current_secret())
+
+    for attempt in ("a-1", "a-2"):
+        layout_workspace(
+            _spec(make_dev_env=record, steps=None), tmp_path / attempt, secret=SECRET, attempt=attempt
+        )
+    assert [s.attempt for s in seen] == ["a-1", "a-2"] and all(s.key == SECRET.key for s in seen)
+    assert derive_seed(seen[0], TASK, 0) != derive_seed(seen[1], TASK, 0)
+    assert derive_seed(SECRET.for_attempt(""), TASK, 0) == derive_seed(SECRET, TASK, 0)  # unbound: as before
+    assert ledger_key(seen[0], TASK) == ledger_key(SECRET, TASK)  # the key never depends on the attempt
+    with pytest.raises(RleError) as info:
+        SECRET.for_attempt("../escape")
+    assert info.value.code == "attempt.invalid"

@@ -86,7 +86,7 @@ def test_a_session_served_with_another_budget_is_refused(tmp_path, monkeypatch):
     (tmp_path / "ledger.jsonl").write_bytes(gzip.decompress((tmp_path / "ledger.jsonl.gz").read_bytes()))
     (tmp_path / "ledger.jsonl.gz").unlink()
     r = get_task(TASK).verify(tmp_path, CTX)
-    assert r.score == 0.0 and r.errors[0].code == "f01.wrong_session"
+    assert r.score == 0.0 and r.errors[0].code == "ledger.wrong_limits"
     assert "development budget was 100 steps" in r.errors[0].message
     shutil.rmtree(tmp_path)
 

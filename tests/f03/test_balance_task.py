@@ -14,6 +14,7 @@ from rle_tasks.core.task import VerifyContext
 from rle_tasks.f03_physical_reasoning import balance_env as be
 from rle_tasks.f03_physical_reasoning import balance_scene as bs
 from rle_tasks.f03_physical_reasoning import balance_verifier as bv
+from rle_tasks.f03_physical_reasoning.balance import BUDGET_STEPS, WALL_TIME_S
 
 PUBLIC = Secret(PUBLIC_KEY, public=True)
 INSTANCE = bv.instance(PUBLIC)
@@ -116,9 +117,10 @@ def _session_ledger(env, tmp: Path, n_actions: int = 4, secret: Secret = PUBLIC)
     session = MeteredSession(
         env,
         task_id=be.TASK_ID,
-        budget=100,
+        budget=BUDGET_STEPS,  # the card's limits: the gate refuses a session served with others
         key=ledger_key(secret, be.TASK_ID),
         ledger_path=sub / "ledger.jsonl",
+        wall_time_s=WALL_TIME_S,
     )
     session.reset()
     for _ in range(n_actions):

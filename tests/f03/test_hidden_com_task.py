@@ -97,7 +97,7 @@ def _session(
     s = MeteredSession(
         env,
         task_id=he.TASK_ID,
-        budget=100,
+        budget=hc.BUDGET_STEPS,
         key=ledger_key(secret, he.TASK_ID),
         ledger_path=sub / "ledger.jsonl",
         wall_time_s=wall_time_s,
@@ -185,5 +185,5 @@ def test_a_session_without_the_cards_hour_is_refused(env, tmp_path):
     for limit in (None, 2 * hc.WALL_TIME_S):
         sub = _session(env, tmp_path / str(limit), actions, wall_time_s=limit)
         report = hv.verify(sub, VerifyContext(secret=PUBLIC))
-        assert report.score == 0.0 and report.errors[0].code == "ledger.no_time_limit"
+        assert report.score == 0.0 and report.errors[0].code == "ledger.wrong_limits"
         assert f"{limit!r} s" in report.errors[0].message

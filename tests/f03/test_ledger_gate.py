@@ -8,9 +8,11 @@ from pathlib import Path
 
 import pytest
 
+from rle_tasks.core.registry import get_task
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f03_physical_reasoning.cantilever import verify
+from rle_tasks.f03_physical_reasoning.scene import make_env
 
 REFERENCE = Path(__file__).parents[2] / "rle_tasks/f03_physical_reasoning/solutions/reference/cantilever"
 CTX = VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True)
@@ -82,3 +84,37 @@ def test_garbage_never_crashes(tmp_path: Path, content: bytes) -> None:
     (tmp_path / "ledger.jsonl").write_bytes(content)
     report = verify(tmp_path, CTX)
     assert report.score == 0.0 and report.errors
+
+
+def test_a_session_is_bound_to_its_attempt(tmp_path):
+    """The reference program in attempt "trial-A": its instance is the attempt's own (another block
+    length than the unbound one), it verifies as trial-A and is refused as trial-B."""
+    from rle_tasks.f03_physical_reasoning import cantilever
+    from rle_tasks.f03_physical_reasoning.scene import CONFIG
+    from rle_tasks.f03_physical_reasoning.solutions import agents, record_session
+    from rle_tasks.f03_physical_reasoning.task import BUDGET
+
+    public = Secret(PUBLIC_KEY, public=True)
+    bound = public.for_attempt("trial-A")
+    inst = cantilever.instance(bound)
+    assert inst.length != cantilever.instance(public).length
+    assert cantilever.instance(public.for_attempt("trial-B")).length != inst.length
+
+    def solve(client):
+        agents.harmonic_cantilever(client.step, client.reset(), CONFIG.edge_x, CONFIG.top_z, scale=0.93)
+
+    env = make_env(inst.pieces, privileged=True, images=False)
+    sub = tmp_path / "s"
+    record_session(env, bound, "03-cantilever", BUDGET.steps, sub / "ledger.jsonl", solve, BUDGET.wall_time_s)
+    task = get_task("03-cantilever")
+    ok = task.verify(sub, VerifyContext(secret=public, attempt="trial-A"))
+    assert ok.valid and ok.score > 0.75, ok.checkpoints[0].message
+    assert ok.native_metrics["attempt"] == {"id": "trial-A", "bound": True}
+    assert ok.native_metrics["block_length_m"] == inst.length
+    other = task.verify(sub, VerifyContext(secret=public, attempt="trial-B"))
+    assert other.score == 0.0 and other.errors[0].code == "ledger.wrong_attempt"
+    unbound = task.verify(sub, VerifyContext(secret=public))
+    assert unbound.score == ok.score and unbound.native_metrics["attempt"] == {
+        "id": "trial-A",
+        "bound": False,
+    }

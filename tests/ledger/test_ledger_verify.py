@@ -97,7 +97,7 @@ def test_one_record_per_action_when_not_grouped(tmp_path):
 def test_inconsistent_counts_are_caught_even_with_the_key(tmp_path):
     writer = LedgerWriter(tmp_path / "forged.jsonl", KEY, TASK)
     writer.append("reset", {"steps": 1, "time": 0.0})
-    writer.append_steps(["00" * 8], 99, 0.01)  # claims 99 steps after 2
+    writer.append_steps(["00" * 8], 99, 0.01, 0.0)  # claims 99 steps after 2
     writer.seal(99)
     verdict = verify_ledger(tmp_path / "forged.jsonl", KEY, TASK)
     assert verdict.code == "ledger.altered"

@@ -66,143 +66,143 @@ def _set(task_id: str, pins: dict[str, tuple[str, float]]) -> SolutionSet:
 PINS: dict[str, dict[str, tuple[str, float]]] = {
     "01-open-fridge-l1": {
         "baseline/idle": (
-            "80c3087f936158e52c5fb08d9c40ca8b302a9eec1a395dc4671b920a34d07805",
+            "5b399425c6ecf316b7bb037341677c5806c95185fceb831107324b76953ce21c",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/budget_exhausted": (
-            "b3bf0f6d171024427aa551cee07f683c88be2bfd3997afb6cf9f664845e314b3",
+            "1ac76778a40de0d13c4432547e09d7eff8b27ff09066a2d46a3a4ad6ec7736e8",
             0.0,
         ),  # 0 of 5 trials succeeded (5 not played)
     },
     "01-open-fridge-l2": {
         "baseline/idle": (
-            "d35d26ea4ce01bb382a8455892f35990911767afca97893c3d6db9fab4bf3b28",
+            "a0238472ccaa0e11b77463185c2ca7f807d65667a076b1edef68fbd0571787e7",
             0.0,
         ),  # 0 of 5 trials succeeded
     },
     "01-open-fridge-l3": {
         "reference": (
-            "7c7be83d89adc89e347d209cc3a943cf043b4766aafe0a1b883d6ca5cdfd9067",
+            "1194dfaa49328e88afbfd17b96e7d91ec973186039a696325c7fe64f54e513d2",
             0.999472,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
-            "2e93279b82616f6aea2d0ae35a94bd805d0f2c9c2413877952289501fa2385ba",
+            "d46a11b658551a0c7d5949d01a951f154eae0fdd368c5df8a2ad2aa070b00595",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "92310a7a98ef34f58281b380c980a3d40515a5d55c4a7bbc1861cd7d884fc22d",
+            "93e5a898f6932940da924b7c138d5087b7a741bc70049812d002982a157b4c27",
             0.0,
         ),  # no verifiable session: ledger.jsonl: line 61 (seq 60) fails
     },
     "01-close-cabinet-l1": {
         "baseline/idle": (
-            "f093cdb1f8555d2fe4e78f5d1b3c2764f798bdd21e2195dc899c88c583389565",
+            "42ca0a9b7ca149506c14aabdffe717a89fe9fce7ede9dfaf63e0267e4d232a60",
             0.0,
         ),  # 0 of 5 trials succeeded
     },
     "01-close-cabinet-l2": {
         "baseline/idle": (
-            "3c0aba83e4c9b7fd28f67627e02ef0d6d8f183c2008b8fbc4b435858805091b6",
+            "5d18bf10a5f3aed78577df748e97844a3fbb5b855141e481ee7e90ab0622ea95",
             0.0,
         ),  # 0 of 5 trials succeeded
     },
     "01-close-cabinet-l3": {
         "reference": (
-            "f11bafc723abd837789a05d4a19b5e29fef959e409e20a427b2a23a0ae0af55e",
+            "4b0a44823b04607761822f4c64da5999e571465cccfaa79872e9c581342f550f",
             0.9993120000000001,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
-            "9557e59f833f53761bed19bd78868a02760dfa4ade461eb987fc7563d9df25c1",
+            "b3acfe7445ef3015d47508759e5c5278285c0ab5eb7694d2cf3a14a2b846f86a",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "b9fab6e9a5df4941ef97071fa056f25597f6dafd55f06a18913d76ba509436a8",
+            "cd32c0bb73f033a264f234300e1d475a0047112052a518a3e2a225cf322e635a",
             0.0,
         ),  # no verifiable session: ledger.jsonl: line 73 (seq 72) fails
     },
     "01-turn-on-stove-l1": {
         "baseline/idle": (
-            "992d96d5308e46488b6071962852ef9f30a9bc65c41f8df151e2c4a0c0dab7ad",
+            "3361ddb6c2f6db0e231f9e5390b559adbb65d8db898c0a20427ca13f925c08e9",
             0.0,
         ),  # 0 of 5 trials succeeded
     },
     "01-turn-on-stove-l2": {
         "reference": (
-            "d5e5844004bb2e220e18f94521056e820f939627fb62f6858ac97dad16d829a3",
+            "1d78439adefb0102f4048668373e60de12e0786ac01523136695033187e09d25",
             0.999688,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
-            "d1642d9a1f637428db27015eef6a86169badde418a321dd5646b7842c171546a",
+            "1e1655fba971d5d80f1dc7bf8db38f291235dd60a31fc8db4f15f9da813ae92a",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "609f6a531d8da347a16599aca30b269abb6568b5c5cbe67f6799db793e6a85f7",
+            "ac04bf40f3b9ff82588d2b039834636fefe8b26b475afa422524ca2e637ed7cc",
             0.0,
         ),  # no verifiable session: ledger.jsonl: line 79 (seq 78) fails
     },
     "01-turn-on-stove-l3": {
         "reference": (
-            "4f06f9ec35786e3f0a648657c1574d7eff375e02bbb33e4a9fa80b43d02b33ca",
+            "7d41e41f9dd094ad7c23debb1f05fee0d41b0260de039c2b80e213e835599ab1",
             0.99968,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
-            "fd20d4931f99415afd76ee0d19bc4c10d967e4b3c6d37bf71bb92744e8443d5e",
+            "183fc65f70a10907e9470bdd69f9c6b9b0b66b92bae619018b614637903047c1",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "d8a46258c1bd878d1ec9c761c0a60e220d41a72001856060e583d89f0f42bc95",
+            "b3b21545098d1b3cbd8545bc58036911f6d5e3c35eee91ceed5cf09ce8d04d6f",
             0.0,
         ),  # no verifiable session: ledger.jsonl: line 118 (seq 117) fail
     },
     "01-pnp-counter-to-drawer-l1": {
         "baseline/idle": (
-            "5cf36733d904ff776de1b4aee7026bf64cd66a0a6fd50b7ef6c6f8119ccf6c4c",
+            "3a4f1c471e6d84f08f3653a57eaa74a5e908a2a07c5d466bbec3867eef130978",
             0.0,
         ),  # 0 of 5 trials succeeded
     },
     "01-pnp-counter-to-drawer-l2": {
         "baseline/idle": (
-            "c5beaef9119b7018e92b3af24a97c613541ee407ba22c7feb1efabfe10e44985",
+            "4ec3d821d3acad1f8f22df709b6dbd90507f2f16118c2eac4707decb31b13e20",
             0.0,
         ),  # 0 of 5 trials succeeded
     },
     "01-pnp-counter-to-drawer-l3": {
         "reference": (
-            "cbf412cdd7c51f4d5a2df0ca1d4139e3d402f108ce4358c33a2908ea7b5ddf66",
+            "839245e1397c3b1aa0b13ed6e7f7a8db4043efd66698789eb398bdcb46626631",
             0.9991720000000001,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
-            "237432c2fef830704fbab7e13fb9df94914e0767ae685c43c4833ad275d86940",
+            "c74cc83b02717f087426ab6bec8e6c737d487b9b4304133a7a590ce962239c4a",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "91509c000f87044be6fea9152ca2c4b1172f4a1b9825fb0349b573ffbb0c548a",
+            "90a667c05fe77f61243fff7b20d11726c43ee4f4229d3dea9384fcac7cf0cfe7",
             0.0,
         ),  # no verifiable session: ledger.jsonl: line 87 (seq 86) fails
     },
     "01-pnp-microwave-to-counter-l1": {
         "baseline/idle": (
-            "4763a34b4a52b0be5d328fd0fc920a7a0725e79cf252dcfec2364b47ce5193ad",
+            "270df0e6176786047fb5874bafad2e137f1050aa42737ce36269975e258297d3",
             0.0,
         ),  # 0 of 5 trials succeeded
     },
     "01-pnp-microwave-to-counter-l2": {
         "baseline/idle": (
-            "2bd83fe76b1cdd62d8872f374344e3a46c6d336974a639fdc969409b5b970611",
+            "9acc3b2c9f1f5d8b344882fa85f6dafe5306620c9683c45ed69f09b50a1e1324",
             0.0,
         ),  # 0 of 5 trials succeeded
     },
     "01-pnp-microwave-to-counter-l3": {
         "reference": (
-            "3d4d74c0ef5a5bd8dea3ad12f3f7af6477e8e276ce117ab2c76c1224a20bc339",
+            "d2d714f8759af9e04aa13559979c2c872bb5793689fe8c89b0c774846907e3dd",
             0.9977560000000001,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
-            "cbdc7dc01abf3b5623423032ab52c15f941b01949f0218dac2348ff978b0f6f0",
+            "26d784c5468abb4876af41828918fedc7a9beb82c2cd6fe75129b3e2496bb31d",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "52736743d67dcdbe0d2d5bae133816d27bac565734d17892ea28b397144701ab",
+            "757d2d937808fd18024b8614f9449321edb4de99998decaaf071e75c37be9539",
             0.0,
         ),  # no verifiable session: ledger.jsonl: line 207 (seq 206) fail
     },

@@ -30,8 +30,6 @@ from pathlib import Path
 import numpy as np
 
 from rle_design.control import ReplayError, replay
-from rle_design.ledger import verify_ledger
-from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.scoring import Cap, CheckpointSpec, Fraction, Outcome, Rubric
 from rle_tasks.core.task import VerifyContext
@@ -123,22 +121,28 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
+    from ..session import open_ledger, tabletop_limits
+    from .task import BUDGET_STEPS, WALL_TIME_S
+
     findings = Findings()
-    path = Path(root) / LEDGER_FILE
-    if path.is_symlink() or (path.exists() and not path.is_file()):
-        return _invalid("ledger.missing", f"{LEDGER_FILE} is not a regular file", findings)
-    verdict = verify_ledger(path, ledger_key(ctx.secret, TASK_ID), TASK_ID)
-    if not verdict.valid:
-        return _invalid(verdict.code, verdict.message, findings)
-    inst = instance(ctx.secret)
+    opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)
+    if not opened.ok:
+        return _invalid(opened.code, opened.message, findings)
+    inst = instance(opened.secret)
     readings: list = []
     try:
-        model, data, n_actions = replay(ce.make_env(inst, image_size=None, recorder=readings), path)
+        model, data, n_actions = replay(ce.make_env(inst, image_size=None, recorder=readings), opened.path)
     except ReplayError as exc:
         return _invalid(exc.code, exc.message, findings)
     readings.append(ce.cube_reading(model, data))
     session = ce.counters(model, data)
-    native = {"steps": verdict.steps, "actions": n_actions, "optimal": inst.optimal, **session}
+    native = {
+        "steps": opened.gate.steps,
+        "actions": n_actions,
+        "optimal": inst.optimal,
+        "attempt": opened.attempt,
+        **session,
+    }
     if session["attempt_void"]:
         message = f"attempt abandoned: {int(data.userdata[ce.VOID])} reset(s) after the start"
         return RUBRIC.report(

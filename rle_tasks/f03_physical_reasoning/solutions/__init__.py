@@ -33,12 +33,12 @@ def record_session(
     budget: int,
     ledger: Path,
     solve: Callable[..., Any],
-    wall_time_s: float | None = None,
+    wall_time_s: float,
     **kwargs,
 ) -> Path:
     """Play ``solve(client, **kwargs)`` on a metered session of ``env`` served by a ledger server under
-    ``secret``'s key (time-limited by ``wall_time_s`` [s] when given), seal it, and return the sealed
-    ledger file ``ledger`` (replaced if present)."""
+    ``secret``'s key, in ``secret``'s attempt, time-limited by ``wall_time_s`` [s] as the card's
+    sessions are; seal it, and return the sealed ledger file ``ledger`` (replaced if present)."""
     import tempfile
 
     from rle_design.ledger import LedgerClient, LedgerServer
@@ -56,6 +56,7 @@ def record_session(
             task_id=task_id,
             budget=budget,
             wall_time_s=wall_time_s,
+            attempt=secret.attempt,
         )
         server.start()
         try:

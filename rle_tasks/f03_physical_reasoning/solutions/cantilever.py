@@ -8,19 +8,19 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="e44d2932c1cebb0afe5e8ae97148b876c540ee220779a8307564e280ecb856c6",
-            quick_score=0.8258815160679585,
+            sha256="475b5ce76c103bb1cc24e63602d5630e03b82273f88a61e7626e86d0c5c1a63b",
+            quick_score=0.8264151512396387,
             files=((".", "solutions/reference/cantilever"),),
         ),
         Solution(
             "baseline/overreach",
-            sha256="fd4079c3c0e648d05e8938cd4c5a8f4fc8490ed329a8bfae6819d3304324b4cf",
-            quick_score=0.5235462280599451,
+            sha256="03f7bf68eaa043965947a6cccc9076d99654e34b78da057fa2c0f8598a1b1539",
+            quick_score=0.5238966796327215,
             files=((".", "solutions/baseline/overreach/cantilever"),),
         ),
         Solution(
             "baseline/unsealed",
-            sha256="3d0762400de067be858912c977f9d11c9382c26ab923b0a94fbc9d252f3194c6",
+            sha256="5c104a55c9c685332d3a2d5b7ab793ee2f6fa843d3e065b766f8f386d3aa96fe",
             quick_score=0.0,
             base="reference",
             transforms=(unseal,),

@@ -9,18 +9,16 @@ solutions' checksums pin them (``python -m rle_tasks.core.solutions`` prints the
 from __future__ import annotations
 
 import sys
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from rle_design.ledger import LedgerClient, LedgerServer
-from rle_tasks.core.devenv import ledger_key
+from rle_design.ledger import LedgerClient
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 
 from ..scene import CONFIG, make_env
-from ..task import STEP_BUDGET
-from . import agents
+from ..task import BUDGET, STEP_BUDGET
+from . import agents, record_session
 
 HERE = Path(__file__).resolve().parent
 PUBLIC = Secret(PUBLIC_KEY, public=True)
@@ -30,22 +28,15 @@ Program = Callable[[Callable[[Any], dict], dict], object]
 
 def record(task_id: str, pieces: tuple, program: Program, dest: Path) -> int:
     """Serve the public instance, run ``program(step, obs)`` through a client, seal; returns steps used."""
-    dest.parent.mkdir(parents=True, exist_ok=True)
-    dest.unlink(missing_ok=True)
+    steps: list[int] = []
+
+    def solve(client: LedgerClient) -> None:
+        program(client.step, client.reset())
+        steps.append(client.info()["steps_used"])
+
     env = make_env(pieces, privileged=True, images=False)
-    with tempfile.TemporaryDirectory(prefix="rle-f03-") as tmp:
-        server = LedgerServer(env, key=ledger_key(PUBLIC, task_id), ledger_path=dest,
-                              socket_path=Path(tmp) / "ledger.sock", task_id=task_id, budget=STEP_BUDGET)  # fmt: skip
-        server.start()
-        try:
-            client = LedgerClient(server.socket_path)
-            program(client.step, client.reset())
-            steps = client.info()["steps_used"]
-            client.seal()
-            server.wait(60)
-        finally:
-            server.stop()
-    return int(steps)
+    record_session(env, PUBLIC, task_id, STEP_BUDGET, dest, solve, BUDGET.wall_time_s)
+    return steps[0]
 
 
 def cantilever_ledgers() -> None:

@@ -8,19 +8,19 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="3a84378ff997e721d33cc49f4e6ddb3ca8e00b9c44f1bd22a851340bee7b34d1",
-            quick_score=0.8831258833858359,
+            sha256="1b504b934e5c948a8e02375be22122e1a1eb80b0d8dc881772c507e27ec8cbd6",
+            quick_score=0.883125946993273,
             files=((".", "solutions/reference/tower"),),
         ),
         Solution(
             "baseline/knocked_over",
-            sha256="2f520035ed7cddd2e846b86e345c630f73b2090421db379b95856aee12bfb3fe",
-            quick_score=0.17356657783397736,
+            sha256="ada13571c1d617bcd82c2d08c13c5092aee11f44d513bf6d9ffdebea8852decf",
+            quick_score=0.17362648559204488,
             files=((".", "solutions/baseline/knocked_over/tower"),),
         ),
         Solution(
             "baseline/unsealed",
-            sha256="a9516dcea95fd085dfa791e60c4b5842ba49f07b9475fa0ed15959822a578ee9",
+            sha256="da9955f63daff919378608775b96129e95c4de5fef6b5da8f72f92c4c8ac73f8",
             quick_score=0.0,
             base="reference",
             transforms=(unseal,),

@@ -28,7 +28,7 @@ SHIPPED = ("reference", "five_weighings")
 
 def record(program: str, secret, dest: Path, **kwargs) -> Path:
     """Play ``program`` on the instance of ``secret``; write and return ``dest`` holding ``ledger.jsonl``."""
-    from ...balance import BUDGET_STEPS
+    from ...balance import BUDGET_STEPS, WALL_TIME_S
     from ...balance_env import TASK_ID, make_env
     from ...balance_verifier import LEDGER_FILE, instance
     from .. import record_session
@@ -38,7 +38,7 @@ def record(program: str, secret, dest: Path, **kwargs) -> Path:
     solve = importlib.import_module(f"{__name__}.{program}").solve
     dest = Path(dest)
     env = make_env(instance(secret), image_size=None)
-    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, **kwargs)
+    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, WALL_TIME_S, **kwargs)
     return dest
 
 
@@ -47,19 +47,19 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="4ca2d6875f3769cee488d514f4bc1aa9232ed951252a88a48acfce486b96a77f",
+            sha256="b434297a905314e90ad9eaf2a83c6eda078fc40cbaaac0700bbb73df1627321c",
             quick_score=1.0,
             files=((".", "solutions/balance_coins/ledgers/reference"),),
         ),
         Solution(
             "baseline/five_weighings",
-            sha256="a2547945d9591cb9c369e33ee3514868dbc5a2d1d18435fda8dc583aa2969427",
+            sha256="0197242c019f4d2526639faf0b7e7719ff28340939041475c60c1f614083c193",
             quick_score=0.4,
             files=((".", "solutions/balance_coins/ledgers/five_weighings"),),
         ),
         Solution(
             "baseline/unsealed",
-            sha256="a710d934c4d311d845443eb9bbbfce1b8a0ab5a6eea09f96b2db858b89eebdb7",
+            sha256="c692a98faf010684eb2afec1f32395b5da0fb91acb3b997fd8da72fb379442e5",
             quick_score=0.0,
             base="reference",
             transforms=(unseal,),

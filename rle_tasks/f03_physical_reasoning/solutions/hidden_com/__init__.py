@@ -47,25 +47,25 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="0bebf9e45f9a33c933bf0111d6194d04b30e632167b824d9b112d3925dd21cca",
+            sha256="95a391143c6e63b5ab7d99e8b3899372434f55c4b1ee44769601790276daa5fc",
             quick_score=1.0,
             files=((".", "solutions/hidden_com/ledgers/reference"),),
         ),
         Solution(
             "baseline/random_answers",
-            sha256="477c2bf67db528f91409477427f398369b922e777e0cf2345fca3910b71713bd",
+            sha256="357c35a3ba2e5d562c9d7d4122516196a0574c2eb6b98b286b8af4c8631d670b",
             quick_score=0.0,
             files=((".", "solutions/hidden_com/ledgers/random_answers"),),
         ),
         Solution(
             "baseline/late_answers",
-            sha256="697ec7fd881a36bc90840b241061d23ec0b307485929c34594b3792bec67c243",
+            sha256="c2fcc3b6cb225bb2d3f980ee6ad2577f06c7b886a7c6ca4d7d2760ec1c5595d3",
             quick_score=1 / 3,
             files=((".", "solutions/hidden_com/ledgers/late_answers"),),
         ),
         Solution(
             "baseline/unsealed",
-            sha256="578a11a901b49eb65db4f18b2c3fba5128faed9fdbf3f331197edd856c0859d2",
+            sha256="c979e83fa0f0d121abe1a332741e977d52786d939e022f8e4381bf7ff95905b9",
             quick_score=0.0,
             base="reference",
             transforms=(unseal,),

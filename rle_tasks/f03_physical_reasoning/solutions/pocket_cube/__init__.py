@@ -43,7 +43,7 @@ def record(program: str, secret, dest: Path, camera_every: int = 100_000, inst=N
     """
     from ...cube.env import make_env
     from ...cube.scene import TASK_ID, instance
-    from ...cube.task import BUDGET_STEPS
+    from ...cube.task import BUDGET_STEPS, WALL_TIME_S
     from ...cube.verifier import LEDGER_FILE
     from .. import record_session
 
@@ -52,7 +52,7 @@ def record(program: str, secret, dest: Path, camera_every: int = 100_000, inst=N
     solve = importlib.import_module(f"{__name__}.{program}").solve
     dest = Path(dest)
     env = make_env(instance(secret) if inst is None else inst, camera_every=camera_every)
-    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, **kwargs)
+    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, WALL_TIME_S, **kwargs)
     return dest
 
 
@@ -65,37 +65,37 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="6f4c3a9ec9f37eedfe65c837a0cb333116f4247b8a32b261d1a161522f6650d9",
+            sha256="f3893a89d934f4621f84bf3a93291b49794fc8fef2c86fa06c88a5c3f09f0c47",
             quick_score=1.0,
             files=_ledgers("reference"),
         ),
         Solution(
             "baseline/idle",
-            sha256="e9e9bfa7feaafaf73044bc61b8205a4e143a1d8172894de8637710bf7ea9c3ad",
+            sha256="aa1d032206d67b62a120e9a69b9bd526b7d634ab8acf1331e5ecff3d27a74bfc",
             quick_score=0.0,
             files=_ledgers("idle"),
         ),
         Solution(
             "baseline/dropped",
-            sha256="55e2c6d6001f6c98d1e774d1f1c5bcd1f0ca481e3b7914d2ebf1954892ed2b66",
+            sha256="dbb418e71a1576081a3c4422c0c4e8b9666fb557c101d4d69dc49f6cdfeb28f1",
             quick_score=0.0,
             files=_ledgers("dropped"),
         ),
         Solution(
             "baseline/reset",
-            sha256="c74cb5f7dd964aaa1d767f5a5b1174a7c3f4cfca59f7245c12c59afc0f645014",
+            sha256="4c5e38c39f8e4288044cb2a0a61be40c368f1c49e7845095468f6e6e7cae9a90",
             quick_score=0.0,
             files=_ledgers("reset"),
         ),
         Solution(
             "baseline/forced_twist",
-            sha256="22c64894bcc8323eb8455850c429ae6a783792191f2f75018ccbb7f755497de1",
+            sha256="af50a798564aba8d3a84d914ea6f36c587b4375ed5c41f7b3778258fca4975b6",
             quick_score=0.0,
             files=_ledgers("forced_twist"),
         ),
         Solution(
             "baseline/unsealed",
-            sha256="2edc05bf7f7f0f795391cb56bc2b8854360c78ddd3aac5cb190d358997a7fc51",
+            sha256="d5d5e16ca5329742a0922569f4fec5bbb614e83e8182fa442889fcc1006929a7",
             quick_score=0.0,
             base="reference",
             transforms=(unseal,),
