@@ -1,4 +1,4 @@
-"""Command line: ``rle tasks|show|verify|preview|dev|export|index|demo|catalog|audit-verifiers``.
+"""Command line: ``rle tasks|show|verify|preview|dev|ledger|export|index|demo|catalog|audit-verifiers``.
 
 Exit codes: 0 a report or the requested output was produced; 2 usage error, unknown task, unreadable
 input; 1 an internal fault (our bug).
@@ -104,6 +104,29 @@ def _cmd_dev(args: argparse.Namespace) -> int:
         serve=not args.no_serve,
         attempt=args.attempt or os.environ.get(ATTEMPT_ENV) or None,
     )
+    return 0
+
+
+def _cmd_ledger(args: argparse.Namespace) -> int:
+    import json
+
+    from rle_design.ledger import verify_ledger
+    from rle_design.ledger.show import describe_ledger
+    from rle_tasks.core.devenv import ledger_key
+    from rle_tasks.core.secrets import load_secret
+
+    path = Path(args.ledger)
+    if not path.is_file():
+        raise RleError(f"{path} is not a file", code="ledger.missing")
+    verdict = None
+    if not args.no_verify:
+        try:
+            task_id = json.loads(path.read_bytes().split(b"\n", 1)[0])["task_id"]
+        except (ValueError, KeyError, TypeError):
+            task_id = None
+        if isinstance(task_id, str):
+            verdict = verify_ledger(path, ledger_key(load_secret(args.secret_file), task_id), task_id)
+    print(describe_ledger(path, verdict))
     return 0
 
 
@@ -236,6 +259,16 @@ def build_parser() -> argparse.ArgumentParser:
         "path); one metered session per attempt, its hidden scenes bound to it",
     )
     s.set_defaults(fn=_cmd_dev)
+
+    s = sub.add_parser("ledger", help="print what a session ledger recorded, request by request")
+    s.add_argument("action", choices=["show"])
+    s.add_argument("ledger", help="a ledger file (rle dev prints its path)")
+    s.add_argument(
+        "--secret-file",
+        help="verifier secret to authenticate it with (default: $RLE_SECRET, else public key)",
+    )
+    s.add_argument("--no-verify", action="store_true", help="show the records without authenticating them")
+    s.set_defaults(fn=_cmd_ledger)
 
     s = sub.add_parser("export", help="export tasks")
     s.add_argument("format", choices=["harbor"])

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from rle_design.ledger.records import CHARGED, FORMAT
+from rle_design.ledger.records import CHARGED, FORMAT, cost
 from rle_design.ledger.verify import LedgerVerdict, verify_ledger
 
 __all__ = ["GATE_CODES", "GateResult", "Limits", "TrialCount", "check_ledger"]
@@ -230,7 +230,7 @@ def _recount(name: str, recs: list[dict], verdict: LedgerVerdict, limits: Limits
             return _fail(
                 "ledger.over_time", f"{line} was charged at {w:.3f} s, the session's limit is {limit:.0f} s", verdict, **ctx
             )  # fmt: skip
-        n = len(p["actions"]) if kind == "steps" else 1
+        n = cost(kind, p) or 0
         if kind == "reset" and p.get("phase") == "evaluation":
             if p.get("trial") != len(trials):
                 return _fail("ledger.seal_mismatch", f"{line} starts trial {p.get('trial')!r}, expected {len(trials)}", verdict, **ctx)  # fmt: skip

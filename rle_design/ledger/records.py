@@ -6,7 +6,9 @@ A record is one line of canonical JSON with the fields, in this order::
      "digest": "<64 hex>", "payload": {...}, "mac": "<64 hex>"}
 
 - ``seq`` counts records from 0; ``kind`` is ``open`` (first record), ``reset`` (one charged step),
-  ``steps`` (a group of consecutive executed actions, each one charged step) or ``seal`` (last);
+  ``steps`` (a group of consecutive executed actions, each one charged step), ``request`` (one
+  request to a served development environment, charged ``cost`` units: 0 for a free one) or ``seal``
+  (last);
 - ``prev`` is SHA-256 of the previous line's bytes (64 zeros for the open record);
 - ``digest`` is SHA-256 of the payload's canonical JSON (sorted keys, no spaces);
 - ``mac`` is HMAC-SHA256(key, line without its ``,"mac":"..."`` member), so it covers every byte of
@@ -19,6 +21,8 @@ then [s] and the session's wall clock when the last of them was charged [s since
 floored to the millisecond]. Grouping consecutive actions in one record (group commit,
 ``actions_per_record``) keeps the per-action cost of the chain low; a reset or the seal always closes
 the open group first. A ``reset`` payload is ``{"steps": n, "time": t, "wall": w}``.
+A ``request`` payload is ``{"op": name, "args": {...}, "cost": c, "steps": n, "wall": w, ...}`` plus
+what the request returned that an auditor needs (``rle_design.ledger.served``).
 
 The open record carries the format (``FORMAT``), a random nonce and the attempt the session belongs to
 (``attempt``, issued by the operator; "" when unbound); the seal records the number of records before
@@ -43,8 +47,8 @@ from rle_design.errors import RleError
 FORMAT = 2
 """Ledger format: 2 adds the attempt to the open record and wall stamps to charged records."""
 GENESIS = "0" * 64
-KINDS = ("open", "reset", "steps", "seal")
-CHARGED = ("reset", "steps")
+KINDS = ("open", "reset", "steps", "request", "seal")
+CHARGED = ("reset", "steps", "request")
 MAC_SUFFIX_LEN = len(',"mac":""}') + 64
 
 
@@ -52,6 +56,21 @@ class LedgerError(RleError):
     """Ledger misuse or a refused metered operation (budget spent, bad action, sealed session)."""
 
     code = "ledger.error"
+
+
+def cost(kind: str, payload: dict[str, Any]) -> int | None:
+    """Charged units of a record: 1 per reset, 1 per action of a ``steps`` record, a request's
+    ``cost``; None when the record does not state them in a valid form."""
+    if kind == "reset":
+        return 1
+    if kind == "steps":
+        actions = payload.get("actions")
+        return len(actions) if isinstance(actions, list) and actions else None
+    if kind == "request":
+        c = payload.get("cost")
+        ok = isinstance(c, int) and not isinstance(c, bool) and c >= 0 and isinstance(payload.get("op"), str)
+        return c if ok else None
+    return 0
 
 
 def canonical(payload: dict[str, Any]) -> str:

@@ -8,6 +8,7 @@ SIGTERM/SIGINT, or when ``LedgerServer.stop`` is called.
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing as mp
 import os
 import signal
@@ -28,6 +29,17 @@ class _Stop(Exception):
 
 def _on_signal(signum: int, frame: Any) -> None:
     raise _Stop
+
+
+def die_with_parent() -> None:
+    """Ask Linux to send this process SIGTERM (which seals) when its parent dies
+    (``prctl(PR_SET_PDEATHSIG)``): a server whose ``rle dev`` was killed does not run on unowned."""
+    import ctypes
+    import sys
+
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM, 0, 0, 0)  # PR_SET_PDEATHSIG
 
 
 def encode(meta: dict[str, Any], value: Any = None) -> bytes:
@@ -123,6 +135,7 @@ def serve(
     ``rle_design.ledger.SceneSet``) that returns its own session."""
     signal.signal(signal.SIGTERM, _on_signal)
     signal.signal(signal.SIGINT, _on_signal)
+    die_with_parent()
     session = None
     opener = getattr(env, "open_session", None) or (lambda **kw: MeteredSession(env, **kw))
     try:

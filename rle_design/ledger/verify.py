@@ -9,7 +9,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from rle_design.ledger.records import CHARGED, GENESIS, KINDS, canonical, line_hash, mac_input
+from rle_design.ledger.records import CHARGED, GENESIS, KINDS, canonical, cost, line_hash, mac_input
 
 _MAC_TAIL = re.compile(rb',"mac":"([0-9a-f]{64})"\}$')
 _FIELDS = ("seq", "kind", "task_id", "prev", "digest", "payload", "mac")
@@ -165,12 +165,13 @@ def verify_ledger(path: str | Path, key: bytes, task_id: str | None = None) -> L
     steps = 0
     for i, rec in enumerate(recs):
         if rec["kind"] in CHARGED:
-            actions = rec["payload"].get("actions") if rec["kind"] == "steps" else None
-            if rec["kind"] == "steps" and not (isinstance(actions, list) and actions):
+            n = cost(rec["kind"], rec["payload"])
+            if n is None:
                 return _fail(
-                    "ledger.malformed", f"{path.name}: line {i + 1} is a steps record without actions"
+                    "ledger.malformed",
+                    f"{path.name}: line {i + 1} is a {rec['kind']} record without actions or a valid cost",
                 )
-            steps += 1 if actions is None else len(actions)
+            steps += n
             if rec["payload"].get("steps") != steps:
                 return _fail(
                     "ledger.altered",

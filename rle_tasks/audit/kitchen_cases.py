@@ -96,7 +96,9 @@ def kitchen_cases() -> list[Case]:
             _signed("01-turn-on-stove-l2", 50_000),
             wall_cap_s=30.0,
         ),
-        Case("ledger/f01_other_budget", F01, "ledger.wrong_limits", _signed(F01, 10_000_000), wall_cap_s=30.0),
+        Case(
+            "ledger/f01_other_budget", F01, "ledger.wrong_limits", _signed(F01, 10_000_000), wall_cap_s=30.0
+        ),
         Case("harness/f02_no_manual", F02, "f02.no_manual", _harness({}, manual=None), wall_cap_s=30.0),
         Case("harness/f02_link_out", F02, "f02.harness_unusable", _linked_harness, wall_cap_s=60.0),
         Case(

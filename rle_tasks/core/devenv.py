@@ -222,7 +222,7 @@ def layout_workspace(
         # a served environment of the family's own (renders, evaluations): same key, ledger and socket
         ws.ledger_path = _next_ledger(ledgers, attempt)
         key = ledger_key(bound, spec.id)
-        env.start(key=key, ledger_path=ws.ledger_path, socket_path=_socket_path(workspace))
+        env.start(key=key, ledger_path=ws.ledger_path, socket_path=_socket_path(workspace), attempt=attempt)
         del key
         ws.server = env
     ws.files = tuple(sorted(str(p.relative_to(workspace)) for p in workspace.rglob("*") if p.is_file()))
@@ -255,7 +255,7 @@ def make_workspace(
         print(
             f"serving in the foreground (process {os.getpid()}): run `rle dev` in its own terminal or with `&`. "
             f"Metered environment listening on {ws.server.socket_path}; connect with "
-            f"`from client import connect` in the workspace. Ledger: {ws.ledger_path}. "
+            f"`from {getattr(ws.server, 'client', 'client')} import connect` in the workspace. Ledger: {ws.ledger_path}. "
             f"Ctrl-C, `kill {os.getpid()}` or a client's seal() seals the ledger and stops the server.",
             flush=True,
         )

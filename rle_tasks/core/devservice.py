@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from rle_design.ledger.records import LedgerError
-from rle_design.ledger.server import MAX_MESSAGE_BYTES, decode, encode
+from rle_design.ledger.server import MAX_MESSAGE_BYTES, decode, die_with_parent, encode
 from rle_design.sandbox import codec
 
 STARTUP_S = 180.0
@@ -55,11 +55,17 @@ def serve(
     key: bytes | None,
     ledger_path: str | None,
     ready: Connection | None = None,
+    attempt: str = "",
 ) -> None:
-    """Serve one development session until sealed or signalled (runs in the server process)."""
+    """Serve one development session until sealed or signalled (runs in the server process).
+
+    SIGTERM, SIGINT and the death of the process that started it (``rle dev`` killed in any way)
+    seal the ledger and remove the socket."""
     signal.signal(signal.SIGTERM, _on_signal)
     signal.signal(signal.SIGINT, _on_signal)
-    session = _factory(factory)(key=key, ledger_path=Path(ledger_path) if ledger_path else None, **kwargs)
+    die_with_parent()
+    path = Path(ledger_path) if ledger_path else None
+    session = _factory(factory)(key=key, ledger_path=path, attempt=attempt, **kwargs)
     del key
     old = os.umask(0o077)
     try:
@@ -98,13 +104,22 @@ def start(
     key: bytes | None,
     ledger_path: Path | None,
     name: str = "rle-dev",
+    attempt: str = "",
 ):
     """Start ``serve`` in a spawned process and wait until it listens; returns the process."""
     ctx = mp.get_context("spawn")
     parent, child = ctx.Pipe(duplex=False)
     proc = ctx.Process(
         target=serve,
-        args=(factory, kwargs, str(socket_path), key, str(ledger_path) if ledger_path else None, child),
+        args=(
+            factory,
+            kwargs,
+            str(socket_path),
+            key,
+            str(ledger_path) if ledger_path else None,
+            child,
+            attempt,
+        ),
         name=name,
     )
     proc.start()
@@ -125,20 +140,24 @@ class ServedSession:
         factory: ``"module:function"`` building the session (module docstring).
         kwargs: Further keyword arguments of the factory (picklable).
         name: Process name.
+        client: The workspace's client module (what the agent imports ``connect`` from).
     """
 
-    def __init__(self, factory: str, kwargs: dict[str, Any], name: str = "rle-dev") -> None:
+    def __init__(
+        self, factory: str, kwargs: dict[str, Any], name: str = "rle-dev", client: str = "client"
+    ) -> None:
         self.factory = factory
         self.kwargs = dict(kwargs)
         self.name = name
+        self.client = client
         self.socket_path: Path | None = None
         self._proc = None
 
-    def start(self, *, key: bytes, ledger_path: Path, socket_path: Path) -> None:
+    def start(self, *, key: bytes, ledger_path: Path, socket_path: Path, attempt: str = "") -> None:
         self.socket_path = Path(socket_path)
         if self.socket_path.exists():
             self.socket_path.unlink()
-        self._proc = start(self.factory, self.kwargs, self.socket_path, key, ledger_path, self.name)
+        self._proc = start(self.factory, self.kwargs, self.socket_path, key, ledger_path, self.name, attempt)
 
     def stop(self, timeout: float = 30.0) -> None:
         """Seal the ledger (SIGTERM) and wait for the server to end."""

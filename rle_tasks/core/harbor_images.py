@@ -23,7 +23,9 @@ from rle_design.errors import RleError
 from rle_tasks.core.task import TaskSpec
 
 BASE_IMAGE = "python:3.11-slim-bookworm"
-APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6"
+APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6 libgomp1"
+"""System libraries of both images: offscreen OpenGL (EGL with Mesa, OSMesa) and the OpenMP runtime that
+the locked pinocchio wheel (cmeel build) links without bundling it."""
 ROBOSUITE = "robosuite==1.5.2"
 MJLAB = "mjlab==1.6.0"
 """Asset source of the Unitree G1 (family 04): installed without its dependencies (it pins mujoco~=3.11)."""

@@ -32,7 +32,9 @@ _CLIENT = '''"""Evaluation client of {task_id} (written by `rle dev`; episodes o
 `evaluate(directory, episodes)` serves `directory/solution.py` (relative to this workspace; it loads
 the `ckpt.pt` you trained there) exactly as the verifier will, and runs the (LIBERO-10 task,
 official initial state) pairs: task 0-9, state 0-49. Each result: init_index, success, steps,
-requests, fault. Budget: {budget} episodes, recorded in a sealed ledger outside this workspace.
+requests, fault. Budget: {budget} episodes per attempt (restarting the server does not reset it),
+each recorded with the sha256 of the directory it ran in a sealed ledger outside this workspace;
+dev.seal() ends the session.
 """
 
 import hashlib
@@ -119,10 +121,7 @@ class _Session:
                 raise LedgerError(exc.message, code=exc.code) from None
             return {"ok": True}, [dataclasses.asdict(r) for r in results]
         if op == "info":
-            return {"ok": True}, {
-                "episodes_used": self.client.used,
-                "episodes_left": self.client.budget - self.client.used,
-            }
+            return {"ok": True}, self.client.info()
         if op == "seal":
             self.seal()
             return {"ok": True}, {"episodes_used": self.client.used}
@@ -136,7 +135,9 @@ class _Session:
         self.sealed = True
 
 
-def open_session(*, key: bytes | None, ledger_path: Path | None, workspace: str, task_id: str) -> _Session:
+def open_session(
+    *, key: bytes | None, ledger_path: Path | None, workspace: str, task_id: str, attempt: str = ""
+) -> _Session:
     """The session of one development server (``rle_tasks.core.devservice`` factory)."""
     import tempfile
 
@@ -148,7 +149,9 @@ def open_session(*, key: bytes | None, ledger_path: Path | None, workspace: str,
             Path(tempfile.mkdtemp(prefix="rle-f05dev-")) / "dev.jsonl",
         )
     standin = task_id.startswith("05-robotwin")
-    client = DevelopmentClient(ledger_path, key, task_id=task_id, env="standin" if standin else "libero")
+    client = DevelopmentClient(
+        ledger_path, key, task_id=task_id, env="standin" if standin else "libero", attempt=attempt
+    )
     return _Session(Path(workspace), client, standin=standin)
 
 
@@ -186,4 +189,5 @@ def make_dev_env(workspace: Path, task_id: str = "05-libero-open") -> ServedSess
         "rle_tasks.f05_nanovla.devenv:open_session",
         {"workspace": str(ws), "task_id": task_id},
         name=f"rle-dev-{task_id}",
+        client="standin_client" if standin else "libero_client",
     )

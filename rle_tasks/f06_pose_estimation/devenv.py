@@ -23,12 +23,17 @@ _CLIENT = '''"""Development client of {task_id} (written by `rle dev`).
         pairs = dev.frames(seed=1, n=10, raised=True)  # stick out of the way
         pairs = dev.episode(seed=2, n=60)         # free: a push episode, 10 Hz
         report = dev.evaluate()                   # charged: your current {artifact} on the design set
-        dev.info()                                # evaluations used and left
+        dev.info()                                # evaluations used and left (per attempt)
+        dev.seal()                                # ends the session: seals the ledger, stops the server
+
+evaluate() runs the files at the root of this workspace (the directory of this file), as the
+verifier reads a submission directory; its report gives the score, fps as the score counts it
+(rounded, capped at 10, as `rle verify` reports it), fps_measured, and the files' sha256.
 
 obs: rgb (240, 320, 3) uint8, t [s], K (3, 3), T_world_cam (4, 4){depth}.
 label: (x [m], y [m], theta [rad]) with Gaussian noise (1 mm, 0.01 rad); shapes are withheld
-(ids 0, 1, 2 = T, C, F). Budget: {evaluations} design-set evaluations, recorded in a sealed ledger
-kept outside this workspace; development time 2 h.
+(ids 0, 1, 2 = T, C, F). Budget: {evaluations} design-set evaluations per attempt, every request
+recorded in a sealed ledger kept outside this workspace; development time 2 h.
 """
 
 import hashlib
@@ -75,4 +80,5 @@ def make_dev_env(task_id: str, workspace: Path) -> ServedSession:
         "rle_tasks.f06_pose_estimation.service:open_session",
         {"task_id": task_id, "workspace": str(ws)},
         name=f"rle-dev-{task_id}",
+        client="pose_client",
     )

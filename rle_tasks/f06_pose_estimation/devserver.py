@@ -95,7 +95,9 @@ def design_evaluation(task_id: str, root: Path) -> dict:
     fps = predictions / spent if spent > 0 else 0.0
     return {
         "score": reward(g["frames"], g["trajectory"], reported_fps(fps)),
-        "fps": fps,
+        "fps": reported_fps(fps),
+        "fps_measured": fps,
+        "fps_note": "fps as `rle verify` reports and scores it (rounded, capped at 10); fps_measured unrounded",
         "speed_deduction": speed_deduction(reported_fps(fps)),
         "groups": metrics,
         "faults": faults[:20],

@@ -76,7 +76,12 @@ def test_served_episodes_are_metered_and_bad_requests_refused(tmp_path, demos, l
                 dev.evaluate("submission", [(10, 0)])  # LIBERO-10 has tasks 0-9
             (res,) = dev.evaluate("submission", [(0, 3)], max_steps=4)
             assert res["init_index"] == 3 and res["steps"] == 4 and not res["success"] and res["fault"] == ""
-            assert dev.info() == {"episodes_used": 1, "episodes_left": 19_999}
+            assert dev.info() == {
+                "episodes_used": 1,
+                "episodes_left": 19_999,
+                "episodes_this_session": 1,
+                "budget": 20_000,
+            }
             dev.seal()
         ws.server.wait(30)
     finally:
@@ -95,7 +100,8 @@ def test_the_robust_workspace_meters_under_its_own_task_id(tmp_path, demos):
     session = open_session(
         key=key, ledger_path=tmp_path / "l.jsonl", workspace=str(tmp_path / "ws"), task_id=robust.id
     )
-    assert session.handle({"op": "info"}, None)[1] == {"episodes_used": 0, "episodes_left": 20_000}
+    info = session.handle({"op": "info"}, None)[1]
+    assert info == {"episodes_used": 0, "episodes_left": 20_000, "episodes_this_session": 0, "budget": 20_000}
     session.handle({"op": "seal"}, None)
     assert session.sealed
     assert verify_ledger(tmp_path / "l.jsonl", key, robust.id).valid

@@ -148,7 +148,12 @@ def test_the_workspace_meters_served_episodes_of_clean_scenes(tmp_path, demos):
                 )  # evaluation seeds are not for development
             (res,) = dev.evaluate("submission", [(1, 42)], max_steps=3)
             assert res["init_index"] == 42 and res["steps"] == 3 and not res["success"] and res["fault"] == ""
-            assert dev.info() == {"episodes_used": 1, "episodes_left": 19_999}
+            assert dev.info() == {
+                "episodes_used": 1,
+                "episodes_left": 19_999,
+                "episodes_this_session": 1,
+                "budget": 20_000,
+            }
             dev.seal()
         ws.server.wait(30)
     finally:

@@ -237,12 +237,17 @@ def test_the_reference_maps_libero_pros_paraphrases_to_their_originals():
     text features: 9 of LIBERO-PRO's 10 paraphrased LIBERO-10 instructions land on their own task
     (task 6's "place white mug on plate and chocolate pudding to right" lands on task 4's two
     plates); a trained instruction is itself."""
+    from rle_design.errors import RleError
     from rle_tasks.envs.libero import libero_python
 
+    try:
+        python = libero_python()
+    except RleError as exc:  # the instructions come from the LIBERO side environment's package
+        pytest.skip(exc.message)
     spec = importlib.util.spec_from_file_location("libero_recipe", REFERENCE_RECIPE)
     recipe = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(recipe)
-    (bddl,) = libero_python().parent.parent.glob("lib/python3*/site-packages/libero/libero/bddl_files")
+    (bddl,) = python.parent.parent.glob("lib/python3*/site-packages/libero/libero/bddl_files")
     originals = {f.name: _language(f) for f in sorted((bddl / "libero_10").glob("*.bddl"))}
     trained = sorted(originals.values())
     assert len(trained) == 10

@@ -4,10 +4,11 @@ metered per episode.
 ``DevelopmentClient`` serves the agent's ``solution.py`` (as the replay does) and runs the requested
 (task, initial state) episodes of the development suite (``env="standin"``: (task, layout seed)
 episodes of the stand-in's clean scenes); every finished episode is charged one unit
-of the card's 20,000-episode budget in an HMAC-chained ledger (``rle_design.ledger``: one charged
-``reset`` record per episode with its task, initial state, success and length; the seal counts
-them). A request that would pass the budget is refused before anything runs
-(``f05.budget_exhausted``).
+of the card's 20,000-episode budget in an HMAC-chained ledger (``rle_design.ledger.ServedLedger``:
+one ``request`` record per episode with the sha256 of the solution directory it ran, its task,
+initial state, success and length; the seal counts them). The budget is the attempt's: a session
+of an attempt that had sessions before starts with what they spent. A request that would pass the
+budget is refused before anything runs (``f05.budget_exhausted``).
 
 Trust: the ledger proves the count only when its key is kept from the agent (a server outside the
 agent's user, as the metered sessions of other families run). With the public development key it is
@@ -20,7 +21,8 @@ import contextlib
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_design.ledger import LedgerWriter
+from rle_design.ledger.records import LedgerError
+from rle_design.ledger.served import ServedLedger
 from rle_tasks.envs.libero import LiberoEnv
 from rle_tasks.envs.libero.client import EpisodeResult, run_episode, serving
 
@@ -39,6 +41,7 @@ class DevelopmentClient:
         suite: LIBERO suite the episodes come from.
         task_id: The task whose development session this is (the ledger names it).
         env: ``"libero"`` or ``"standin"`` (``rle_tasks.envs.standin``; ``suite`` is then unused).
+        attempt: The attempt of the session (earlier sessions of it beside ``ledger_path`` count).
     """
 
     def __init__(
@@ -49,14 +52,25 @@ class DevelopmentClient:
         suite: str = "libero_10",
         task_id: str = TASK_ID,
         env: str = "libero",
+        attempt: str = "",
     ) -> None:
         self.budget = int(budget)
         self.env = env
         self.suite = suite if env == "libero" else "standin"
-        self.used = 0
-        self._ledger = LedgerWriter(
-            Path(ledger_path), key, task_id, meta={"budget_episodes": self.budget, "suite": self.suite}
+        self._ledger = ServedLedger(
+            Path(ledger_path),
+            key,
+            task_id,
+            budget=self.budget,
+            unit="episodes",
+            attempt=attempt,
+            meta={"budget_episodes": self.budget, "suite": self.suite},
         )
+
+    @property
+    def used(self) -> int:
+        """Episodes the attempt has spent, earlier sessions included."""
+        return self._ledger.previous + self._ledger.used
 
     def evaluate(
         self,
@@ -71,11 +85,13 @@ class DevelopmentClient:
         Raises:
             RleError: ``f05.budget_exhausted`` when the request exceeds what is left (nothing runs).
         """
-        if self.used + len(episodes) > self.budget:
-            raise RleError(
-                f"{len(episodes)} episodes requested, {self.budget - self.used} of {self.budget} left",
-                code="f05.budget_exhausted",
-            )
+        try:
+            self._ledger.check(len(episodes))
+        except LedgerError as exc:
+            raise RleError(exc.message, code="f05.budget_exhausted") from None
+        from rle_tasks.core.report import artifact_sha256
+
+        digest = artifact_sha256(solution_dir)
         out: list[EpisodeResult] = []
         with serving(Path(solution_dir), env=self.env) as policy:
             for task_id in sorted({t for t, _ in episodes}):
@@ -85,20 +101,16 @@ class DevelopmentClient:
                         if t != task_id:
                             continue
                         res = self._run(env, policy, init, episode=self.used, max_steps=max_steps)
-                        self.used += 1
-                        self._ledger.append(
-                            "reset",
-                            {
-                                "steps": self.used,
-                                "task": int(t),
-                                "init": int(init),
-                                "success": bool(res.success),
-                                "env_steps": int(res.steps),
-                                "fault": res.fault,
-                            },
+                        self._ledger.record(
+                            "episode",
+                            {"task": int(t), "init": int(init), "max_steps": max_steps},
+                            1,
+                            submission_sha256=digest,
+                            success=bool(res.success),
+                            env_steps=int(res.steps),
+                            fault=res.fault,
                         )
                         out.append(res)
-        self._ledger.flush()
         return out
 
     def _env(self, task: int):
@@ -115,6 +127,10 @@ class DevelopmentClient:
             return run_standin(env, policy, init, episode=episode, max_steps=max_steps)
         return run_episode(env, policy, init, episode=episode, max_steps=max_steps)
 
-    def close(self) -> str:
-        """Seal the ledger; returns the seal hash."""
-        return self._ledger.seal(self.used, {"episodes": self.used})
+    def info(self) -> dict:
+        """Episodes of the attempt used and left, and those of this session (free)."""
+        return self._ledger.info()
+
+    def close(self) -> None:
+        """Seal the ledger."""
+        self._ledger.seal()
