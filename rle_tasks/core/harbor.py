@@ -118,6 +118,15 @@ def task_toml(spec: TaskSpec) -> str:
         # No default: Harbor refuses to start the verifier when the host has no RLE_SECRET.
         'env = { RLE_SECRET = "${RLE_SECRET}", RLE_ALLOW_PUBLIC_KEY = "${RLE_ALLOW_PUBLIC_KEY:-0}" }',
         "",
+        # Every verifier runs on CPU (CI has no GPU): the separate verifier container asks for none,
+        # whatever the agent's budget grants, so verification needs no GPU host.
+        "[verifier.environment]",
+        f"cpus = {b.cpus}",
+        f"memory_mb = {b.memory_mb}",
+        "gpus = 0",
+        'network_mode = "public"',
+        "build_timeout_sec = 1800",
+        "",
         "[environment]",
         f"cpus = {b.cpus}",
         f"memory_mb = {b.memory_mb}",

@@ -25,6 +25,7 @@ from harbor.models.task.config import TaskConfig
 from harbor.models.task.task import Task
 from harbor.models.trial.config import AgentConfig, EnvironmentConfig, VerifierConfig
 from harbor.models.task.config import VerifierEnvironmentMode
+from harbor.models.task.verifier_mode import resolve_effective_verifier_env_config
 from harbor.trial.network_policy import resolve_trial_network_plan
 from harbor.utils.env import resolve_env_vars
 
@@ -45,6 +46,7 @@ for task_dir in sys.argv[1:]:
     out[task.name] = {
         "mode": cfg.verifier.environment_mode.value,
         "resources": [cfg.environment.cpus, cfg.environment.memory_mb, cfg.environment.gpus],
+        "verifier_gpus": resolve_effective_verifier_env_config(cfg, None).gpus,
         "refused": refused,
         "network": {
             "agent_setup": plan.agent_env_baseline.network_mode.value,
@@ -115,6 +117,7 @@ def test_harbor_loads_the_tasks_and_plans_the_network(checked):
         got = result[f"rle-bench/{spec.id}"]
         assert got["mode"] == "separate"
         assert got["resources"] == [spec.budget.cpus, spec.budget.memory_mb, spec.budget.gpus]
+        assert got["verifier_gpus"] == 0  # the separate verifier container asks for no GPU
         assert got["refused"] == "Environment variable 'RLE_SECRET' not found in host environment"
         assert got["network"] == {"agent_setup": "public", "agent": "no-network", "verifier": "no-network"}
 
