@@ -85,7 +85,11 @@ def test_task_toml_fields(tmp_path, spec):
         "RLE_ALLOW_PUBLIC_KEY": "${RLE_ALLOW_PUBLIC_KEY:-0}",
     }
     venv = cfg["verifier"]["environment"]
-    assert (venv["cpus"], venv["memory_mb"], venv["gpus"]) == (4, 8192, 0)  # CPU-only, whatever the agent gets
+    assert (venv["cpus"], venv["memory_mb"], venv["gpus"]) == (
+        4,
+        8192,
+        0,
+    )  # CPU-only, whatever the agent gets
     env = cfg["environment"]
     assert (env["cpus"], env["memory_mb"], env["gpus"]) == (4, 8192, 0)
     assert env["network_mode"] == "public"  # container start and agent setup only
