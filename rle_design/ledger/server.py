@@ -128,6 +128,7 @@ def serve(
     wall_time_s: float | None = None,
     attempt: str = "",
     ready: Connection | None = None,
+    socket_mode: int | None = None,
 ) -> None:
     """Serve one metered session until sealed or signalled (runs in the server process).
 
@@ -152,6 +153,8 @@ def serve(
         old_umask = os.umask(0o077)
         try:
             listener = Listener(str(socket_path), family="AF_UNIX")
+            if socket_mode is not None:  # an agent of another uid connects (a Harbor sidecar's socket)
+                os.chmod(socket_path, socket_mode)
         finally:
             os.umask(old_umask)
     except (LedgerError, OSError) as exc:
@@ -186,6 +189,7 @@ class LedgerServer:
         actions_per_record: Executed actions grouped per ledger record (see ``MeteredSession``).
         wall_time_s: Wall-clock time the session may charge steps for [s] (see ``MeteredSession``).
         attempt: The attempt the session belongs to (recorded in the ledger's open record).
+        socket_mode: Permission bits of the socket (default 0600: only the server's uid connects).
     """
 
     def __init__(
@@ -200,6 +204,7 @@ class LedgerServer:
         actions_per_record: int = 16,
         wall_time_s: float | None = None,
         attempt: str = "",
+        socket_mode: int | None = None,
     ) -> None:
         if len(str(socket_path)) > 100:
             raise LedgerError(
@@ -219,6 +224,7 @@ class LedgerServer:
             actions_per_record=actions_per_record,
             wall_time_s=wall_time_s,
             attempt=attempt,
+            socket_mode=socket_mode,
         )
         self._process = ctx.Process(
             target=serve,

@@ -35,11 +35,13 @@ import os
 import signal
 import tempfile
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 from rle_design.errors import RleError
 from rle_design.ledger import LedgerServer, MeteredEnv, SceneSet
+from rle_tasks.core.devservice import ADDRESS_FUNCTION
 from rle_tasks.core.secrets import Secret, load_secret, using_secret
 from rle_tasks.core.task import TaskSpec
 
@@ -57,14 +59,16 @@ Budget: {budget}. Resets and executed actions are recorded in a sealed ledger ke
 outside this workspace; call env.seal() only when you are done (it ends the session).{sessions}
 """
 
-ADDRESS = {address!r}
-
+import hashlib
+import tempfile
+from pathlib import Path
+{address_function}
 
 def connect():
     """A new connection to the ledger server (the session persists across connections)."""
     from rle_design.ledger import LedgerClient
 
-    return LedgerClient(ADDRESS)
+    return LedgerClient(_address())
 '''
 
 
@@ -79,6 +83,8 @@ class DevWorkspace:
         server: The ledger server (None when the task is not metered or ``serve=False``).
         ledger_path: The ledger the server writes (outside the workspace), or None.
         attempt: The attempt the session belongs to.
+        environment: ``"metered"`` (a ledger server of ``MeteredEnv``/``SceneSet``), ``"served"`` (a
+            family's own server) or ``""`` (no development server).
     """
 
     task_id: str
@@ -87,6 +93,7 @@ class DevWorkspace:
     server: LedgerServer | None = None
     ledger_path: Path | None = None
     attempt: str = ""
+    environment: str = ""
 
     def close(self) -> None:
         """Seal the ledger and stop the server, if one runs."""
@@ -149,11 +156,13 @@ def layout_workspace(
     secret: Secret | None = None,
     ledger_dir: Path | None = None,
     attempt: str | None = None,
+    socket_mode: int | None = None,
 ) -> DevWorkspace:
     """Lay out the workspace of ``spec`` and start its ledger server when metered and ``serve``.
 
     ``attempt`` (default: ``default_attempt(workspace)``) binds the session's hidden scenes and its
-    ledger (module docstring).
+    ledger (module docstring). ``socket_mode`` opens the socket to other uids (a Harbor sidecar
+    serving the agent's container through a shared volume; the default lets only this uid connect).
 
     Raises:
         RleError: ``task.not_implemented`` for a registered task without an implementation,
@@ -178,6 +187,7 @@ def layout_workspace(
         env = spec.make_dev_env(workspace) if spec.make_dev_env is not None else None
     ws = DevWorkspace(spec.id, workspace, (), attempt=attempt)
     if isinstance(env, (MeteredEnv, SceneSet)):
+        ws.environment = "metered"
         if isinstance(env, SceneSet):
             nu = env.action_size()
             sessions = "\n\n" + env.session_doc()
@@ -199,7 +209,7 @@ def layout_workspace(
                 observation=env.observation_doc,
                 extra=extra,
                 budget=budget,
-                address=str(socket_path),
+                address_function=ADDRESS_FUNCTION,
                 sessions=sessions,
             )
         )
@@ -215,14 +225,23 @@ def layout_workspace(
                 budget=spec.budget.steps,
                 wall_time_s=spec.budget.wall_time_s,
                 attempt=attempt,
+                socket_mode=socket_mode,
             )
             del key
             ws.server.start()
-    elif serve and env is not None and callable(getattr(env, "start", None)):
+    elif env is not None and callable(getattr(env, "start", None)):
+        ws.environment = "served"
+    if ws.environment == "served" and serve:
         # a served environment of the family's own (renders, evaluations): same key, ledger and socket
         ws.ledger_path = _next_ledger(ledgers, attempt)
         key = ledger_key(bound, spec.id)
-        env.start(key=key, ledger_path=ws.ledger_path, socket_path=_socket_path(workspace), attempt=attempt)
+        env.start(
+            key=key,
+            ledger_path=ws.ledger_path,
+            socket_path=_socket_path(workspace),
+            attempt=attempt,
+            socket_mode=socket_mode,
+        )
         del key
         ws.server = env
     ws.files = tuple(sorted(str(p.relative_to(workspace)) for p in workspace.rglob("*") if p.is_file()))
@@ -230,13 +249,23 @@ def layout_workspace(
 
 
 def make_workspace(
-    task_id: str, workspace: Path, serve: bool = True, *, wait: bool = True, attempt: str | None = None
+    task_id: str,
+    workspace: Path,
+    serve: bool = True,
+    *,
+    wait: bool = True,
+    attempt: str | None = None,
+    ledger_dir: Path | None = None,
+    socket_mode: int | None = None,
+    prepare: Callable[[Path], None] | None = None,
 ) -> DevWorkspace:
     """``rle dev TASK --workspace DIR [--attempt ID]``: lay out the workspace and serve its environment.
 
     With a metered environment and ``serve``, prints how to connect and, with ``wait``, blocks until
     a client seals the session; Ctrl-C or SIGTERM (also of a background ``rle dev &``) seals the
-    ledger and stops the server.
+    ledger and stops the server. ``ledger_dir`` and ``socket_mode`` as for ``layout_workspace``;
+    ``prepare(workspace)`` runs once the workspace is laid out and served (a Harbor sidecar hands it
+    to the agent's uid).
 
     Raises:
         RleError: ``task.unknown``, ``task.not_implemented``, ``ledger.attempt_used``,
@@ -244,7 +273,11 @@ def make_workspace(
     """
     from rle_tasks.core.registry import get_task
 
-    ws = layout_workspace(get_task(task_id), workspace, serve, attempt=attempt)
+    ws = layout_workspace(
+        get_task(task_id), workspace, serve, attempt=attempt, ledger_dir=ledger_dir, socket_mode=socket_mode
+    )
+    if prepare is not None:
+        prepare(ws.workspace)
     tops: dict[str, int] = {}
     for f in ws.files:
         top = f.split("/", 1)[0]

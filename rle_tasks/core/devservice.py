@@ -56,6 +56,7 @@ def serve(
     ledger_path: str | None,
     ready: Connection | None = None,
     attempt: str = "",
+    socket_mode: int | None = None,
 ) -> None:
     """Serve one development session until sealed or signalled (runs in the server process).
 
@@ -70,6 +71,8 @@ def serve(
     old = os.umask(0o077)
     try:
         listener = Listener(socket_path, family="AF_UNIX")
+        if socket_mode is not None:  # an agent of another uid connects (a Harbor sidecar's socket)
+            os.chmod(socket_path, socket_mode)
     finally:
         os.umask(old)
     if ready is not None:
@@ -105,6 +108,7 @@ def start(
     ledger_path: Path | None,
     name: str = "rle-dev",
     attempt: str = "",
+    socket_mode: int | None = None,
 ):
     """Start ``serve`` in a spawned process and wait until it listens; returns the process."""
     ctx = mp.get_context("spawn")
@@ -119,6 +123,7 @@ def start(
             str(ledger_path) if ledger_path else None,
             child,
             attempt,
+            socket_mode,
         ),
         name=name,
     )
@@ -153,11 +158,21 @@ class ServedSession:
         self.socket_path: Path | None = None
         self._proc = None
 
-    def start(self, *, key: bytes, ledger_path: Path, socket_path: Path, attempt: str = "") -> None:
+    def start(
+        self,
+        *,
+        key: bytes,
+        ledger_path: Path,
+        socket_path: Path,
+        attempt: str = "",
+        socket_mode: int | None = None,
+    ) -> None:
         self.socket_path = Path(socket_path)
         if self.socket_path.exists():
             self.socket_path.unlink()
-        self._proc = start(self.factory, self.kwargs, self.socket_path, key, ledger_path, self.name, attempt)
+        self._proc = start(
+            self.factory, self.kwargs, self.socket_path, key, ledger_path, self.name, attempt, socket_mode
+        )
 
     def stop(self, timeout: float = 30.0) -> None:
         """Seal the ledger (SIGTERM) and wait for the server to end."""
@@ -170,15 +185,22 @@ class ServedSession:
             self._proc.join(timeout)
 
 
-CLIENT_ADDRESS = """
+ADDRESS_FUNCTION = """
 def _address():
+    # the socket beside this file (core devenv's socket path, from the client's side), so the same
+    # client reaches `rle dev` and a Harbor sidecar serving the workspace's .rle/ over a shared volume
     ws = Path(__file__).resolve().parent
     path = ws / ".rle" / "ledger.sock"
     if len(str(path)) <= 100:
         return str(path)
     digest = hashlib.sha256(str(ws).encode()).hexdigest()[:16]
     return str(Path(tempfile.gettempdir()) / f"rle-ledger-{digest}.sock")
+"""
+"""Source of ``_address()`` in the workspace clients (it needs ``hashlib``, ``tempfile``, ``Path``)."""
 
+CLIENT_ADDRESS = (
+    ADDRESS_FUNCTION
+    + """
 
 class _Connection:
     # one connection to the development server; a context manager
@@ -208,6 +230,7 @@ class _Connection:
     def __exit__(self, *exc):
         self.close()
 """
+)
 """Source of the workspace clients' ``_address()`` (core ``devenv``'s socket path, from the client's
 side) and ``_Connection`` (requests, ``info``, ``seal``, a context manager); a client module imports
 ``hashlib``, ``tempfile``, ``Path``, ``multiprocessing.connection.Client`` and the ledger's

@@ -25,7 +25,13 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_tasks.core.harbor_images import AGENT_USER, agent_context, verifier_context
+from rle_tasks.core.harbor_images import (
+    AGENT_USER,
+    SIDECAR,
+    SIDECAR_LEDGER_DIR,
+    agent_context,
+    verifier_context,
+)
 from rle_tasks.core.harbor_readme import readme
 from rle_tasks.core.report import VERIFIER_VERSION
 from rle_tasks.core.task import TaskSpec
@@ -178,7 +184,28 @@ def instruction_md(spec: TaskSpec) -> str:
     return "\n".join(parts) + "\n"
 
 
-def _test_sh(spec: TaskSpec) -> str:
+def _ledger_task(spec: TaskSpec) -> bool:
+    return "ledger.jsonl" in spec.contract.required
+
+
+def sidecar_toml(spec: TaskSpec) -> str:
+    """``task.toml`` entries of a task with a development server in the sidecar (``harbor_sidecar``):
+    Harbor seals the session there after the agent phase and collects its ledger directory."""
+    return f"""
+# The development server's ledger, sealed after the agent phase and handed to the verifier.
+[[verifier.collect]]
+service = "{SIDECAR}"
+command = "python3 -m rle_tasks.core.harbor_sidecar seal"
+timeout_sec = 120
+
+[[artifacts]]
+source = "{SIDECAR_LEDGER_DIR}"
+service = "{SIDECAR}"
+"""
+
+
+def _test_sh(spec: TaskSpec, served: bool = False) -> str:
+    sidecar = f' --sidecar "{SIDECAR_LEDGER_DIR}"' if served and _ledger_task(spec) else ""
     return f"""#!/usr/bin/env bash
 # Verifier of {ORG}/{spec.id}, run as root in the separate verifier image: only /logs/artifacts crosses
 # over. rle_tasks.core.harbor_reward closes /logs/verifier to the sandboxed code, runs `rle verify` on a
@@ -189,7 +216,7 @@ LOGS=/logs
 # Workers: the task's CPU budget ({spec.budget.cpus}), fewer where the container sees fewer cores (nproc
 # reports the host's cores under a CPU quota, so it is only an upper bound).
 JOBS=$(( $(nproc) < {spec.budget.cpus} ? $(nproc) : {spec.budget.cpus} ))
-exec python3 -m rle_tasks.core.harbor_reward {spec.id} --logs "$LOGS" --jobs "$JOBS"
+exec python3 -m rle_tasks.core.harbor_reward {spec.id} --logs "$LOGS" --jobs "$JOBS"{sidecar}
 """
 
 
@@ -216,18 +243,35 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     task_dir.mkdir(parents=True)
     (task_dir / "task.toml").write_text(task_toml(spec))
     (task_dir / "instruction.md").write_text(instruction_md(spec))
-    metered = agent_context(spec, task_dir / "environment", root)
-    (task_dir / "README.md").write_text(readme(spec, metered))
-    verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec)})
-
+    served = agent_context(spec, task_dir / "environment", root)
+    if served:
+        (task_dir / "task.toml").write_text(task_toml(spec) + sidecar_toml(spec))
+    verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec, bool(served))})
+    plays = False
     if "reference" in spec.solutions:
-        from rle_tasks.core.solutions import materialise
-
         sol = task_dir / "solution"
-        materialise(spec, "reference", dest=sol / "reference")
-        (sol / "solve.sh").write_text(_SOLVE_SH)
+        solve = _playing_oracle(spec, sol) if served else None
+        plays = solve is not None
+        if solve is None:
+            from rle_tasks.core.solutions import materialise
+
+            materialise(spec, "reference", dest=sol / "reference")
+            solve = _SOLVE_SH
+        (sol / "solve.sh").write_text(solve)
         (sol / "solve.sh").chmod(0o755)
+    (task_dir / "README.md").write_text(readme(spec, served, plays))
     return task_dir
+
+
+def _playing_oracle(spec: TaskSpec, sol: Path) -> str | None:
+    """``solve.sh`` of an oracle that plays the task through the development sidecar, written by the
+    family's ``harbor_oracle(spec, dest)`` (in its solutions module); None where it has none."""
+    import importlib
+
+    if not spec.solutions_module:
+        return None
+    write = getattr(importlib.import_module(spec.solutions_module), "harbor_oracle", None)
+    return write(spec, sol) if write is not None else None
 
 
 def export_harbor(out: Path, task_ids: Sequence[str | TaskSpec] | None = None) -> list[Path]:

@@ -88,37 +88,89 @@ RUN pip install --no-deps -r {lock} --extra-index-url {TORCH_INDEX} \\
 """
 
 
-def public_workspace(spec: TaskSpec, dest: Path) -> bool:
-    """Lay out what ``rle dev`` writes for ``spec`` into ``dest``, without a metered server's client.
+def public_workspace(spec: TaskSpec, dest: Path) -> str:
+    """Lay out what ``rle dev`` writes for ``spec`` into ``dest`` (nothing is served).
 
-    The ledger server of a metered development environment holds a key derived from the verifier
-    secret, so it cannot run in the agent's image; its ``client.py`` (which would point at a socket
-    on the exporting host) is left out, and the family's public modules run the environment in-process.
+    A metered or served development environment holds a key derived from the verifier secret, so its
+    server cannot run in the agent's image: it runs in the sidecar ``dev`` (``harbor_sidecar``), and
+    the workspace's client reaches it through the socket beside itself (``.rle/ledger.sock``, a
+    volume both containers mount).
 
     Returns:
-        True when the task's development environment is metered (its client was left out).
+        ``"metered"``, ``"served"`` or ``""`` (``DevWorkspace.environment``).
     """
     from rle_tasks.core.devenv import layout_workspace
 
-    layout_workspace(spec, dest, serve=False)
-    client = dest / "client.py"
-    metered = client.is_file() and client.read_text().startswith('"""Metered development environment')
-    if metered:
-        client.unlink()
-        shutil.rmtree(dest / ".rle", ignore_errors=True)
-    return metered
+    ws = layout_workspace(spec, dest, serve=False)
+    shutil.rmtree(dest / ".rle", ignore_errors=True)
+    return ws.environment
 
 
-def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> bool:
-    """Write the agent image's build context: Dockerfile, lock file, toolkit, public workspace.
+SIDECAR = "dev"
+"""Compose service of the development server beside the agent's ``main``."""
+SIDECAR_LEDGER_DIR = "/rle-ledger"
+"""Where the sidecar keeps the ledger (``harbor_sidecar.LEDGER_DIR``), collected by Harbor."""
+
+
+def compose_file() -> str:
+    """``environment/docker-compose.yaml``: the agent's ``main`` and the development server ``dev``."""
+    return f"""# The development environment runs beside the agent, not in its container: the service `{SIDECAR}`
+# holds the ledger key (derived from RLE_SECRET), the hidden scenes and the ledger
+# ({SIDECAR_LEDGER_DIR}, collected by Harbor after the agent phase). Both services mount the agent's
+# workspace; the workspace's client reaches the server through /workspace/.rle/ledger.sock.
+services:
+  main:
+    depends_on:
+      {SIDECAR}:
+        condition: service_healthy
+    volumes:
+      - workspace:/workspace
+  {SIDECAR}:
+    build:
+      context: ./{SIDECAR}
+    environment:  # the sidecar refuses to serve without a private secret, unless a smoke test says so
+      RLE_SECRET: ${{RLE_SECRET:-}}
+      RLE_ALLOW_PUBLIC_KEY: ${{RLE_ALLOW_PUBLIC_KEY:-0}}
+    volumes:
+      - workspace:/workspace
+    healthcheck:
+      test: ["CMD", "test", "-S", "/workspace/.rle/ledger.sock"]
+      interval: 2s
+      timeout: 5s
+      retries: 300
+volumes:
+  workspace: {{}}
+"""
+
+
+def sidecar_context(spec: TaskSpec, dest: Path, root: Path) -> None:
+    """The sidecar image's build context: the whole project (as the verifier's), serving the task."""
+    dest.mkdir(parents=True)
+    shutil.copyfile(lock_file(root), dest / LOCK_FILE)
+    _copy_packages(root, dest / "rle-bench", VERIFIER_PACKAGES, _PROJECT_FILES)
+    (dest / "Dockerfile").write_text(
+        _install("/opt/rle-bench/requirements.lock")
+        + "COPY rle-bench /opt/rle-bench\n"
+        + "RUN pip install --no-deps -e /opt/rle-bench\n"
+        + f'CMD ["sh", "-c", "python3 -m rle_tasks.core.harbor_sidecar serve {spec.id}; exec sleep infinity"]\n'
+    )
+
+
+def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> str:
+    """Write the agent image's build context: Dockerfile, lock file, toolkit, public workspace, and,
+    for a task with a development server, the compose file and the sidecar's context.
 
     Returns:
-        True when the task's development environment is metered (see ``public_workspace``).
+        The task's development environment (see ``public_workspace``).
     """
     env_dir.mkdir(parents=True)
     shutil.copyfile(lock_file(root), env_dir / LOCK_FILE)
     _copy_packages(root, env_dir / "rle-bench", PUBLIC_PACKAGES, ("LICENSE",))
-    metered = public_workspace(spec, env_dir / "workspace")
+    served = public_workspace(spec, env_dir / "workspace")
+    if served:
+        (env_dir / "docker-compose.yaml").write_text(compose_file())
+        sidecar_context(spec, env_dir / SIDECAR, root)
+        (env_dir / ".dockerignore").write_text(f"{SIDECAR}/\n")  # not part of the agent's image
     dockerfile = _install("/opt/rle-bench/requirements.lock") + (
         "COPY rle-bench /opt/rle-bench\n"
         "ENV PYTHONPATH=/opt/rle-bench\n"
@@ -128,7 +180,7 @@ def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> bool:
         "WORKDIR /workspace\n"
     )
     (env_dir / "Dockerfile").write_text(dockerfile)
-    return metered
+    return served
 
 
 def verifier_context(tests_dir: Path, root: Path, scripts: dict[str, str]) -> None:

@@ -5,12 +5,27 @@ from __future__ import annotations
 from rle_tasks.core.task import TaskSpec
 
 
-def _reference_line(spec: TaskSpec) -> str:
+def _reference_line(spec: TaskSpec, served: str = "", plays: bool = False) -> str:
     if "reference" not in spec.solutions or not spec.solutions_module:
         return "This task ships no reference solution, so the oracle agent has nothing to submit."
     from rle_tasks.core.solutions import declaration
 
     ref = declaration(spec).get("reference")
+    if plays:
+        return (
+            f"Harbor's oracle agent plays the reference program (`solution/oracle.py`) through the "
+            f"development sidecar, in the trial's own attempt, and seals the session. With the public "
+            f"development key its recorded session scores **{ref.quick_score:.3f}** (the golden score pinned in "
+            f"`{spec.solutions_module}`); with your private secret the target scenes are others, so expect "
+            "a score near it, not the same digits."
+        )
+    if served and "ledger.jsonl" in spec.contract.required:
+        return (
+            "The verifier scores the session of the development sidecar, never a ledger copied into "
+            "`/logs/artifacts`; the reference program reads privileged state the agent's client does not "
+            "give, so Harbor's oracle agent (which copies the shipped ledger) scores **0**. "
+            f"The reference's own golden score (public key, quick mode) is {ref.quick_score:.3f}."
+        )
     return (
         f"The reference solution (`solution/reference/`, submitted by Harbor's oracle agent) scores "
         f"**{ref.quick_score:.3f}** in the verifier's quick mode with the public development key (the "
@@ -21,14 +36,19 @@ def _reference_line(spec: TaskSpec) -> str:
     )
 
 
-def readme(spec: TaskSpec, metered: bool = False) -> str:
-    """The README text of one exported task (``metered``: its development environment is metered)."""
+def readme(spec: TaskSpec, served: str = "", plays: bool = False) -> str:
+    """The README text of one exported task (``served``: its development environment's kind)."""
     b, c = spec.budget, spec.contract
     metered_note = (
-        "\nThe metered development environment of `rle dev` is not served in the agent's image: its "
-        "ledger server holds a key derived from the secret. The public modules in `/workspace` run the "
-        "environment in-process, so an interaction budget is not enforced there.\n"
-        if metered
+        f"\nThe {served} development environment of `rle dev` runs beside the agent as the compose service "
+        "`dev` (`environment/docker-compose.yaml`, built from `environment/dev/`): it holds the ledger key "
+        "derived from `RLE_SECRET`, the hidden scenes and the ledger, draws the trial's attempt id, and "
+        "serves the workspace's client through `/workspace/.rle/ledger.sock` (a volume of both). After "
+        "the agent phase Harbor seals the session in it (`[[verifier.collect]]`) and hands its ledger and "
+        "attempt to the verifier (`[[artifacts]]` of the service), which verifies that ledger as that "
+        "attempt, whatever the agent left in `/logs/artifacts`. Docker's compose environment runs it "
+        "(`harbor run -e docker`).\n"
+        if served
         else ""
     )
     steps = f"{b.steps} charged interaction steps" if b.steps is not None else "unmetered"
@@ -38,7 +58,7 @@ Workflow: {spec.workflow}; family {spec.family:02d}. `instruction.md` is what th
 
 ## Expected score
 
-{_reference_line(spec)}
+{_reference_line(spec, served, plays)}
 
 ## Secret
 

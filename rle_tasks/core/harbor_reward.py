@@ -131,8 +131,25 @@ def reward_from_report(report: dict, secret_private: bool) -> dict[str, float]:
     return reward
 
 
-def run(task_id: str, logs: Path, jobs: int, environ: dict[str, str]) -> int:
+def sidecar_session(sidecar: Path) -> tuple[Path, str]:
+    """(ledger, attempt) the development sidecar left (``harbor_sidecar.seal``), collected by Harbor.
+
+    Raises:
+        VerifierSetupError: the sidecar left no attempt (it did not run): no reward.
+    """
+    try:
+        attempt = (sidecar / "attempt").read_text().strip()
+    except OSError as exc:
+        raise VerifierSetupError(f"the development sidecar left no attempt in {sidecar}: {exc}") from None
+    return sidecar / "ledger.jsonl", attempt
+
+
+def run(task_id: str, logs: Path, jobs: int, environ: dict[str, str], sidecar: Path | None = None) -> int:
     """Verify ``logs/artifacts`` for ``task_id`` and write ``logs/verifier/reward.json``.
+
+    With ``sidecar`` (the development server's ledger directory, collected from the sidecar) the
+    artifact's ``ledger.jsonl`` is that session's ledger, whatever the agent wrote, and the report
+    is verified as the sidecar's attempt (``rle verify --attempt``).
 
     Returns:
         0 with a reward written; 1 (no reward file) on any verifier-side fault.
@@ -156,6 +173,16 @@ def run(task_id: str, logs: Path, jobs: int, environ: dict[str, str]) -> int:
             artifacts.mkdir()
         report_path = work / "report.json"
         cmd = ["rle", "verify", task_id, str(artifacts), "--json", str(report_path), "--jobs", str(jobs)]
+        if sidecar is not None:
+            ledger, attempt = sidecar_session(sidecar)
+            target = artifacts / "ledger.jsonl"  # the agent's own file never stands in for the session's
+            if target.is_dir() and not target.is_symlink():
+                shutil.rmtree(target)
+            elif target.exists() or target.is_symlink():
+                target.unlink()
+            if ledger.is_file():
+                shutil.copyfile(ledger, target)
+            cmd += ["--attempt", attempt]
         with open(_create(vfd, "verify.log"), "wb") as log:
             status = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, env=environ).returncode
         if report_path.is_file():  # a copy for the operator; the reward is computed from the private one
@@ -183,9 +210,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("task")
     parser.add_argument("--logs", default="/logs")
     parser.add_argument("--jobs", type=int, default=1)
+    parser.add_argument("--sidecar", default=None, help="ledger directory collected from the dev sidecar")
     args = parser.parse_args(argv)
     try:
-        return run(args.task, Path(args.logs), args.jobs, dict(os.environ))
+        sidecar = Path(args.sidecar) if args.sidecar else None
+        return run(args.task, Path(args.logs), args.jobs, dict(os.environ), sidecar)
     except (VerifierSetupError, OSError, ValueError, KeyError) as exc:
         print(f"rle-bench verifier error: {exc}", file=sys.stderr)
         return 1

@@ -62,12 +62,14 @@ def test_agent_context_holds_only_toolkit_and_public_workspace(exported, tmp_pat
             leaks.pop(h, None)  # published by `rle dev` or the toolkit itself: public by definition
         problems = []
         for rel, digest in _files(env).items():
+            if rel.startswith("dev/"):
+                continue  # the development sidecar's context: never part of the agent's image (below)
             parts = set(Path(rel).parts)
             if parts & FORBIDDEN_PARTS:
                 problems.append(f"{rel}: forbidden path component {sorted(parts & FORBIDDEN_PARTS)}")
             if digest in leaks:
                 problems.append(f"{rel}: same bytes as {leaks[digest]}")
-            if rel in ("Dockerfile", "requirements.lock"):
+            if rel in ("Dockerfile", "requirements.lock", "docker-compose.yaml", ".dockerignore"):
                 continue
             if rel.startswith("rle-bench/rle_design/"):
                 ok = toolkit.get(rel.removeprefix("rle-bench/rle_design/")) == digest
@@ -78,11 +80,13 @@ def test_agent_context_holds_only_toolkit_and_public_workspace(exported, tmp_pat
             if not ok:
                 problems.append(f"{rel}: neither toolkit nor public workspace")
         assert not problems, f"{spec.id} agent context:\n" + "\n".join(problems)
-        # everything `rle dev` lays out, except the client of a metered server (which needs the key)
+        # everything `rle dev` lays out, its clients included (their server runs in the sidecar)
         shipped = {r.removeprefix("workspace/") for r in _files(env) if r.startswith("workspace/")}
-        assert set(public) - shipped <= {"client.py"} and shipped <= set(public)
+        assert shipped == set(public)
         dockerfile = (env / "Dockerfile").read_text()
         assert "rle_tasks" not in dockerfile and "COPY workspace /workspace" in dockerfile
+        if (env / "dev").exists():
+            assert (env / ".dockerignore").read_text() == "dev/\n" and "COPY dev" not in dockerfile
 
 
 def test_verifier_context_holds_the_whole_project(exported):

@@ -252,8 +252,9 @@ def _metered_dev_env(workspace):
     return MeteredEnv(SLIDER, n_substeps=5)
 
 
-def test_metered_dev_env_ships_without_its_server_client(tmp_path):
-    """The ledger server needs a key derived from the secret: its client is left out of the image."""
+def test_a_metered_dev_env_is_served_by_the_sidecar(tmp_path):
+    """The ledger server needs a key derived from the secret: it runs in the sidecar ``dev``, and the
+    workspace's client reaches it through the socket in the shared workspace."""
     spec = TaskSpec(
         "07-metered",
         7,
@@ -264,5 +265,9 @@ def test_metered_dev_env_ships_without_its_server_client(tmp_path):
     )
     (task_dir,) = export_harbor(tmp_path / "out", [spec])
     ws = task_dir / "environment" / "workspace"
-    assert sorted(p.name for p in ws.iterdir()) == ["helpers.py", "instruction.md"]
-    assert "not served in the agent's image" in (task_dir / "README.md").read_text()
+    assert sorted(p.name for p in ws.iterdir()) == ["client.py", "helpers.py", "instruction.md"]
+    assert "runs beside the agent as the compose service `dev`" in (task_dir / "README.md").read_text()
+    assert (task_dir / "environment" / "docker-compose.yaml").is_file()
+    assert "python3 -m rle_tasks.core.harbor_sidecar serve 07-metered" in (
+        task_dir / "environment" / "dev" / "Dockerfile"
+    ).read_text()

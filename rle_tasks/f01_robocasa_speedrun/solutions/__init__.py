@@ -19,7 +19,7 @@ from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
 
-__all__ = ["LEDGER", "SOLUTIONS", "gunzip", "ledger_dir", "tamper"]
+__all__ = ["LEDGER", "SOLUTIONS", "gunzip", "harbor_oracle", "ledger_dir", "tamper"]
 
 LEDGER = "ledger.jsonl"
 PACKAGE = "rle_tasks.f01_robocasa_speedrun"
@@ -42,6 +42,13 @@ def tamper(directory: Path) -> None:
     digit = b"1" if line[at : at + 1] != b"1" else b"2"
     lines[k] = line[:at] + digit + line[at + 1 :]
     path.write_bytes(b"".join(lines))
+
+
+def harbor_oracle(spec, dest: Path) -> str | None:
+    """The Harbor oracle that plays the task through the development sidecar (``oracle``)."""
+    from .oracle import harbor_oracle as write
+
+    return write(spec, dest)
 
 
 def ledger_dir(task_id: str, name: str) -> str:

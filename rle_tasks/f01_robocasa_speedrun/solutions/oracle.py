@@ -1,0 +1,68 @@
+"""The Harbor oracle of family 01: the reference program, playing the task through the sidecar.
+
+An exported task's development server runs in its sidecar (``rle_tasks.core.harbor_sidecar``), so an
+oracle trial scores only what is played there. ``harbor_oracle`` writes into the task's ``solution/``
+the agent programs of ``agents`` (the same files, their harness imports pointed at the workspace's
+``harness`` package, which holds the same modules) and ``oracle.py``, which connects with the
+workspace's ``client.py`` and plays the session as ``make_ledgers`` does: one pretrain episode, then
+the five evaluation trials, then the seal.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+HARNESS_IMPORT = "rle_tasks.envs.kitchen.harness"
+"""The harness package as the programs import it; the workspace's copy is ``harness``."""
+BUILD_ONLY = ("trial.py",)
+"""Agent modules of development runs only (they need the verifier's scene sets)."""
+
+_ORACLE = '''"""Oracle of {task_id}: the reference program plays the session through the development sidecar."""
+
+import sys
+
+sys.path[:0] = ["/workspace", "/solution"]
+
+from agents import play  # noqa: E402
+from client import connect  # noqa: E402
+
+with connect() as env:
+    wins = play(env, {task!r}, level={level})
+    print(f"trials as the program saw them: {{wins}}", flush=True)
+    env.seal()
+'''
+
+_SOLVE = """#!/usr/bin/env bash
+# Oracle: the reference program plays the task through the development sidecar, then seals.
+set -euo pipefail
+cd /workspace
+exec python3 /solution/oracle.py
+"""
+
+
+def harbor_oracle(spec, dest: Path) -> str | None:
+    """Write the playing oracle of ``spec`` into ``dest``; returns ``solve.sh``, or None when no
+    program of its task runs at its level.
+
+    Raises:
+        ValueError: a copied program still imports the verifier's package.
+    """
+    from ..task import KITCHEN_TASKS, LEVELS
+    from . import agents
+
+    match = [(k, lv) for k in KITCHEN_TASKS for lv in LEVELS if k.task_id(lv) == spec.id]
+    if not match or not agents.available(match[0][0].task, match[0][1]):
+        return None
+    kitchen, level = match[0]
+    out = Path(dest) / "agents"
+    out.mkdir(parents=True, exist_ok=True)
+    for src in sorted((HERE / "agents").glob("*.py")):
+        if src.name in BUILD_ONLY:
+            continue
+        text = src.read_text().replace(HARNESS_IMPORT, "harness")
+        if "rle_tasks" in text:
+            raise ValueError(f"{src.name} imports rle_tasks, which the agent's image does not hold")
+        (out / src.name).write_text(text)
+    (Path(dest) / "oracle.py").write_text(_ORACLE.format(task_id=spec.id, task=kitchen.task, level=level))
+    return _SOLVE

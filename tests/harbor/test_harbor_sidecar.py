@@ -1,0 +1,176 @@
+"""Exported tasks with a development server: the server runs in the sidecar ``dev``, the verifier scores
+its session as its attempt, and the oracle of family 01 plays through it.
+
+The sidecar's commands run here as processes (no Docker): ``serve`` in a workspace and ledger
+directory of the test's own, a client that connects as the agent's would, ``seal`` as Harbor's collect
+hook runs it; ``harbor_reward --sidecar`` with a stand-in ``rle`` that records what it was asked.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import stat
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import pytest
+import yaml
+
+from rle_design.ledger import Limits, check_ledger
+from rle_design.paths import REPO_ROOT
+from rle_tasks.core.devenv import ledger_key
+from rle_tasks.core.harbor import export_harbor
+from rle_tasks.core.secrets import Secret
+
+SECRET = "sidecar-test-secret"
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory):
+    out = tmp_path_factory.mktemp("export")
+    dirs = export_harbor(out, ["01-open-fridge-l3", "03-cantilever", "09-gello"])
+    return {d.name: d for d in dirs}
+
+
+def test_a_metered_task_runs_its_server_in_the_sidecar(exported):
+    task = exported["01-open-fridge-l3"]
+    compose = yaml.safe_load((task / "environment" / "docker-compose.yaml").read_text())
+    main, dev = compose["services"]["main"], compose["services"]["dev"]
+    assert main["depends_on"] == {"dev": {"condition": "service_healthy"}}
+    assert main["volumes"] == dev["volumes"] == ["workspace:/workspace"]
+    assert dev["build"] == {"context": "./dev"} and "RLE_SECRET" in dev["environment"]
+    assert "/workspace/.rle/ledger.sock" in " ".join(dev["healthcheck"]["test"])
+    assert (task / "environment" / "dev" / "rle-bench" / "rle_tasks").is_dir()  # the server's code
+    assert not (task / "environment" / "workspace" / ".rle").exists()
+    assert (task / "environment" / ".dockerignore").read_text() == "dev/\n"  # not in the agent's image
+    cfg = tomllib.loads((task / "task.toml").read_text())
+    assert cfg["verifier"]["collect"] == [
+        {"service": "dev", "command": "python3 -m rle_tasks.core.harbor_sidecar seal", "timeout_sec": 120}
+    ]
+    assert cfg["artifacts"] == [{"source": "/rle-ledger", "service": "dev"}]
+    assert '--sidecar "/rle-ledger"' in (task / "tests" / "test.sh").read_text()
+    client = (task / "environment" / "workspace" / "client.py").read_text()
+    assert 'path = ws / ".rle" / "ledger.sock"' in client and "/tmp/" not in client.split("def _address")[0]
+    assert "development sidecar" in (task / "README.md").read_text()
+
+
+def test_the_oracle_of_family_01_plays_through_the_sidecar(exported):
+    sol = exported["01-open-fridge-l3"] / "solution"
+    assert not (sol / "reference").exists()  # no copied ledger: it would not count
+    assert "python3 /solution/oracle.py" in (sol / "solve.sh").read_text()
+    oracle = (sol / "oracle.py").read_text()
+    assert "from client import connect" in oracle and "play(env, 'OpenFridge', level=3)" in oracle
+    programs = {p.name: p.read_text() for p in (sol / "agents").glob("*.py")}
+    assert "open_fridge.py" in programs and "trial.py" not in programs
+    assert not any("rle_tasks" in text for text in programs.values())  # the agent's image has none
+    assert "plays the reference program" in (exported["01-open-fridge-l3"] / "README.md").read_text()
+
+
+def test_a_ledger_task_whose_reference_reads_privileged_state_says_its_oracle_scores_zero(exported):
+    task = exported["03-cantilever"]
+    assert (task / "environment" / "docker-compose.yaml").is_file()
+    assert "scores **0**" in (task / "README.md").read_text()
+    plain = exported["09-gello"]  # no development server: no sidecar
+    assert not (plain / "environment" / "docker-compose.yaml").exists()
+    assert "collect" not in tomllib.loads((plain / "task.toml").read_text())["verifier"]
+
+
+def _client(workspace: Path):
+    spec = importlib.util.spec_from_file_location("ws_client", workspace / "client.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _sidecar(*args: str, env: dict[str, str]) -> subprocess.Popen:
+    return subprocess.Popen(
+        [sys.executable, "-m", "rle_tasks.core.harbor_sidecar", *args],
+        env={**os.environ, "PYTHONPATH": str(REPO_ROOT), **env},
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+    )
+
+
+def test_the_sidecar_serves_an_attempt_of_its_own_and_leaves_its_sealed_ledger(tmp_path):
+    ws, ledgers = tmp_path / "ws", tmp_path / "ledgers"
+    where = ["--workspace", str(ws), "--ledger-dir", str(ledgers)]
+    refused = _sidecar("serve", "03-cantilever", *where, env={"RLE_SECRET": "", "RLE_ALLOW_PUBLIC_KEY": "0"})
+    assert refused.wait(60) == 2 and b"RLE_SECRET is not set" in refused.stdout.read()
+    server = _sidecar("serve", "03-cantilever", *where, env={"RLE_SECRET": SECRET})
+    try:
+        sock = ws / ".rle" / "ledger.sock"
+        deadline = time.monotonic() + 90
+        while not sock.exists():
+            assert time.monotonic() < deadline and server.poll() is None, server.stdout.read()
+            time.sleep(0.1)
+        assert stat.S_IMODE(sock.stat().st_mode) == 0o666  # the agent's uid connects
+        with _client(ws).connect() as env:  # the workspace's own client, as the agent runs it
+            env.reset()
+            env.step([0.0] * env.info()["action_size"])
+        sealed = subprocess.run(
+            [sys.executable, "-m", "rle_tasks.core.harbor_sidecar", "seal", *where],
+            env={**os.environ, "PYTHONPATH": str(REPO_ROOT)},
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert sealed.returncode == 0, sealed.stderr
+        assert server.wait(60) == 0
+    finally:
+        if server.poll() is None:
+            server.kill()
+    attempt = (ledgers / "attempt").read_text().strip()
+    assert attempt.startswith("harbor-") and len(attempt) == len("harbor-") + 16
+    from rle_tasks.f03_physical_reasoning.task import BUDGET
+
+    key = ledger_key(Secret(SECRET.encode(), public=False), "03-cantilever")
+    limits = Limits(BUDGET.steps, BUDGET.wall_time_s)
+    gate = check_ledger(ledgers / "ledger.jsonl", key, "03-cantilever", limits, attempt)
+    assert gate.ok and gate.development_steps == 2, gate.message
+    assert check_ledger(ledgers / "ledger.jsonl", key, "03-cantilever", limits, "harbor-other").code == (
+        "ledger.wrong_attempt"
+    )
+
+
+FAKE_RLE = """#!{python}
+import json, sys
+from pathlib import Path
+args = sys.argv[1:]
+artifacts = Path(args[2])
+seen = {{"args": args, "ledger": (artifacts / "ledger.jsonl").read_text() if (artifacts / "ledger.jsonl").exists() else None}}
+Path({mark!r}).write_text(json.dumps(seen))
+Path(args[args.index("--json") + 1]).write_text(json.dumps({{"score": 0.5, "secret": "private", "checkpoints": []}}))
+"""
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="the verifier runs as root in its container")
+def test_the_verifier_scores_the_sidecars_session_as_its_attempt(tmp_path):
+    from rle_tasks.core.harbor_reward import VerifierSetupError, run
+
+    logs = tmp_path / "logs"
+    for sub in ("artifacts", "verifier"):
+        (logs / sub).mkdir(parents=True)
+    (logs / "artifacts" / "ledger.jsonl").write_text("the agent's own ledger\n")
+    sidecar = tmp_path / "rle-ledger"
+    sidecar.mkdir()
+    (sidecar / "ledger.jsonl").write_text("the session's ledger\n")
+    (sidecar / "attempt").write_text("harbor-0123456789abcdef\n")
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    mark = tmp_path / "seen.json"
+    (bin_dir / "rle").write_text(FAKE_RLE.format(python=sys.executable, mark=str(mark)))
+    (bin_dir / "rle").chmod(0o755)
+    env = {"PATH": f"{bin_dir}:{os.environ['PATH']}", "RLE_SECRET": SECRET}
+    assert run("03-cantilever", logs, 1, env, sidecar) == 0
+    seen = json.loads(mark.read_text())
+    assert seen["ledger"] == "the session's ledger\n"
+    assert seen["args"][-2:] == ["--attempt", "harbor-0123456789abcdef"]
+    assert json.loads((logs / "verifier" / "reward.json").read_text())["reward"] == 0.5
+    (sidecar / "attempt").unlink()  # the sidecar never ran: no reward rather than an unbound score
+    with pytest.raises(VerifierSetupError, match="left no attempt"):
+        run("03-cantilever", logs, 1, env, sidecar)
