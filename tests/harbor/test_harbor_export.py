@@ -268,6 +268,7 @@ def test_a_metered_dev_env_is_served_by_the_sidecar(tmp_path):
     assert sorted(p.name for p in ws.iterdir()) == ["client.py", "helpers.py", "instruction.md"]
     assert "runs beside the agent as the compose service `dev`" in (task_dir / "README.md").read_text()
     assert (task_dir / "environment" / "docker-compose.yaml").is_file()
-    assert "python3 -m rle_tasks.core.harbor_sidecar serve 07-metered" in (
-        task_dir / "environment" / "dev" / "Dockerfile"
-    ).read_text()
+    assert (
+        "python3 -m rle_tasks.core.harbor_sidecar serve 07-metered"
+        in (task_dir / "environment" / "dev" / "Dockerfile").read_text()
+    )
