@@ -61,7 +61,12 @@ outside this workspace; call env.seal() only when you are done (it ends the sess
 
 import hashlib
 import tempfile
+import warnings
 from pathlib import Path
+
+with warnings.catch_warnings():  # the simulator runs in the server: this process's BLAS kernels do not matter
+    warnings.simplefilter("ignore", RuntimeWarning)
+    import rle_design  # noqa: F401
 {address_function}
 
 def connect():
@@ -283,10 +288,13 @@ def make_workspace(
         top = f.split("/", 1)[0]
         tops[top] = tops.get(top, 0) + 1
     shown = ", ".join(f"{t}/ ({n} files)" if n > 1 or "/" in t else t for t, n in sorted(tops.items()))
+    if ws.server is not None:
+        print(
+            f"rle dev serves in the foreground (process {os.getpid()}): run it in its own terminal or with `&`"
+        )
     print(f"workspace {ws.workspace} laid out for {task_id} (attempt {ws.attempt}): {shown or '(no files)'}")
     if ws.server is not None:
         print(
-            f"serving in the foreground (process {os.getpid()}): run `rle dev` in its own terminal or with `&`. "
             f"Metered environment listening on {ws.server.socket_path}; connect with "
             f"`from {getattr(ws.server, 'client', 'client')} import connect` in the workspace. Ledger: {ws.ledger_path}. "
             f"Ctrl-C, `kill {os.getpid()}` or a client's seal() seals the ledger and stops the server.",

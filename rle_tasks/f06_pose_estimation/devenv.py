@@ -41,7 +41,11 @@ import tempfile
 from multiprocessing.connection import Client
 from pathlib import Path
 
-from rle_design.ledger.server import decode, encode
+import warnings
+
+with warnings.catch_warnings():  # the simulator runs in the server: this process's BLAS kernels do not matter
+    warnings.simplefilter("ignore", RuntimeWarning)
+    from rle_design.ledger.server import decode, encode
 {address}
 
 class DevClient(_Connection):

@@ -158,7 +158,7 @@ def test_cli_dev_serves_in_the_foreground_until_the_agent_seals(tmp_path, monkey
     assert steps == [2]
     out = capsys.readouterr().out
     assert f"Metered environment listening on {workspace / '.rle' / 'ledger.sock'}" in out
-    assert out.splitlines()[1].startswith("serving in the foreground")
+    assert out.splitlines()[0].startswith("rle dev serves in the foreground")
     public = Secret(PUBLIC_KEY, public=True)  # no secret given: public key
     ledger = tmp_path / "ws.ledger" / f"{default_attempt(workspace)}.jsonl"
     assert verify_ledger(ledger, ledger_key(public, TASK), TASK).valid
