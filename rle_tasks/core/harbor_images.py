@@ -82,9 +82,12 @@ RUN apt-get update \\
  && apt-get install -y --no-install-recommends {APT_PACKAGES} \\
  && rm -rf /var/lib/apt/lists/*
 COPY {LOCK_FILE} {lock}
-# Exact versions of the lock file; robosuite and mjlab are asset sources, without dependencies.
-RUN pip install --no-deps -r {lock} --extra-index-url {TORCH_INDEX} \\
- && pip install --no-deps {ROBOSUITE} {MJLAB}
+# Exact versions of the lock file; only torch's CPU build comes from PyTorch's index, so that index is
+# asked once, not for every package; robosuite and mjlab are asset sources, without dependencies.
+RUN grep -E '^torch==' {lock} > /tmp/torch.txt && grep -vE '^torch==' {lock} > /tmp/rest.txt \\
+ && pip install --no-deps -r /tmp/torch.txt --extra-index-url {TORCH_INDEX} \\
+ && pip install --no-deps -r /tmp/rest.txt \\
+ && pip install --no-deps {ROBOSUITE} {MJLAB} && rm /tmp/torch.txt /tmp/rest.txt
 """
 
 

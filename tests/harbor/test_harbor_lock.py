@@ -68,7 +68,11 @@ def test_make_ci_and_images_use_the_lock(exported):
         for image in ("environment", "tests"):
             assert (task_dir / image / "requirements.lock").read_bytes() == lock
             dockerfile = (task_dir / image / "Dockerfile").read_text()
-            assert "RUN pip install --no-deps -r /opt/rle-bench/requirements.lock" in dockerfile
+            # every line of the lock, torch's from PyTorch's index and the rest from the default one
+            assert "grep -E '^torch==' /opt/rle-bench/requirements.lock > /tmp/torch.txt" in dockerfile
+            assert "grep -vE '^torch==' /opt/rle-bench/requirements.lock > /tmp/rest.txt" in dockerfile
+            assert "pip install --no-deps -r /tmp/torch.txt --extra-index-url" in dockerfile
+            assert "pip install --no-deps -r /tmp/rest.txt \\\n" in dockerfile
             assert "pip install --no-deps robosuite==1.5.2" in dockerfile
 
 
