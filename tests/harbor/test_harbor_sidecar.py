@@ -57,6 +57,8 @@ def test_a_metered_task_runs_its_server_in_the_sidecar(exported):
     client = (task / "environment" / "workspace" / "client.py").read_text()
     assert 'path = ws / ".rle" / "ledger.sock"' in client and "/tmp/" not in client.split("def _address")[0]
     assert "development sidecar" in (task / "README.md").read_text()
+    instruction = (task / "instruction.md").read_text()
+    assert "already runs beside your container" in instruction and "need not copy a ledger" in instruction
 
 
 def test_the_oracle_of_family_01_plays_through_the_sidecar(exported):
