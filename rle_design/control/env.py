@@ -179,6 +179,10 @@ class TabletopEnv(MeteredEnv):
                     "target_pos": data.mocap_pos[arm.mocap].copy(),
                     "target_quat": data.mocap_quat[arm.mocap].copy(),
                     "gripper": float(data.qpos[arm.finger_q[0]] - data.qpos[arm.finger_q[1]]),
+                    # the gripper command last sent (-1 open ... +1 closed), as the action gives it
+                    "gripper_command": float(
+                        np.clip(1.0 - 2.0 * data.ctrl[arm.fingers[0]] / FINGER_MAX, -1, 1)
+                    ),
                     "base_pos": data.xpos[arm.base].copy(),
                     "base_quat": base_quat,
                 }

@@ -13,6 +13,7 @@ the final pose error is closed by measurement, not by a model of the load.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -51,7 +52,7 @@ class CartesianHelper:
         step: Sends one action, returns the observation (``LedgerClient.step`` or a session's).
         obs: The current observation (e.g. from ``reset`` or ``observe``).
         arm: Index of the arm moved; the other arms get holding actions (their grippers at
-            ``grips[i]``, open by default: set it to keep another arm's grasp).
+            ``grips[i]``).
         n_arms: Arms in the action.
         arm_size: Numbers per arm in the action (12, or 7 for the pose-and-gripper layout).
     """
@@ -64,8 +65,13 @@ class CartesianHelper:
         self.arm = arm
         self.n_arms = n_arms
         self.arm_size = arm_size
-        self.grips = [-1.0] * n_arms
-        self.grip = -1.0
+        # every gripper keeps the command it has (the observation's ``gripper_command``; open where an
+        # observation does not say): a helper made while an arm holds a part does not drop it
+        arms = obs.get("arms", []) if isinstance(obs, dict) else []
+        self.grips = [
+            float(arms[i].get("gripper_command", -1.0)) if i < len(arms) else -1.0 for i in range(n_arms)
+        ]
+        self.grip = self.grips[arm]
         self.steps = 0
         self.issued: list[np.ndarray] = []
         self.record = False
@@ -143,7 +149,16 @@ class CartesianHelper:
         s = self.state
         e_pos = float(np.linalg.norm(goal - np.asarray(s["ee_pos"])))
         e_rot = float(np.linalg.norm(orientation_error(goal_q, np.asarray(s["ee_quat"]))))
-        return MoveResult(e_pos < tol_pos and e_rot < tol_rot, n, e_pos, e_rot)
+        reached = e_pos < tol_pos and e_rot < tol_rot
+        if not reached:
+            warnings.warn(
+                f"move_to used its {max_steps} actions and ended {1000 * e_pos:.1f} mm and {e_rot:.3f} rad from the "
+                f"goal (tolerance {1000 * tol_pos:.1f} mm, {tol_rot:.3f} rad): a pose the arm cannot reach, or a "
+                "blocked path, keeps its error",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+        return MoveResult(reached, n, e_pos, e_rot)
 
     def wait(self, steps: int) -> None:
         """Hold the current targets for ``steps`` actions."""

@@ -10,9 +10,10 @@ def format_scorecard(report: VerifierReport) -> str:
     if report.cap is not None:
         lines.append(f"  cap applied: {report.cap}")
     if report.checkpoints:
-        lines.append(f"  {'checkpoint':<34} {'weight':>6} {'score':>6} {'credit':>7}  message")
+        lines.append(f"  {'checkpoint':<35} {'weight':>6} {'score':>6} {'credit':>7}  message")
         for c in report.checkpoints:
-            mark = "ok " if c.passed else "FAIL"
+            # a checkpoint that earns part of its weight is neither passed nor failed
+            mark = "ok  " if c.passed else ("part" if c.score > 0 else "FAIL")
             msg = c.message.splitlines()[0][:90] if c.message else ""
             lines.append(f"  {mark} {c.id:<30} {c.weight:>6.3f} {c.score:>6.3f} {c.credit:>7.4f}  {msg}")
     for e in report.errors:

@@ -111,6 +111,32 @@ def test_helper_issues_only_ordinary_actions(scene: tuple[TabletopEnv, mujoco.Mj
     assert not arr[:, 7:].any()  # base, torso, mode never used by a fixed arm
 
 
+def test_a_new_helper_keeps_the_grasp_and_move_to_warns_when_it_cannot_reach(
+    scene: tuple[TabletopEnv, mujoco.MjModel],
+) -> None:
+    """A helper made while the gripper holds a block keeps it closed (``gripper_command`` +1); a goal
+    out of reach ends with a warning and ``reached`` False."""
+    env, model = scene
+    data = _reset(env, model)
+    assert env.observe(model, data)["arms"][0]["gripper_command"] == -1.0  # reset: open
+
+    def step(action: np.ndarray) -> dict:
+        env.step(model, data, action)
+        return env.observe(model, data)
+
+    first = CartesianHelper(step, env.observe(model, data))
+    goal = np.array([0.3, 0.2, 0.79])
+    assert first.move_to(goal + [0.0, 0.0, 0.1]).reached and first.move_to(goal).reached
+    first.grasp()
+    second = CartesianHelper(step, env.observe(model, data))
+    assert second.grip == 1.0
+    assert second.move_to(goal + [0.0, 0.0, 0.1]).reached
+    assert data.qpos[model.jnt_qposadr[model.joint("block").id] + 2] > 0.84  # still held
+    with pytest.warns(RuntimeWarning, match="move_to used its 30 actions"):
+        far = second.move_to(np.array([2.0, 0.0, 0.9]), max_steps=30)  # 2 m away: out of reach
+    assert not far.reached and far.steps == 30
+
+
 def test_metered_session_replays_to_the_same_final_state(
     scene: tuple[TabletopEnv, mujoco.MjModel], tmp_path
 ) -> None:
