@@ -34,18 +34,19 @@ def test_scripted_model_signature():
 
 
 def test_session_meters_evaluations(tmp_path, monkeypatch):
-    from rle_design.ledger.records import LedgerError, LedgerWriter
+    from rle_design.ledger.records import LedgerError
     from rle_design.ledger.verify import verify_ledger
     from rle_tasks.f06_pose_estimation import devserver, service
 
     monkeypatch.setattr(devserver, "design_evaluation", lambda task_id, root: {"score": 0.5})
     key = b"k" * 32
-    writer = LedgerWriter(tmp_path / "l.jsonl", key, "06-pose-a-rgb")
-    session = service._Session("06-pose-a-rgb", tmp_path, writer)
+    session = service.open_session(
+        key=key, ledger_path=tmp_path / "l.jsonl", task_id="06-pose-a-rgb", workspace=str(tmp_path)
+    )
     for i in range(service.EVALUATIONS):
         meta, out = session.handle({"op": "evaluate"}, None)
         assert meta["used"] == i + 1 and out["score"] == 0.5
-    with pytest.raises(LedgerError, match="design-set evaluations of this session are used up"):
+    with pytest.raises(LedgerError, match="0 of the attempt's 6 left"):
         session.handle({"op": "evaluate"}, None)
     with pytest.raises(LedgerError, match="unknown operation 'render'"):
         session.handle({"op": "render"}, None)
