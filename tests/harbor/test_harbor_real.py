@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -123,6 +124,16 @@ def test_harbor_loads_the_tasks_and_plans_the_network(checked):
 
 
 def test_harbor_lint_passes(checked, pinned_export):
+    compose = (
+        subprocess.run(["docker", "compose", "version"], capture_output=True)
+        if shutil.which("docker")
+        else None
+    )
+    if compose is None or compose.returncode != 0:
+        pytest.skip(
+            "harbor lint reads the exported compose files with the Docker CLI and its Compose plugin, which this "
+            "machine lacks (`make harbor-venv` installs the plugin where a docker CLI exists)"
+        )
     python = _harbor_python()
     harbor = [str(python), "-m", "harbor.cli.main"]
     if subprocess.run([*harbor, "--help"], capture_output=True).returncode != 0:
