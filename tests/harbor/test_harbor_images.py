@@ -59,3 +59,76 @@ def test_agent_and_verifier_images_import_what_they_must(tmp_path):
         subprocess.run(
             ["docker", "rmi", "-f", "rle-test-agent:09", "rle-test-verifier:09"], capture_output=True
         )
+
+
+BASE_COMPOSE = """services:
+  main:
+    build:
+      context: .
+    command: ["sh", "-c", "sleep infinity"]
+"""
+"""What Harbor's docker environment adds for ``main`` (its build file), for a compose run without Harbor."""
+
+AGENT_CHECK = r"""
+import glob, json, os
+out = {"uid": os.getuid(), "rle_env": sorted(k for k in os.environ if k.startswith("RLE_"))}
+leaks = []
+for path in glob.glob("/proc/[0-9]*/environ"):
+    try:
+        if b"isolation-check-secret" in open(path, "rb").read():
+            leaks.append(path)
+    except OSError:
+        pass
+out["environ_leaks"] = leaks
+out["ledger_dir_visible"] = os.path.exists("/rle-ledger")
+import sys
+sys.path.insert(0, "/workspace")
+from client import connect
+with connect() as env:
+    env.reset()
+    env.step([0.0] * env.info()["action_size"])
+    out["steps_used"] = env.info()["steps_used"]
+    env.seal()
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.parametrize("task_id", ["03-cantilever", "01-open-fridge-l3"])
+def test_the_agents_container_reaches_the_sidecar_and_not_its_secrets(tmp_path, task_id):
+    """In the built environment: the agent's user connects, resets, steps and seals through the
+    workspace's client; no RLE_ variable, no process environment and no /rle-ledger of the sidecar is
+    visible from ``main``; the sidecar holds the sealed ledger of its attempt."""
+    import json
+    import os
+
+    (task,) = export_harbor(tmp_path, [task_id])
+    env_dir = task / "environment"
+    (env_dir / "base-compose.yaml").write_text(BASE_COMPOSE)
+    project = f"rle-iso-{task_id}".replace(".", "-")
+    compose = ["docker", "compose", "--project-name", project, "--project-directory", str(env_dir),
+               "-f", str(env_dir / "base-compose.yaml"), "-f", str(env_dir / "docker-compose.yaml")]  # fmt: skip
+    env = {**os.environ, "RLE_SECRET": "isolation-check-secret-123"}
+    try:
+        up = subprocess.run(
+            [*compose, "up", "-d", "--build", "--wait"], capture_output=True, text=True, env=env
+        )
+        assert up.returncode == 0, up.stderr[-3000:]
+        agent = subprocess.run(
+            [*compose, "exec", "-T", "-u", "1000", "main", "python3", "-c", AGENT_CHECK],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+        assert agent.returncode == 0, agent.stderr[-3000:]
+        seen = json.loads(agent.stdout.strip().splitlines()[-1])
+        assert seen["uid"] == 1000 and seen["rle_env"] == [] and seen["environ_leaks"] == []
+        assert not seen["ledger_dir_visible"] and seen["steps_used"] == 2
+        sealed = subprocess.run(
+            [*compose, "exec", "-T", "dev", "python3", "-m", "rle_tasks.core.harbor_sidecar", "seal"],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+        assert sealed.returncode == 0 and "(sealed: True)" in sealed.stdout, sealed.stdout + sealed.stderr
+    finally:
+        subprocess.run([*compose, "down", "-v", "--rmi", "local"], capture_output=True, env=env)
