@@ -190,6 +190,14 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         native_piles[name] |= {"score": scores[name], "parts_per_min": terms["p"]}
         if res["fault"] is not None:
             findings.add_error(res["fault"]["code"], f"{name}: {res['fault']['message']}", "policy")
+    astray = {v: r["events"]["not_through_nest"] for v, r in zip(rub.variants, results)}
+    if any(astray.values()):
+        findings.add_error(
+            "f07.not_through_nest",
+            f"{sum(astray.values())} part(s) reached the belt's end or the outfeed without the nest releasing "
+            "them one at a time, not cleared: " + ", ".join(f"{v}: {n}" for v, n in astray.items() if n),
+            "policy",
+        )
     fractions = [r["events"]["cleared_fraction"] for r in results]
     ppm = [native_piles[v]["parts_per_min"] for v in rub.variants]
     outcomes = {k: Outcome(v, measured={"per_pile": v}) for k, v in per.items()}

@@ -9,7 +9,14 @@ contact is its normal force) after every physics step:
   impacts once per ``DEBOUNCE_S``);
 * ``bin``: a robot geom against the bin above ``BIN_IMPACT_N`` (once per ``DEBOUNCE_S``);
 * ``blocked``: the nest starts holding two or more parts;
-* ``cleared``: a bracket is carried past the belt's end (time kept: the clear makespan is the last).
+* ``delivered``: the nest releases a bracket: the gate is open and that bracket is the only part
+  between the nest's start and ``GATE_CLEARANCE`` past the gate (the gate opens only on one part that
+  has rested ``NEST_DWELL_S`` in the nest, and shuts when a second arrives);
+* ``cleared``: a delivered bracket is carried past the belt's end (time kept: the clear makespan is
+  the last). A bracket that arrives there, or in the outfeed, without the nest having released it
+  alone (thrown over the gate, dropped onto the belt downstream, carried with another) is not
+  cleared and is counted as ``not_through_nest``: the card clears brackets into the nest one at a
+  time.
 """
 
 from __future__ import annotations
@@ -19,7 +26,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from .env import cleared_parts, nest_members
+from .env import cleared_parts, gate_zone, nest_members
 from .workcell import ARM_PREFIX, NAMES
 
 PART_IMPACT_N = 45.0
@@ -43,7 +50,9 @@ class Counts:
     robot_impacts: int = 0
     bin_impacts: int = 0
     blocked: int = 0
+    delivered_at: dict[int, float] = field(default_factory=dict)
     cleared_at: dict[int, float] = field(default_factory=dict)
+    not_through_nest: set[int] = field(default_factory=set)
     peak_part_n: float = 0.0
     peak_robot_n: float = 0.0
     peak_bin_n: float = 0.0
@@ -65,6 +74,8 @@ class Counts:
             "N_damage": self.n_damage,
             "N_bin": self.bin_impacts,
             "blocked_nest": self.blocked,
+            "delivered": len(self.delivered_at),
+            "not_through_nest": len(self.not_through_nest),
             "cleared_at_s": sorted(round(t, 3) for t in self.cleared_at.values()),
             "damaged_parts": sorted(self.damaged_parts),
             "robot_impacts": self.robot_impacts,
@@ -141,8 +152,15 @@ class EventCounter:
             if k >= 2 and self._nest_prev < 2:
                 c.blocked += 1
             self._nest_prev = k
+            if data.userdata[1] > 0.5:  # the gate is open: what it releases, alone, is delivered
+                released = np.flatnonzero(gate_zone(model, data, self.n_parts))
+                if len(released) == 1:
+                    c.delivered_at.setdefault(int(released[0]), float(t))
             for i in np.flatnonzero(cleared_parts(model, data, self.n_parts)):
-                c.cleared_at.setdefault(int(i), float(t))
+                if int(i) in c.delivered_at:
+                    c.cleared_at.setdefault(int(i), float(t))
+                elif int(i) not in c.cleared_at:
+                    c.not_through_nest.add(int(i))
         return None
 
 
