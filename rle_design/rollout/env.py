@@ -17,6 +17,7 @@ import mujoco
 import numpy as np
 
 from rle_design.errors import RleError
+from rle_design.excerpt import excerpt
 from rle_design.rollout.episode import Episode, run_episode
 from rle_design.rollout.terms import Term
 
@@ -99,7 +100,7 @@ class EnvDefinition:
             arr = None
         size = self.action_size(model)
         if arr is None or arr.shape != (size,):
-            got = "non-numeric" if arr is None else f"shape {arr.shape}"
+            got = "non-numeric" if arr is None else f"shape {excerpt(arr.shape, 40)}"
             what = "the actuators' ctrl" if size == model.nu else "the environment's action"
             raise ActionError(f"action must be {size} real numbers ({what}), got {got}")
         if not np.isfinite(arr).all():

@@ -72,6 +72,7 @@ If the parent dies abruptly, an orphaned child exits at its next read of the clo
 at its CPU-time limit if it is spinning.
 """
 
+from rle_design.excerpt import excerpt, withhold
 from rle_design.sandbox.faults import FAULT_CODES, ParticipantFault
 from rle_design.sandbox.layers import LAYERS, landlock_abi, probe_layers
 from rle_design.sandbox.limits import SandboxLimits, wake_poll_for
@@ -83,8 +84,10 @@ __all__ = [
     "ParticipantFault",
     "Sandbox",
     "SandboxLimits",
+    "excerpt",
     "landlock_abi",
     "probe_layers",
     "wake_poll_for",
     "wake_poll_total_s",
+    "withhold",
 ]

@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from rle_design.excerpt import excerpt
 from rle_design.sandbox.faults import ParticipantFault
 
 
@@ -14,8 +15,7 @@ def _describe(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return f"ndarray of dtype {value.dtype} and shape {tuple(value.shape)}"
     if isinstance(value, str):
-        text = value if len(value) <= 40 else value[:37] + "..."
-        return f"str {text!r}"
+        return f"str {excerpt(value, 40)}"
     return type(value).__name__
 
 
@@ -53,7 +53,7 @@ def as_array(value: Any, shape: tuple, where: str) -> np.ndarray:
     got = tuple(arr.shape)
     if len(got) != len(shape) or any(d not in (None, -1) and d != g for d, g in zip(shape, got)):
         raise ParticipantFault(
-            "sandbox.bad_shape", f"{where}: expected shape {_shape_text(shape)}, got {got}"
+            "sandbox.bad_shape", f"{where}: expected shape {_shape_text(shape)}, got {excerpt(got, 40)}"
         )
     return arr
 

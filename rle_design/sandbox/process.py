@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from rle_design.errors import RleError
+from rle_design.excerpt import excerpt
 from rle_design.sandbox import codec
 from rle_design.sandbox.checks import check_output
 from rle_design.sandbox.faults import FAULT_CODES, ParticipantFault
@@ -336,17 +337,18 @@ class Sandbox:
         except codec.CodecError as exc:
             self._die("malformed reply")
             raise ParticipantFault(
-                "sandbox.bad_type", f"{where}: malformed reply from the child: {exc}"
+                "sandbox.bad_type", f"{where}: malformed reply from the child: {excerpt(exc)}"
             ) from None
         if reply.get("ok") is True:
             return reply, value
-        code, message = reply.get("code"), str(reply.get("message", ""))
+        # everything the child sends is participant text: only a marked excerpt reaches a message
+        code, message = reply.get("code"), excerpt(reply.get("message", ""))
         detail = str(reply.get("detail", ""))
         if code == "internal":
             self._die("isolation failed")
             raise RleError(f"{where}: sandbox isolation failed: {message}", code="sandbox.setup")
         if code not in FAULT_CODES:
-            code, message = "sandbox.bad_type", f"malformed fault reply (code {code!r})"
+            code, message = "sandbox.bad_type", f"malformed fault reply (code {excerpt(code, 20)})"
         if meta is None or code == "sandbox.exit":  # import failures and exits end the child
             self._die(f"{code}: {message}")
         raise ParticipantFault(code, f"{where}: {message}", detail)

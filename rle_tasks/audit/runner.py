@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import tempfile
 import time
@@ -18,12 +19,16 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from rle_design.excerpt import CLOSE, OPEN, WITHHELD
 from rle_tasks.core.report import VerifierReport
 from rle_tasks.core.secrets import Secret, derive_seed
 from rle_tasks.core.task import VerifyContext
 
 AUDIT_SECRET = Secret(b"rle-audit-secret-7f3a9c1e5b2d", public=False)
 HIDDEN_INDICES = 64  # seeds 0..63 of each task are searched for in reports and artifacts
+_MARKED = re.compile(f"{OPEN}[^{CLOSE}]*{CLOSE}")
+EXFIL_MARK = "rle-exfil-payload"
+"""Text a case's submitted code tries to smuggle into the report: it must never appear there."""
 
 
 @dataclass(frozen=True)
@@ -33,7 +38,8 @@ class Case:
     Attributes:
         name: ``category/short_name``.
         task_id: Task whose verifier receives the artifact, or ``"ledger"`` for ledger-only cases.
-        expect: Error code that must appear in the report's errors.
+        expect: Error code that must appear in the report's errors (None: the case bounds only the
+            score, for behaviour the rubric scores down rather than names).
         build: Writes the artifact into the given empty directory and returns the directory to verify.
         max_score: Highest score allowed (0, or the documented cap).
         wall_cap_s: The case fails if verification takes longer [s].
@@ -43,7 +49,7 @@ class Case:
 
     name: str
     task_id: str
-    expect: str
+    expect: str | None
     build: Callable[[Path], Path]
     max_score: float = 0.0
     wall_cap_s: float = 60.0
@@ -54,7 +60,7 @@ class Case:
 @dataclass(frozen=True)
 class CaseResult:
     name: str
-    expect: str
+    expect: str | None
     observed: tuple[str, ...]
     score: float
     seconds: float
@@ -130,7 +136,11 @@ def run_case(case: Case, workdir: Path, secret: Secret = AUDIT_SECRET, hang_cap_
     why = []
     if internal:
         why.append("internal verifier fault")
-    if case.expect not in observed:
+    text = json.dumps(report.to_dict(), ensure_ascii=False)
+    shown = [m for m in _MARKED.findall(text) if m != WITHHELD] if not secret.public else []
+    if EXFIL_MARK in text or shown:
+        why.append("participant text in the report")
+    if case.expect is not None and case.expect not in observed:
         why.append(f"expected {case.expect}")
     if report.score > case.max_score + 1e-9:
         why.append(f"score {report.score:.3f} > {case.max_score}")
@@ -145,8 +155,9 @@ def format_table(results: list[CaseResult]) -> str:
     lines = [f"{'artifact':<44} {'expected code':<28} {'observed code':<28} {'score':>6} {'s':>6}  ok"]
     for r in results:
         shown = r.expect if r.expect in r.observed else (r.observed[0] if r.observed else "-")
+        expect = r.expect or "(score bound only)"
         lines.append(
-            f"{r.name:<44} {r.expect:<28} {shown:<28} {r.score:>6.3f} {r.seconds:>6.2f}  "
+            f"{r.name:<44} {expect:<28} {shown:<28} {r.score:>6.3f} {r.seconds:>6.2f}  "
             + ("yes" if r.ok else f"NO ({r.why})")
         )
     n_ok = sum(r.ok for r in results)

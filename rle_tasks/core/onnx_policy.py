@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from rle_design.errors import RleError
+from rle_design.excerpt import excerpt
 from rle_tasks.core.policy import Dim, PolicyFault
 
 INSTALL_HINT = "pip install 'rle-bench[learn]'"
@@ -189,7 +190,9 @@ class OnnxPolicy:
                     f"{self.path}: no result within {self.signature.timeout_s:g} s",
                     path=self.path,
                 ) from None
-            raise PolicyFault("onnx.run", f"{self.path}: inference failed: {exc}", path=self.path) from None
+            raise PolicyFault(
+                "onnx.run", f"{self.path}: inference failed: {excerpt(exc)}", path=self.path
+            ) from None
         finally:
             timer.cancel()
         out = {}
@@ -232,7 +235,7 @@ def load_onnx_policy(
     try:
         model = onnx.load_model_from_string(data)
     except Exception as exc:  # noqa: BLE001 - protobuf decode errors
-        raise PolicyFault("onnx.load", f"{rel}: not a valid ONNX model: {exc}", path=rel) from None
+        raise PolicyFault("onnx.load", f"{rel}: not a valid ONNX model: {excerpt(exc)}", path=rel) from None
     if any(t.data_location == onnx.TensorProto.EXTERNAL or len(t.external_data) for t in _tensors(model)):
         raise PolicyFault(
             "onnx.external_data", f"{rel}: references external data files; embed every tensor", path=rel
@@ -240,7 +243,7 @@ def load_onnx_policy(
     try:
         onnx.checker.check_model(model)
     except Exception as exc:  # noqa: BLE001 - onnx raises checker and protobuf errors alike
-        raise PolicyFault("onnx.load", f"{rel}: not a valid ONNX model: {exc}", path=rel) from None
+        raise PolicyFault("onnx.load", f"{rel}: not a valid ONNX model: {excerpt(exc)}", path=rel) from None
     options = ort.SessionOptions()
     options.intra_op_num_threads = 1
     options.inter_op_num_threads = 1
@@ -249,7 +252,9 @@ def load_onnx_policy(
     try:
         session = ort.InferenceSession(data, options, providers=["CPUExecutionProvider"])
     except Exception as exc:  # noqa: BLE001 - onnxruntime raises its own types
-        raise PolicyFault("onnx.load", f"{rel}: onnxruntime cannot load it: {exc}", path=rel) from None
+        raise PolicyFault(
+            "onnx.load", f"{rel}: onnxruntime cannot load it: {excerpt(exc)}", path=rel
+        ) from None
     for kind, got, declared in (
         ("input", session.get_inputs(), signature.inputs),
         ("output", session.get_outputs(), signature.outputs),

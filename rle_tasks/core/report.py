@@ -17,6 +17,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from rle_design.excerpt import withhold
+
 VERIFIER_VERSION = "0.1.0"
 
 
@@ -164,6 +166,23 @@ class VerifierReport:
 
     def weighted_score(self) -> float:
         return sum(c.credit for c in self.checkpoints)
+
+    def withheld(self) -> VerifierReport:
+        """This report with every participant excerpt replaced by ``«withheld»`` (``rle_design.excerpt``):
+        the form of a report made with a private secret, where only codes and facts remain."""
+        return self.replace(
+            errors=tuple(ErrorEntry(e.code, withhold(e.message), e.path) for e in self.errors),
+            checkpoints=tuple(
+                dataclasses.replace(
+                    c,
+                    message=withhold(c.message),
+                    measured=withhold(c.measured),
+                    per_variant=withhold(c.per_variant),
+                )
+                for c in self.checkpoints
+            ),
+            native_metrics=withhold(self.native_metrics),
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form; the score is clamped to [0, 1] (a non-finite score is written as 0)."""

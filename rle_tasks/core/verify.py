@@ -93,6 +93,8 @@ def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> 
             message = f"internal verifier fault {type(exc).__name__}: {exc}\n{traceback.format_exc(limit=20)}"
             report = empty_report(task).replace(errors=(ErrorEntry(InternalVerifierFault.code, message),))
         report = report.replace(artifact_sha256=artifact_sha256(root))
+    if not ctx.secret.public:  # participant text never leaves a private verification
+        report = report.withheld()
     report = report.replace(
         secret=ctx.secret.label,
         seed_digest=seed_digest(ctx.secret, task.id),

@@ -35,6 +35,7 @@ import mujoco
 import numpy as np
 
 from rle_design.control.replay import ReplayError, replay
+from rle_design.excerpt import EXCERPT_CHARS, excerpt
 from rle_design.ledger import LedgerServer, Limits, check_ledger
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
 from rle_tasks.envs.kitchen.env import KitchenEnv
@@ -56,6 +57,8 @@ AGENT_ENV = "RLE_F02_AGENT"
 MAX_FILES = 500
 MAX_BYTES = 32 << 20
 FRESH_AGENT = Path(__file__).resolve().parent / "public" / "fresh_agent.py"
+AGENT_STATUSES = ("ran", "no_manual", "no_entry_point", "missing_function")
+"""How the scripted fresh agent may say it ended; any other reply is ``bad_reply``."""
 _CLIENT = '''"""Metered client of this evaluation (one kitchen, the held-out task)."""
 
 ADDRESS = {address!r}
@@ -208,8 +211,10 @@ def _run_scripted(stage: Path, socket_path: Path, unit: TransferUnit) -> tuple[s
     try:
         with Sandbox(stage / "fresh_agent.py", limits=limits, name="fresh_agent") as box:
             out = box.call("run")
-        if isinstance(out, dict):
-            return str(out.get("status", "ran")), str(out.get("message", ""))
+        if isinstance(out, dict):  # the fresh agent's reply passes through the harness: participant text
+            status = out.get("status", "ran")
+            status = status if status in AGENT_STATUSES else "bad_reply"
+            return status, excerpt(out.get("message", ""))
         return "ran", ""
     except ParticipantFault as exc:
         return exc.code, exc.message
@@ -230,7 +235,7 @@ def _run_command(stage: Path, unit: TransferUnit) -> tuple[str, str]:
         return "timeout", f"the agent ran past {unit.wall_time_s:.0f} s"
     except OSError as exc:
         return "agent_error", f"cannot start the fresh agent '{unit.agent}': {exc}"
-    return f"exit {proc.returncode}", (proc.stdout + proc.stderr)[-2000:]
+    return f"exit {proc.returncode}", excerpt((proc.stdout + proc.stderr)[-EXCERPT_CHARS:])
 
 
 def _render(

@@ -18,7 +18,8 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from rle_design.sandbox import ParticipantFault, SandboxLimits
+from rle_design.rollout.env import ActionError
+from rle_design.sandbox import ParticipantFault, SandboxLimits, excerpt
 from rle_tasks.core.policy import HANG_CODES, Budget, FunctionSpec, PolicyRunner, Protocol
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runner import run_parallel
@@ -102,7 +103,8 @@ def run_pile(item: tuple[str, PileSpec, float, float]) -> dict:
             fault = {"code": exc.code, "message": exc.message, "time_s": round(float(data.time), 3)}
         except Exception as exc:  # noqa: BLE001 - a bad action (ActionError) or a crash of the policy's output
             code = getattr(exc, "code", "f07.episode")
-            fault = {"code": code, "message": str(exc), "time_s": round(float(data.time), 3)}
+            text = str(exc) if isinstance(exc, ActionError) else excerpt(exc)
+            fault = {"code": code, "message": text, "time_s": round(float(data.time), 3)}
         cpu = runner.cpu_used_s
     close_cameras(model)
     summary = counter.counts.summary(pile.n_parts, episode_s)
@@ -144,7 +146,8 @@ def _load_and_smoke(path: Path, hang_cap_s: float, findings: Findings) -> str | 
             env.action(model, runner.call("act", env.observe(model, data)))
         except Exception as exc:  # noqa: BLE001 - ParticipantFault or ActionError
             code = getattr(exc, "code", "f07.smoke")
-            findings.add_error(code, f"smoke test failed: {exc}", "policy")
+            text = str(exc) if isinstance(exc, ParticipantFault | ActionError) else excerpt(exc)
+            findings.add_error(code, f"smoke test failed: {text}", "policy")
             return "smoke_hang" if code in HANG_CODES else "smoke"
         finally:
             close_cameras(model)

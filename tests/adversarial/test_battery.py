@@ -46,7 +46,7 @@ REDUCED_F07_CODE = {
 
 
 def _slow(case) -> bool:
-    return case.name.startswith(("code/08_", "physics/f08_", "code/07_", "generated/f08_"))
+    return case.name.startswith(("code/08_", "physics/f08_", "code/07_", "physics/07_", "generated/f08_"))
 
 
 def _params():

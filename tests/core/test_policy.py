@@ -68,8 +68,8 @@ def test_good_submission_returns_exact_outputs_from_one_child(tmp_path):
 @pytest.mark.parametrize(
     ("x0", "code", "text"),
     [
-        (-1.0, "sandbox.exception", "policy.act(): RuntimeError: boom"),
-        (-2.0, "sandbox.bad_shape", "policy.act(): expected shape (3,), got (4,)"),
+        (-1.0, "sandbox.exception", "policy.act(): «RuntimeError: boom»"),
+        (-2.0, "sandbox.bad_shape", "policy.act(): expected shape (3,), got «(4,)»"),
         (-3.0, "sandbox.non_finite", "policy.act(): output holds 3 non-finite value(s) (NaN or inf)"),
     ],
 )
@@ -99,7 +99,7 @@ def test_fault_budget_refuses_further_calls_without_a_child(tmp_path):
         assert isinstance(err.value, ParticipantFault) and not run.alive and run.restarts == 1
         assert run.n_faults == 2 and [f.code for f in run.faults][-1] == "policy.fault_budget"
         assert [f.message for f in distinct(run.faults)] == [
-            "policy.act(): RuntimeError: boom",
+            "policy.act(): «RuntimeError: boom»",
             err.value.message,
         ]
 
@@ -134,7 +134,7 @@ def test_missing_function_and_import_error(tmp_path):
             run.call("nope")
         assert (err.value.code, err.value.message) == (
             "sandbox.missing_function",
-            "policy.nope(): no callable named 'nope'",
+            "policy.nope(): «no callable named 'nope'»",
         )
     with _runner(tmp_path, body="raise ImportError('no torch here')\n") as run:
         assert run.try_call("info") is None

@@ -55,4 +55,4 @@ def run() -> dict:
 
     with connect() as client:
         result = fn(client, _instruction())
-    return {"status": "ran", "message": f"{module_name}:{function} returned {str(result)[:200]}"}
+    return {"status": "ran", "message": f"{module_name}:{function} returned {str(result)[:120]}"}
