@@ -36,10 +36,22 @@ class Profile:
 
 @dataclass(frozen=True)
 class Material:
+    """A solid material: nominal density, the range a real part of it spans, stiffness and strength."""
+
     id: str
     density: float  # [kg/m^3]
     youngs_modulus: float  # [Pa]
     yield_strength: float  # [Pa]
+    density_min: float | None = None  # [kg/m^3] lightest real part of this material (default: density)
+    density_max: float | None = None  # [kg/m^3] heaviest real part of this material (default: density)
+    tensile_strength: float | None = None  # [Pa] ultimate tensile strength (default: yield_strength)
+
+    @property
+    def density_range(self) -> tuple[float, float]:
+        """(lightest, heaviest) density a part of this material may declare [kg/m^3]."""
+        lo = self.density if self.density_min is None else self.density_min
+        hi = self.density if self.density_max is None else self.density_max
+        return float(lo), float(hi)
 
 
 @dataclass(frozen=True)
@@ -200,7 +212,10 @@ def _build_entry(kind: str, raw: Mapping[str, Any], units: Mapping[str, str]) ->
         values["mass"] = raw.get("mass")
         values["params"] = {k: v for k, v in raw.items() if k not in ("id", "fragment", "mass")}
     else:
+        optional = {f.name for f in dataclasses.fields(cls) if f.default is not dataclasses.MISSING}
         for name in names[1:]:
+            if name not in raw and name in optional:
+                continue
             if name not in raw:
                 raise CatalogError(
                     f"catalog '{kind}': entry '{eid}' lacks required field '{name}'",
