@@ -43,6 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from rle_design.errors import RleError
+from rle_design.excerpt import excerpt
 
 MAGIC = b"RLP1"
 VIEW_SHAPE = (2, 128, 128, 3)
@@ -132,13 +133,13 @@ def recv_frame(
     deadline = None if timeout_s is None else time.monotonic() + timeout_s
     magic, hlen, plen = _HEAD.unpack(_recv_exact(sock, _HEAD.size, deadline))
     if magic != MAGIC:
-        raise ProtocolError("frame", f"frame starts with {magic!r}, not {MAGIC!r}")
+        raise ProtocolError("frame", f"frame starts with {excerpt(magic, 20)}, not {MAGIC!r}")
     if hlen + plen > max_bytes:
         raise ProtocolError("too_large", f"frame of {hlen + plen} B exceeds {max_bytes} B")
     try:
         header = json.loads(_recv_exact(sock, hlen, deadline))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ProtocolError("frame", f"header is not UTF-8 JSON: {exc}") from None
+        raise ProtocolError("frame", f"header is not UTF-8 JSON: {excerpt(exc)}") from None
     payload = _recv_exact(sock, plen, deadline)
     if not isinstance(header, dict) or not isinstance(header.get("type"), str):
         raise ProtocolError("frame", "header must be a JSON object with a string 'type'")
@@ -151,9 +152,9 @@ def recv_frame(
                 raise ValueError(f"dtype {dtype} / shape {shape}")
             n = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
         except (KeyError, TypeError, ValueError) as exc:
-            raise ProtocolError("frame", f"bad array description {spec!r}: {exc}") from None
+            raise ProtocolError("frame", f"bad array description {excerpt(spec)}: {excerpt(exc)}") from None
         if offset + n > len(payload):
-            raise ProtocolError("frame", f"array '{spec.get('name')}' runs past the payload")
+            raise ProtocolError("frame", f"array {excerpt(spec.get('name'), 40)} runs past the payload")
         arrays[str(spec.get("name"))] = np.frombuffer(
             payload, dtype, count=n // dtype.itemsize, offset=offset
         ).reshape(shape)
@@ -167,11 +168,11 @@ def check_actions(actions: np.ndarray, action_dim: int) -> np.ndarray:
     """A reply's actions as float32 (k, action_dim); raises ``ProtocolError`` naming the fault."""
     a = np.asarray(actions)
     if a.ndim != 2 or a.shape[1] != action_dim:
-        raise ProtocolError("shape", f"actions must have shape (k, {action_dim}), got {a.shape}")
+        raise ProtocolError("shape", f"actions must have shape (k, {action_dim}), got {excerpt(a.shape, 40)}")
     if not 1 <= a.shape[0] <= MAX_CHUNK:
-        raise ProtocolError("chunk_size", f"a reply carries 1..{MAX_CHUNK} actions, got {a.shape[0]}")
+        raise ProtocolError("chunk_size", f"a reply carries 1..{MAX_CHUNK} actions, got {excerpt(a.shape[0], 20)}")
     if a.dtype.kind != "f":
-        raise ProtocolError("dtype", f"actions must be floating point, got {a.dtype}")
+        raise ProtocolError("dtype", f"actions must be floating point, got {excerpt(a.dtype, 20)}")
     if not np.all(np.isfinite(a)):
         raise ProtocolError("non_finite", "actions contain NaN or infinity")
     return a.astype(np.float32)
@@ -194,7 +195,7 @@ def serve(
             if header["type"] == "bye":
                 return n
             if header["type"] != "act":
-                raise ProtocolError("type", f"unexpected message type {header['type']!r}")
+                raise ProtocolError("type", f"unexpected message type {excerpt(header['type'], 40)}")
             req = Request(
                 str(header.get("instruction", "")),
                 arrays["views"],
@@ -252,7 +253,7 @@ class PolicyServer:
         )  # fmt: skip
         header, arrays = recv_frame(self._conn, self.request_timeout_s)
         if header["type"] != "actions" or "actions" not in arrays:
-            raise ProtocolError("type", f"expected an 'actions' reply, got {header['type']!r}")
+            raise ProtocolError("type", f"expected an 'actions' reply, got {excerpt(header['type'], 40)}")
         self.requests += 1
         return check_actions(arrays["actions"], self.action_dim)
 

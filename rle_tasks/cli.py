@@ -48,6 +48,8 @@ def _cmd_show(args: argparse.Namespace) -> int:
         print("optional: " + ", ".join(t.contract.optional))
     if t.contract.description:
         print(t.contract.description)
+    if t.quick_note:
+        print(f"\n## Quick verification\n{t.quick_note}")
     return 0
 
 
@@ -71,6 +73,10 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         episodes=args.episodes,
         attempt=args.attempt or os.environ.get(ATTEMPT_ENV) or None,
     )
+    if args.quick:
+        print(
+            f"{task.id}: {task.quick_note or 'quick runs reduced batteries'} (marked partial in the report)"
+        )
     report, internal = run_verify(task, args.dir, ctx)
     if out_json:
         report.write(out_json)  # before any printing: a closed pipe must not lose the report
@@ -219,7 +225,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 2)), help="parallel workers")
     s.add_argument("--executor", choices=["local", "ray"], default="local")
     s.add_argument("--ray-address", default=None, help="Ray cluster address (default: a local Ray)")
-    s.add_argument("--quick", action="store_true", help="reduced batteries (marked in the report)")
+    s.add_argument(
+        "--quick",
+        action="store_true",
+        help="reduced batteries, marked partial in the report (`rle show ID` says what each task's quick runs)",
+    )
     s.add_argument(
         "--episodes",
         type=int,

@@ -111,6 +111,7 @@ class TaskSpec:
         episode_scored: The score is a rate over a fixed episode set, so ``VerifyContext.episodes``
             (``rle verify --episodes N``) applies.
         harbor_unsupported: Why the task cannot be exported as a Harbor task yet ("" when it can).
+        quick_note: What ``--quick`` runs for this task ("" when it is the family's usual reduction).
     """
 
     id: str
@@ -125,6 +126,7 @@ class TaskSpec:
     solutions_module: str = ""
     episode_scored: bool = False
     harbor_unsupported: str = ""
+    quick_note: str = ""
 
     @property
     def workflow(self) -> str:

@@ -62,4 +62,6 @@ def task_spec() -> TaskSpec:
         verify=verify,
         solutions=SOLUTION_NAMES,
         solutions_module="rle_tasks.f07_bin_clearing.solutions",
+        quick_note="quick plays the first hidden pile for 30 s of simulated time (the evaluation: eight "
+        "piles, 120 s each); the score is partial",
     )

@@ -27,6 +27,7 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import derive_rng, seed_digest
 from rle_tasks.core.task import VerifyContext
 
+from .public.contract import FUNCTIONS, HANG_CAP_S
 from .public.env import EPISODE_S, close_cameras, make_env
 from .public.events import EventCounter
 from .public.pile import PUBLIC_SEEDS, PileSpec
@@ -35,23 +36,20 @@ from .scoring import N_PILES, QUICK_EPISODE_S, QUICK_PILES, TASK_ID, pile_score,
 POLICY_FILE = Path("policy") / "__init__.py"
 POLICY_CPU_S = 360.0
 """Cumulative policy computation per pile [s] (the card's budget)."""
-HANG_CAP_S = 30.0
+_DOC = {
+    "make_policy": "(): builds the policy once after import",
+    "reset": "(): start of a pile",
+    "act": "obs: dict (time, q, dq, tau, ft, magnet, nest; overhead and wrist RGB-D at 10 Hz) -> (8,): "
+    "seven joint-position targets [rad] and the magnet command in [0, 1]",
+}
 PROTOCOL = Protocol(
     module="policy",
-    functions=(
-        FunctionSpec(
-            "make_policy", "(): builds the policy once after import", returns=None, timeout_s=HANG_CAP_S
-        ),
-        FunctionSpec("reset", "(): start of a pile", returns=None, timeout_s=HANG_CAP_S),
-        FunctionSpec(
-            "act",
-            "obs: dict (time, q, dq, tau, ft, magnet, nest; overhead and wrist RGB-D at 10 Hz) -> "
-            "(8,): seven joint-position targets [rad] and the magnet command in [0, 1]",
-            returns=(8,),
-            timeout_s=HANG_CAP_S,
-        ),
+    functions=tuple(
+        FunctionSpec(name, _DOC[name], returns=shape, timeout_s=HANG_CAP_S)
+        for name, shape in FUNCTIONS.items()
     ),
 )
+"""The contract of ``public/contract.py`` (``devrun`` checks every return the same way)."""
 LIMITS = SandboxLimits(cpu_seconds=POLICY_CPU_S + 10, memory_bytes=4 << 30, startup_timeout_s=HANG_CAP_S)
 
 

@@ -74,3 +74,44 @@ def test_unknown_and_wrong_sensors_are_named(model_data):
     assert str(exc2.value) == "sensor 'p' is not a torque sensor. Available torque sensors: t, t_rot"
     with pytest.raises(RleError, match="frame 'body' is unknown. Available frames: site, world"):
         ft_reading(m, d, "f", "t", frame="body")
+
+
+MAGNET = """
+<mujoco>
+  <option timestep="0.001"/>
+  <worldbody>
+    <body name="tool" pos="0 0 1">
+      <site name="ft"/>
+      <geom name="pad" type="box" size="0.05 0.05 0.01" pos="0 0 -0.05" mass="0.5"/>
+    </body>
+    <body name="part" pos="0.01 0.02 {z}">
+      <freejoint/>
+      <geom type="box" size="0.02 0.02 0.01" mass="{mass}"/>
+    </body>
+  </worldbody>
+  <actuator><adhesion name="magnet" body="tool" gain="{gain}" ctrlrange="0 1"/></actuator>
+  <sensor><force name="f" site="ft"/><torque name="t" site="ft"/></sensor>
+</mujoco>
+"""
+
+
+def test_adhesion_reaction_makes_a_held_part_read_its_weight():
+    """A part of mass m held under a fixed tool by an adhesion actuator of gain k: the raw sensor sees
+    the pad's contact push, k - m g, downward; with the reaction the reading grows by m g upward, and
+    the torque about the site by (r x m g) for the part's offset r."""
+    m, k = 0.2, 30.0
+    model = mujoco.MjModel.from_xml_string(MAGNET.format(z=1 - 0.05 - 0.01 - 0.01 + 5e-4, mass=m, gain=k))
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    empty = ft_reading(model, data, "f", "t", frame="world")  # the tool's own weight: 0.5 g up
+    data.ctrl[0] = 1.0
+    for _ in range(2000):
+        mujoco.mj_step(model, data)
+    assert np.linalg.norm(data.qvel) < 1e-4  # held still
+    raw = ft_reading(model, data, "f", "t", frame="world") - empty
+    full = ft_reading(model, data, "f", "t", frame="world", adhesion=True) - empty
+    g = 9.81
+    assert raw[2] == pytest.approx(-(k - m * g), rel=1e-3)
+    assert full[2] == pytest.approx(m * g, rel=1e-4)
+    r = data.xipos[model.body("part").id] - data.site_xpos[0]
+    assert full[3:] == pytest.approx(-np.cross(r, [0.0, 0.0, -m * g]), abs=1e-4)  # holds the weight at r

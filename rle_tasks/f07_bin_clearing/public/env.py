@@ -194,7 +194,7 @@ class BinClearingEnv(MeteredEnv):
             "q": data.qpos[jq].copy(),
             "dq": data.qvel[jv].copy(),
             "tau": data.actuator_force[:7].copy(),
-            "ft": ft_reading(model, data, NAMES.force, NAMES.torque),
+            "ft": ft_reading(model, data, NAMES.force, NAMES.torque, adhesion=True),
             "magnet": np.array([float(data.ctrl[7]), float(contact)]),
             "nest": np.array(
                 [len(nest_members(model, data, self.n_parts)), data.userdata[1], data.userdata[2]]

@@ -56,6 +56,9 @@ class Counts:
     peak_part_n: float = 0.0
     peak_robot_n: float = 0.0
     peak_bin_n: float = 0.0
+    timeline: list[tuple[float, str, int]] = field(default_factory=list)
+    """(time [s], event, part or -1) in order of occurrence; kept out of ``summary`` (and so out of
+    reports): ``devrun --events`` prints it."""
 
     @property
     def n_damage(self) -> int:
@@ -125,14 +128,20 @@ class EventCounter:
             fn = np.where(data.contact.efc_address[:n] >= 0, fn, 0.0)
             p1, p2 = self.part_of[g1], self.part_of[g2]
             on_floor = np.concatenate([p1[self.floor[g2]], p2[self.floor[g1]]])
-            c.floor.update(int(p) for p in on_floor[on_floor >= 0])
+            for p in on_floor[on_floor >= 0]:
+                if int(p) not in c.floor:
+                    c.floor.add(int(p))
+                    c.timeline.append((t, "floor", int(p)))
             parts, forces = np.concatenate([p1, p2]), np.concatenate([fn, fn])
             mine = parts >= 0  # contacts of a bracket, one row per bracket side (vectorised: every step)
             if mine.any():
                 c.peak_part_n = max(c.peak_part_n, float(forces[mine].max()))
                 hard = mine & (forces > PART_IMPACT_N)
                 if hard.any():
-                    c.damaged_parts.update(int(p) for p in np.unique(parts[hard]))
+                    for p in np.unique(parts[hard]):
+                        if int(p) not in c.damaged_parts:
+                            c.damaged_parts.add(int(p))
+                            c.timeline.append((t, "damage", int(p)))
             r1 = self.robot[g1]
             rob = r1 ^ self.robot[g2]
             if rob.any():  # most steps have no robot contact: forces 0, nothing to count
@@ -144,23 +153,30 @@ class EventCounter:
                 if f_bin > BIN_IMPACT_N and t - self._last_bin >= DEBOUNCE_S:
                     c.bin_impacts += 1
                     self._last_bin = t
+                    c.timeline.append((t, "bin_impact", -1))
                 if f_rob > ROBOT_IMPACT_N and t - self._last_robot >= DEBOUNCE_S:
                     c.robot_impacts += 1
                     self._last_robot = t
+                    c.timeline.append((t, "robot_impact", -1))
         if self._steps % self.control_every == 0:
             k = len(nest_members(model, data, self.n_parts))
             if k >= 2 and self._nest_prev < 2:
                 c.blocked += 1
+                c.timeline.append((t, "nest_blocked", -1))
             self._nest_prev = k
             if data.userdata[1] > 0.5:  # the gate is open: what it releases, alone, is delivered
                 released = np.flatnonzero(gate_zone(model, data, self.n_parts))
-                if len(released) == 1:
-                    c.delivered_at.setdefault(int(released[0]), float(t))
+                if len(released) == 1 and int(released[0]) not in c.delivered_at:
+                    c.delivered_at[int(released[0])] = float(t)
+                    c.timeline.append((t, "delivered", int(released[0])))
             for i in np.flatnonzero(cleared_parts(model, data, self.n_parts)):
                 if int(i) in c.delivered_at:
-                    c.cleared_at.setdefault(int(i), float(t))
-                elif int(i) not in c.cleared_at:
+                    if int(i) not in c.cleared_at:
+                        c.cleared_at[int(i)] = float(t)
+                        c.timeline.append((t, "cleared", int(i)))
+                elif int(i) not in c.cleared_at and int(i) not in c.not_through_nest:
                     c.not_through_nest.add(int(i))
+                    c.timeline.append((t, "not_through_nest", int(i)))
         return None
 
 

@@ -340,8 +340,12 @@ def calibration() -> dict:
     """Published geometry and camera calibration (``assets/calibration.json``), SI units.
 
     Intrinsics are pinhole ``K`` [px]; ``overhead.pose`` is world-from-camera (OpenCV axes: x right,
-    y down, z forward); the wrist camera's ``mount`` is its pose in the flange frame (the observation
-    carries its world pose at every frame).
+    y down, z forward); the wrist camera's ``mount_pos`` is its position in the hand frame (the
+    observation carries its world pose at every frame). ``frames`` gives every frame between the arm's
+    last link and the part: ``link7_to_hand`` (the Panda's flange-to-hand offset, 0.1065 m along the
+    flange axis, turned -45 deg about it), the F/T sensor (at the hand's origin, hand axes, wrench on
+    the tool from the arm including the magnet's reaction: a held part adds m g) and the pad's face
+    (``tool_length`` along the hand's z).
     """
     import mujoco as mj
 
@@ -358,6 +362,17 @@ def calibration() -> dict:
     out["wrist"]["mount_pos"] = list(WRIST[1])
     out["robot_base"] = list(ROBOT_BASE)
     out["tool_length"] = TOOL_LENGTH
+    hand = model.body(model.site(NAMES.ft_site).bodyid[0])
+    link7 = model.body(hand.parentid[0])
+    out["frames"] = {
+        "link7_to_hand": {"pos": np.round(hand.pos, 9).tolist(), "quat_wxyz": np.round(hand.quat, 9).tolist(),
+                          "from": link7.name, "to": hand.name},
+        "ft_sensor": {"body": hand.name, "pos": np.round(model.site(NAMES.ft_site).pos, 9).tolist(),
+                      "quat_wxyz": np.round(model.site(NAMES.ft_site).quat, 9).tolist(),
+                      "reads": "wrench on the tool from the arm in the sensor frame [N, N m], the magnet's "
+                               "reaction included: a part held still adds its weight m g"},
+        "pad_face": {"body": hand.name, "pos": [0.0, 0.0, round(TOOL_LENGTH, 9)], "half_width": MAGNET_PAD[0]},
+    }  # fmt: skip
     out["magnet"] = {"pad_half_width": MAGNET_PAD[0], "gain_N": round(MAGNET_GAIN, 9)}
     out["bin"] = {"center": list(BIN_CENTER), "inner": list(BIN_INNER), "floor_top": BIN_FLOOR_TOP,
                   "outer": list(BIN_OUTER)}  # fmt: skip
