@@ -13,7 +13,7 @@ import pytest
 from rle_design.sensors import ft_reading
 from rle_tasks.f07_bin_clearing.public.env import held_contact, make_env
 from rle_tasks.f07_bin_clearing.public.pile import PileSpec
-from rle_tasks.f07_bin_clearing.public.workcell import BRACKET_MASS, G, HOME, MAGNET_GAIN, NAMES
+from rle_tasks.f07_bin_clearing.public.workcell import BRACKET_MASS, HOME, MAGNET_GAIN, NAMES, G
 
 
 @pytest.fixture(scope="module")
