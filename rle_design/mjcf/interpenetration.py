@@ -199,6 +199,7 @@ def find_overlaps(
     fused: Iterable[int] = (),
     baseline: Iterable[int] = (),
     volume_tol: float = VOLUME_EPS,
+    weld_share: float = 0.0,
     first_per_pose: bool = False,
     cache: dict | None = None,
 ) -> list[Overlap]:
@@ -214,6 +215,8 @@ def find_overlaps(
         baseline: Ids of the stock bodies: across a joint, the material their two rigid groups
             already share (the stock joint's own overlap) is not counted against a part.
         volume_tol: Shared material up to this is no overlap [m^3].
+        weld_share: Welded pairs may also share up to this fraction of the smaller part's volume
+            (a part seated in its host: a rod in a socket, a post through a wall) [1].
         first_per_pose: Stop at the first overlap of each pose (enough to fail the pose).
         cache: Per-geom manifold cache, reusable across calls on the same model.
 
@@ -237,7 +240,11 @@ def find_overlaps(
         if dist >= -tol:
             return False
         vol = _shared_volume(solids, g1, g2, across)
-        if vol <= volume_tol:
+        allowed = volume_tol
+        if not across and weld_share > 0:
+            smaller = min(geom_manifold(model, g, cache).volume() for g in (g1, g2))
+            allowed = max(volume_tol, weld_share * smaller)
+        if vol <= allowed:
             return False
         b1, b2 = int(model.geom_bodyid[g1]), int(model.geom_bodyid[g2])
         out.append(

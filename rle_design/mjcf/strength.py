@@ -140,7 +140,7 @@ class StrengthFault:
         if self.code == "overstressed":
             return (
                 f"part '{p.part}' of body '{p.body}' ({p.material}, {p.span * 1e3:.0f} mm span) carries "
-                f"{p.load:.1f} N: bending moment {p.moment:.3g} N m gives {p.stress / 1e6:.1f} MPa at its "
+                f"{p.load:.3g} N: bending moment {p.moment:.3g} N m gives {p.stress / 1e6:.1f} MPa at its "
                 f"clamp, allowable {p.allowable / 1e6:.1f} MPa"
             )
         return (

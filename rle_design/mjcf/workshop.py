@@ -5,7 +5,7 @@ public helpers that agents run before they submit.
 Rules and codes (``Finding.code``):
 
 * ``interpenetration.weld``: an audited part shares material with a part welded to it (MuJoCo never
-  collides them) deeper than ``WorkshopRules.weld_tol``; ``interpenetration.joint``: with the part
+  collides them) beyond ``WorkshopRules.weld_share`` of the smaller part (a seat); ``interpenetration.joint``: with the part
   across a joint (parent/child, also skipped by MuJoCo), beyond the stock joint's own overlap
   (``rle_design.mjcf.interpenetration``), at the zero pose or a given pose;
 * ``material.density``, ``inertial.*``: ``rle_design.mjcf.material_mass``;
@@ -36,8 +36,9 @@ class WorkshopRules:
 
     Attributes:
         joint_tol: Collision-geometry penetration accepted across a joint [m].
-        weld_tol: Penetration accepted between welded parts (a seat) [m].
+        weld_tol: Penetration accepted between welded parts [m].
         shared_volume: Shared material beyond the baseline that still counts as touching [m^3].
+        weld_share: Fraction of the smaller part's volume welded parts may share (a seat) [1].
         inertial: Inertial tolerances.
         materials: Material ids a part may be made of; None: no density rule.
         massless_ok: Whether geoms declared massless are allowed.
@@ -51,6 +52,7 @@ class WorkshopRules:
     joint_tol: float
     weld_tol: float
     shared_volume: float
+    weld_share: float = 0.0
     inertial: InertialTolerance = InertialTolerance()
     materials: tuple[str, ...] | None = ()
     massless_ok: bool = True
@@ -102,6 +104,7 @@ def workshop_findings(
         fused=fused,
         baseline=baseline,
         volume_tol=rules.shared_volume,
+        weld_share=rules.weld_share,
         first_per_pose=True,
     )
     for o in overlaps:

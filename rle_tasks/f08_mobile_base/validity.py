@@ -11,6 +11,7 @@ from rle_design.mjcf.buildability import audit_buildability
 from rle_design.scene import element_id
 from rle_tasks.f08_mobile_base.public.scene import ADAPTER, BATTERY, CHASSIS, MOUNT_SITE
 from rle_tasks.f08_mobile_base.public.wheels import WHEELS
+from rle_tasks.f08_mobile_base.public.workshop import workshop_findings_of
 
 CONTRACT = ModelContract(
     required={"body": (CHASSIS, *WHEELS, BATTERY, ADAPTER), "site": (MOUNT_SITE,)},
@@ -23,8 +24,7 @@ CONTRACT = ModelContract(
 PART_OF = {BATTERY: "battery", ADAPTER: "universal_adapter", **{w: "mecanum_wheel" for w in WHEELS}}
 MASS_RTOL = 1e-3
 MOUNT_TOL = 0.002  # [m]
-COM_TOL = 0.001  # centre of mass from the geoms [m]: a profile's placement is given to 0.1 mm
-INERTIA_RTOL = 0.01  # principal moments from the geoms, relative to the largest [1]
+COM_TOL = 0.001  # a catalog part's centre of mass against its fragment's [m]
 JOIN_TOL = 0.001  # surfaces within 1 mm are joined (bolted, welded, resting) [m]
 WHEEL_HUB_GAP = 0.006  # a wheel's hub motor spans up to 6 mm between its inner face and the frame [m]
 
@@ -38,40 +38,6 @@ def _fragment(part_id: str) -> tuple[float, np.ndarray, np.ndarray, list[tuple[i
         m.body_ipos[1].copy(),
         [(int(m.geom_type[g]), m.geom_size[g].copy()) for g in range(m.ngeom)],
     )
-
-
-def _inertial_findings(design: Design, model: mujoco.MjModel) -> list[tuple[str, str]]:
-    """Every body's mass, centre of mass and principal moments must be those of its geoms: a declared
-    ``<inertial>`` that contradicts the geometry (e.g. the profiles' mass with a centre of mass below
-    the floor) is no buildable base."""
-    spec = design.fresh_spec()
-    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_TRUE
-    try:
-        geo = spec.compile()
-    except ValueError as exc:
-        return [("f08.inertial_mismatch", f"the inertials cannot be derived from the geoms: {exc}")]
-    out = []
-    for b in range(1, model.nbody):
-        name = model.body(b).name or f"body{b}"
-        if name in PART_OF:
-            continue  # catalog parts carry their fragment's explicit inertial, compared to the fragment
-        m0, m1 = float(model.body_mass[b]), float(geo.body_mass[b])
-        c0, c1 = model.body_ipos[b], geo.body_ipos[b]
-        i0, i1 = np.sort(model.body_inertia[b]), np.sort(geo.body_inertia[b])
-        if (
-            abs(m0 - m1) > MASS_RTOL * max(m1, 1e-9)
-            or np.linalg.norm(c0 - c1) > COM_TOL
-            or np.abs(i0 - i1).max() > INERTIA_RTOL * max(i1.max(), 1e-12)
-        ):
-            out.append(
-                (
-                    "f08.inertial_mismatch",
-                    f"body '{name}': declared mass {m0:.4f} kg, centre of mass {np.round(c0, 4).tolist()} m, "
-                    f"moments {np.round(i0, 5).tolist()} kg m^2; its geoms give {m1:.4f} kg, "
-                    f"{np.round(c1, 4).tolist()} m, {np.round(i1, 5).tolist()} kg m^2",
-                )
-            )
-    return out
 
 
 def _massive_extras(design: Design) -> list[tuple[str, str]]:
@@ -160,7 +126,9 @@ def check_validity(design: Design) -> list[tuple[str, str]]:
                     f"body '{body}' geoms {mine} differ from catalog part '{pid}' geoms {want}",
                 )
             )
-    out += _inertial_findings(design, model)
+    # the workshop rules (public/workshop.py): no part inside another (every part is welded to the
+    # chassis, so MuJoCo never collides them), the chassis' inertial from its geoms
+    out += [(f.code, f.message) for f in workshop_findings_of(design.fresh_spec(), model)]
     hubs = {w: WHEEL_HUB_GAP for w in WHEELS}
     out += [
         ("f08.floating_part", d.message) for d in audit_buildability(model, tol=JOIN_TOL, parent_tol=hubs)

@@ -14,8 +14,17 @@ Structure rules (each a ``Finding``; any of them skips the submitted-arm battery
   is a catalog spring (``rle_design.mjcf.spring_parts``: a tendon's stiffness is a cable-worked
   compression spring's rate, a joint's a torsion spring's), its cable never pushes and its tension
   (or deflection) stays within the rating over the public workspace grid (torsion: the joint range);
-* ``contract.underweight_part``: an added body lighter than solid PLA of its geometry's volume (a
-  printed strut or bracket has mass; a weightless connector cannot be built).
+* workshop rules (``rle_design.mjcf.workshop``, thresholds in ``public/gello_helpers.py`` as
+  ``WORKSHOP``, so the workspace runs the same check): every part of an added body is made of a
+  catalog material, its density within that material's range (exact edges): lighter than any is
+  ``contract.underweight_part`` (a weightless connector cannot be built), denser than any is
+  ``contract.point_mass``, between two ranges ``contract.material_density``; the body's inertial is
+  what its geometry gives (``contract.mass_mismatch``, ``contract.com_mismatch``,
+  ``contract.com_outside``, ``contract.inertia_mismatch``); no added part shares more than a quarter
+  of the smaller part's volume with a part welded to it (``contract.interpenetration``); every printed or metal
+  beam (box, cylinder, capsule) holds its loads (``contract.overstressed_part``) without sagging
+  beyond its limit (``contract.flexible_part``). Parts inside the next link across a joint fail
+  motion clearance pose by pose (``clearance.py``).
 """
 
 from __future__ import annotations
@@ -27,6 +36,8 @@ from rle_design.mjcf.buildability import audit_buildability
 from rle_design.mjcf.contract import Finding
 from rle_design.mjcf.spring_audit import spring_anchor_faults, spring_path_faults
 from rle_design.mjcf.spring_parts import spring_rating_faults
+from rle_design.mjcf.workshop import workshop_findings
+from rle_tasks.f09_gello.public.gello_helpers import WORKSHOP
 
 JOIN_TOL = 1e-3
 """Largest gap between parts that still counts as fastened [m]: printed parts are modelled touching
@@ -36,9 +47,19 @@ ANCHOR_TOL = 2e-3
 SPRING_CUT_MAX = 0.05
 """Fraction of workspace poses at which a spring may cut a part before the leader is refused: the
 fraction at which the motion-clearance checkpoint already scores 0 (README)."""
-PLA_DENSITY = 1240.0
-"""Solid printed PLA [kg/m^3], the lightest material an added part may be made of."""
 OBJ = mujoco.mjtObj
+_WORKSHOP_CODES = {
+    "material.too_light": "contract.underweight_part",
+    "material.too_dense": "contract.point_mass",
+    "material.density": "contract.material_density",
+    "interpenetration.weld": "contract.interpenetration",
+    "inertial.mass_mismatch": "contract.mass_mismatch",
+    "inertial.com_mismatch": "contract.com_mismatch",
+    "inertial.com_outside": "contract.com_outside",
+    "inertial.inertia_mismatch": "contract.inertia_mismatch",
+    "strength.overstressed": "contract.overstressed_part",
+    "strength.too_flexible": "contract.flexible_part",
+}
 
 
 def spring_cut_poses(m: mujoco.MjModel, poses: np.ndarray) -> dict[int, str]:
@@ -50,12 +71,7 @@ def spring_cut_poses(m: mujoco.MjModel, poses: np.ndarray) -> dict[int, str]:
 
 
 def buildability_findings(
-    spec: mujoco.MjSpec,
-    m: mujoco.MjModel,
-    added: list[int],
-    grid: np.ndarray,
-    volume,
-    path: str,
+    spec: mujoco.MjSpec, m: mujoco.MjModel, added: list[int], grid: np.ndarray, path: str
 ) -> list[Finding]:
     """Structure findings of the build-ability rules above.
 
@@ -63,8 +79,7 @@ def buildability_findings(
         spec: The submission's spec (not modified).
         m: Its compiled model.
         added: Ids of the bodies that are not in the stock assembly.
-        grid: Public workspace grid [rad], shape (N, dof).
-        volume: ``volume(m, geom) -> m^3`` of a geom.
+        grid: Public workspace grid [rad], shape (N, dof) (spring tensions at their worst pose).
         path: File the findings refer to.
     """
     out: list[Finding] = []
@@ -86,16 +101,11 @@ def buildability_findings(
                 path=path,
             )
         )
-    for b, name in zip(added, names, strict=True):
-        vol = sum(volume(m, g) for g in range(m.ngeom) if m.geom_bodyid[g] == b)
-        if m.body_mass[b] < PLA_DENSITY * vol * 0.99 - 1e-9:
-            out.append(
-                Finding(
-                    "contract.underweight_part",
-                    f"added body '{name}' has {m.body_mass[b]:.4g} kg for {vol * 1e6:.3g} cm^3 of parts: "
-                    f"lighter than solid PLA ({PLA_DENSITY:.0f} kg/m^3)",
-                    element="body",
-                    path=path,
-                )
-            )
+    stock = [b for b in range(1, m.nbody) if b not in set(added)]
+    for f in workshop_findings(
+        spec, m, added, WORKSHOP, poses=grid, baseline=stock, fused=added, joint_poses=False
+    ):
+        if f.code == "interpenetration.joint":
+            continue  # across a joint: motion clearance, pose by pose (clearance.py)
+        out.append(Finding(_WORKSHOP_CODES[f.code], f.message, element=f.element, path=path))
     return out

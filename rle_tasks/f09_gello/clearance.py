@@ -1,10 +1,13 @@
 """Motion clearance: do the added parts collide with the arm, the base or the table over the workspace?
 
 The submitted leader is recompiled with every geom colliding (``contype = conaffinity = 1``, no
-margin, every ``<exclude>`` removed, so a part cannot opt out) and a table plane at z = 0 (the bottom of the base plate). A grid pose counts
-as a clearance failure when a geom of an added body penetrates any geom of another rigid group
-(MuJoCo already ignores pairs welded together and parent-child pairs), or when a spring's straight
-path passes through a part (``buildable.spring_cut_poses``). Poses where the stock arm
+margin, every ``<exclude>`` removed, so a part cannot opt out) and a table plane at z = 0 (the bottom
+of the base plate). A grid pose counts as a clearance failure when a geom of an added body
+penetrates any geom of another rigid group in MuJoCo's collision, when an added part shares material
+with a geom of the neighbouring link across a joint beyond what the stock joint itself shares
+(``rle_design.mjcf.interpenetration``: MuJoCo's contact filter skips parent/child pairs; penetration
+deeper than ``PENETRATION_M`` with more than ``WORKSHOP.shared_volume`` of added shared material), or when a
+spring's straight path passes through a part (``buildable.spring_cut_poses``). Poses where the stock arm
 itself (beyond link 1, which sits on the base plate) comes within ``TABLE_MARGIN_M`` of the table are
 not working poses and are not counted.
 """
@@ -14,11 +17,14 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from rle_design.mjcf.interpenetration import Overlap, find_overlaps
 from rle_design.mjcf.loader import Design
 from rle_design.scene import element_ids
 from rle_tasks.f09_gello.buildable import spring_cut_poses
+from rle_tasks.f09_gello.public.gello_helpers import WORKSHOP
 
-PENETRATION_M = 1e-4
+PENETRATION_M = WORKSHOP.joint_tol
+"""Penetration of the collision geometry that counts as a collision [m] (0.1 mm, README)."""
 TABLE_MARGIN_M = 0.03
 """Poses that bring the stock arm (beyond link 1) this close to the table are not counted [m]."""
 
@@ -37,8 +43,28 @@ def clearance_model(design: Design) -> mujoco.MjModel:
     return spec.compile()
 
 
-def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarray) -> tuple[float, list[str]]:
-    """Fraction of poses with an added part in collision, and up to five example pairs.
+def joint_overlaps(m: mujoco.MjModel, added: list[int], poses: np.ndarray) -> dict[int, Overlap]:
+    """Pose index -> the first overlap of an added part with the next link across a joint there."""
+    stock = [b for b in range(1, m.nbody) if b not in set(added)]
+    found = find_overlaps(
+        m,
+        added,
+        poses,
+        joint_tol=PENETRATION_M,
+        weld_tol=np.inf,  # welded seats: buildable.py, at the zero pose
+        fused=added,
+        baseline=stock,
+        volume_tol=WORKSHOP.shared_volume,
+        first_per_pose=True,
+    )
+    return {o.pose: o for o in found}
+
+
+def collision_fraction(
+    design: Design, added_bodies: list[str], poses: np.ndarray
+) -> tuple[float, list[str], list[Overlap]]:
+    """Fraction of poses with an added part in collision, up to five example pairs, and the overlaps
+    across a joint (one per pose at which there is one).
 
     Args:
         design: Loaded submission.
@@ -46,7 +72,7 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
         poses: Grid poses [rad], shape (N, n).
     """
     if len(poses) == 0:
-        return 0.0, []
+        return 0.0, [], []
     m = clearance_model(design)
     d = mujoco.MjData(m)
     added = set(element_ids(m, "body", added_bodies))
@@ -54,6 +80,7 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
     fixed = [0, *element_ids(m, "body", ("base", "link1"))]
     stock_arm = ~geom_added & ~np.isin(m.geom_bodyid, fixed)  # stock parts that can reach the table
     cuts = spring_cut_poses(m, poses)  # a spring's path through a part fails the pose too
+    sunk = joint_overlaps(m, sorted(added), poses)  # a part inside the next link fails it too
     hits, counted, examples = 0, 0, []
     for i, q in enumerate(poses):
         d.qpos[:] = q
@@ -76,8 +103,13 @@ def collision_fraction(design: Design, added_bodies: list[str], poses: np.ndarra
             bad = True
             if len(examples) < 5:
                 examples.append(cuts[i])
+        if not bad and i in sunk:
+            bad = True
+            if len(examples) < 5:
+                examples.append(f"{sunk[i].geom1}/{sunk[i].geom2}")
         hits += bad
-    return (hits / counted if counted else 0.0), examples
+    overlaps = [sunk[i] for i in sorted(sunk)]
+    return (hits / counted if counted else 0.0), examples, overlaps
 
 
 def _lowest_point(m: mujoco.MjModel, d: mujoco.MjData, geoms: np.ndarray) -> float:

@@ -17,14 +17,16 @@ failure that skips the submitted-arm battery):
 * ``contract.stock_geometry`` / ``contract.stock_inertia``: stock geoms (type, size, placement) and
   stock body inertials (mass, centre of mass, inertia) unchanged: add mass as new welded bodies;
 * build-ability (``buildable.py``): ``contract.floating_part``, ``contract.spring_anchor``,
-  ``contract.spring_path``, ``contract.underweight_part``, and springs as catalog parts:
-  ``contract.spring_catalog``, ``contract.spring_push``, ``contract.spring_overload``.
+  ``contract.spring_path``, springs as catalog parts (``contract.spring_catalog``,
+  ``contract.spring_push``, ``contract.spring_overload``) and the workshop rules: catalog materials
+  (``contract.underweight_part``, ``contract.point_mass``, ``contract.material_density``), inertials
+  from the geometry (``contract.mass_mismatch`` ...), seats (``contract.interpenetration``) and
+  strength (``contract.overstressed_part``, ``contract.flexible_part``).
 
 Validity rules (deductions, the battery still runs): device mass (bodies plus catalog springs)
 <= 2.30 kg (``contract.over_mass``, a deduction growing linearly to its full 0.10 at 3.00 kg; a
 heavier device is a structure failure, ``contract.mass_bound``);
-added mesh parts printable in PLA (``contract.printability``); added bodies no denser than steel
-(``contract.point_mass``).
+added mesh parts printable in PLA (``contract.printability``).
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ import mujoco
 import numpy as np
 import trimesh
 
+from rle_design.catalog import load_catalog
 from rle_design.errors import MjcfError
 from rle_design.mjcf.contract import Finding, ModelContract, check_contract
 from rle_design.mjcf.loader import Design, load_design
@@ -58,7 +61,8 @@ MAX_MASS_KG = 2.30
 HARD_MASS_KG = 3.00
 """Mass at which the over-mass deduction is full (0.10) and beyond which a leader is refused [kg]
 (README: derivation)."""
-STEEL_DENSITY = 7850.0
+STEEL_DENSITY = float(load_catalog("materials").get("steel").density)
+"""Nominal steel [kg/m^3] (materials catalog), what the reference's counterweights are made of."""
 TOL = 1e-6
 OBJ = mujoco.mjtObj
 
@@ -277,24 +281,6 @@ def springs_summary(m: mujoco.MjModel) -> list[dict]:
     return out
 
 
-def _geom_volume(m: mujoco.MjModel, g: int) -> float:
-    t, s = int(m.geom_type[g]), m.geom_size[g]
-    gt = mujoco.mjtGeom
-    if t == gt.mjGEOM_SPHERE:
-        return 4 / 3 * np.pi * s[0] ** 3
-    if t == gt.mjGEOM_BOX:
-        return 8 * s[0] * s[1] * s[2]
-    if t == gt.mjGEOM_CYLINDER:
-        return np.pi * s[0] ** 2 * 2 * s[1]
-    if t == gt.mjGEOM_CAPSULE:
-        return np.pi * s[0] ** 2 * (2 * s[1] + 4 / 3 * s[0])
-    if t == gt.mjGEOM_ELLIPSOID:
-        return 4 / 3 * np.pi * s[0] * s[1] * s[2]
-    if t == gt.mjGEOM_MESH:
-        return abs(float(mesh_of(m, int(m.geom_dataid[g])).volume))
-    return 0.0
-
-
 def mesh_of(m: mujoco.MjModel, mesh_id: int) -> trimesh.Trimesh:
     """A compiled mesh as a trimesh (MuJoCo's recentred frame) [m]."""
     va, vn = int(m.mesh_vertadr[mesh_id]), int(m.mesh_vertnum[mesh_id])
@@ -323,20 +309,7 @@ def _validity(robot: str, m: mujoco.MjModel, added: list[int], path: str) -> tup
             )
         )
     for b in added:
-        name = mujoco.mj_id2name(m, OBJ.mjOBJ_BODY, b) or f"body{b}"
-        geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] == b]
-        vol = sum(_geom_volume(m, g) for g in geoms)
-        if m.body_mass[b] > STEEL_DENSITY * vol * 1.01 + 1e-6:
-            out.append(
-                Finding(
-                    "contract.point_mass",
-                    f"added body '{name}' has {m.body_mass[b]:.4g} kg in "
-                    f"{vol * 1e6:.3g} cm^3 of geometry: denser than steel ({STEEL_DENSITY:.0f} kg/m^3)",
-                    element="body",
-                    path=path,
-                )
-            )
-        for g in geoms:
+        for g in (g for g in range(m.ngeom) if m.geom_bodyid[g] == b):
             if m.geom_type[g] != mujoco.mjtGeom.mjGEOM_MESH:
                 continue
             rep = printability_report(mesh_of(m, int(m.geom_dataid[g])), material="pla", n_samples=400)
@@ -383,9 +356,7 @@ def load_submission(robot: str, directory: Path) -> Submission:
     stock = stock_model(robot)
     same_joints = m.njnt == stock.njnt and m.nq == stock.nq
     public_grid = workspace_grid(stock.jnt_range, PUBLIC_GRID_SIZE) if same_joints else np.zeros((0, m.nq))
-    sub.structure += buildability_findings(
-        sub.design.fresh_spec(), m, sub.added_bodies, public_grid, _geom_volume, rel
-    )
+    sub.structure += buildability_findings(sub.design.fresh_spec(), m, sub.added_bodies, public_grid, rel)
     if sub.mass > HARD_MASS_KG:
         sub.structure.append(
             Finding(

@@ -109,7 +109,6 @@ RUBRIC = Rubric(
             "device heavier than the 2.30 kg cap: 0.10 x (m - 2.30 kg) / 0.70 kg; above 3.00 kg refused",
         ),
         Deduction("contract.printability", 0.05, "an added mesh part not printable in PLA"),
-        Deduction("contract.point_mass", 0.05, "an added body denser than steel"),
     ),
     max_deduction=0.10,
 )

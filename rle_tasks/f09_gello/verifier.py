@@ -223,30 +223,34 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: Findings)
 
     trim = TrimRunner(sub_dir / "trim.py", dof, hang_cap_s=ctx.hang_cap_s)
     try:
-        plan = trim.plan(ranges) if sub_dir.is_dir() else None
-        # adapted reference arm: hidden copy of the stock leader, feedforward unclipped
-        var = device.draw_variation(derive_rng(ctx.secret, TASK_ID, f"{robot}/reference"), dof)
-        ref_dev = device.apply_variation(stock, var)
-        ref_r = battery.residual_mujoco(ref_dev, poses)
-        ff = _adapted_ff(
-            trim,
-            plan,
-            "reference",
-            ref_dev,
-            home,
-            poses,
-            derive_rng(ctx.secret, TASK_ID, f"{robot}/reference/probe"),
-        )
-        if ff is not None:
-            ff = np.clip(ff, -REFERENCE_FF_BOUND, REFERENCE_FF_BOUND)
-            failed: list[str] = []
-            out = _hold_back_push(ref_dev, poses, ff, ref_r - ff, size.hold_s, None, failed)
-            _report_warnings(report, robot, "adapted reference arm", failed)
-            res.scores["reference_hold"] = scoring.mean_score("reference_hold", out["drift"])
-            res.scores["reference_backdrive"] = scoring.mean_score("reference_backdrive", out["backdrive"])
-            res.measured["reference_drift_rad"] = out["drift"]
-            res.measured["reference_backdrive_Nm"] = out["backdrive"]
+        # a refused leader scores 0 at every checkpoint, the adapted reference arm's included: its
+        # trim.py is part of the refused submission
         if sub.usable:
+            plan = trim.plan(ranges)
+            # adapted reference arm: hidden copy of the stock leader, feedforward unclipped
+            var = device.draw_variation(derive_rng(ctx.secret, TASK_ID, f"{robot}/reference"), dof)
+            ref_dev = device.apply_variation(stock, var)
+            ref_r = battery.residual_mujoco(ref_dev, poses)
+            ff = _adapted_ff(
+                trim,
+                plan,
+                "reference",
+                ref_dev,
+                home,
+                poses,
+                derive_rng(ctx.secret, TASK_ID, f"{robot}/reference/probe"),
+            )
+            if ff is not None:
+                ff = np.clip(ff, -REFERENCE_FF_BOUND, REFERENCE_FF_BOUND)
+                failed: list[str] = []
+                out = _hold_back_push(ref_dev, poses, ff, ref_r - ff, size.hold_s, None, failed)
+                _report_warnings(report, robot, "adapted reference arm", failed)
+                res.scores["reference_hold"] = scoring.mean_score("reference_hold", out["drift"])
+                res.scores["reference_backdrive"] = scoring.mean_score(
+                    "reference_backdrive", out["backdrive"]
+                )
+                res.measured["reference_drift_rad"] = out["drift"]
+                res.measured["reference_backdrive_Nm"] = out["backdrive"]
             _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, report, res)
     finally:
         trim.close()
@@ -269,10 +273,19 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: Findings)
 def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, report, res) -> None:
     m = sub.model
     added = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in sub.added_bodies]
-    frac, examples = clearance.collision_fraction(sub.design, added, grid[: size.clearance])
+    frac, examples, sunk = clearance.collision_fraction(sub.design, added, grid[: size.clearance])
     res.scores["motion_clearance"] = scoring.BY_ID["motion_clearance"].score(frac)
     res.measured["collision_fraction"] = frac
     res.measured["collision_examples"] = examples
+    if sunk:
+        deepest = max(sunk, key=lambda o: o.depth_m)
+        report.add_error(
+            "clearance.interpenetration",
+            f"an added part lies inside the next link across a joint at {len(sunk)} of "
+            f"{len(grid[: size.clearance])} hidden grid poses (each fails motion clearance); deepest: "
+            f"{deepest.message.replace(f'at pose {deepest.pose}', f'at hidden pose {deepest.pose}')}",
+            f"{robot}/lead.xml",
+        )
 
     r, err = _residuals(m, grid, report, robot)
     worst = np.max(np.abs(r), axis=1)

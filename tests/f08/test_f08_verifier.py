@@ -70,7 +70,10 @@ def test_reference_scores_at_least_075(full_battery):
 @pytest.mark.physics
 def test_tall_narrow_fails_static_stability_with_2kg():
     r = _report("baseline/tall_narrow")
-    assert r.checkpoint("validity").score == 1.0
+    # its tower's four posts stand through the battery (welded parts, never collided by MuJoCo):
+    # refused by name since issue 45, the batteries still measured
+    assert r.checkpoint("validity").score == 0.0 and {e.code for e in r.errors} == {"f08.interpenetration"}
+    assert all("into 'battery_geom' of body 'battery' (welded to it;" in e.message for e in r.errors)
     c = r.checkpoint("static_stability")
     assert c.score < 0.5 and any("@2kg" in f for m in c.measured.values() for f in m["failed"])
     assert r.score <= CAP

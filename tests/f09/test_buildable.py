@@ -16,7 +16,7 @@ from lxml import etree
 from rle_design.catalog import load_catalog
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
-from rle_tasks.f09_gello.buildable import PLA_DENSITY, SPRING_CUT_MAX, spring_cut_poses
+from rle_tasks.f09_gello.buildable import SPRING_CUT_MAX, spring_cut_poses
 from rle_tasks.f09_gello.device import load_submission, springs_summary
 from rle_tasks.f09_gello.leaders import ROBOTS
 from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workspace_grid
@@ -121,9 +121,9 @@ def test_what_could_not_be_built_is_refused_by_name(reference, tmp_path, edit, c
     found = [f for f in sub.structure if f.code == code]
     assert found and words in found[0].message, [f"{f.code}: {f.message}" for f in sub.structure]
     if code == "contract.underweight_part":
-        # 1e-4 kg for a 60 x 20 x 20 mm box: 24 cm^3 of solid PLA would weigh 0.0298 kg
-        assert pytest.approx(0.02976) == PLA_DENSITY * 0.06 * 0.02 * 0.02
-        assert "24 cm^3" in found[0].message
+        # 1e-4 kg for a 60 x 20 x 20 mm box: 24 cm^3, 4.17 kg/m^3, lighter than PLA's 1240 kg/m^3
+        assert "0.0001 kg in 24 cm^3 (4.16667 kg/m^3)" in found[0].message
+        assert "pla 1240-1250" in found[0].message
 
 
 def test_a_floating_counterweight_reports_its_gap_in_mm(reference, tmp_path):

@@ -92,18 +92,17 @@ def test_inertial_change_of_a_stock_link_is_refused(tmp_path):
     assert "stock body 'link2' inertial changed" in sub.structure[0].message
 
 
-def test_point_mass_and_over_mass_are_validity_findings(tmp_path):
+def test_a_point_mass_is_refused_and_over_mass_deducted(tmp_path):
+    # 2.5 kg declared in a body with no parts: no material has that density (it is not steel)
     block = '<body name="lead" pos="0 0 0.05"><inertial pos="0 0 0" mass="2.5" diaginertia="1e-4 1e-4 1e-4"/></body>'
     sub = _variant(tmp_path, '<site name="mount_site"', block + '<site name="mount_site"')
-    assert sub.usable
-    assert sorted(f.code for f in sub.validity) == ["contract.over_mass", "contract.point_mass"]
+    assert not sub.usable
+    assert "contract.com_outside" in {f.code for f in sub.structure}
+    assert [f.code for f in sub.validity] == ["contract.over_mass"]
     assert sub.validity[0].message.startswith("device mass 2.947 kg exceeds 2.30 kg")
     # the deduction grows with the excess: (2.947 - 2.30) / (3.00 - 2.30) = 0.924 of 0.10
-    assert deductions(sub) == [
-        ("contract.over_mass", pytest.approx(0.647 / 0.70, abs=2e-3)),
-        ("contract.point_mass", 1.0),
-    ]
-    assert RUBRIC.deduction(deductions(sub)) == pytest.approx(0.10)  # 0.0924 + 0.05, capped at 0.10
+    assert deductions(sub) == [("contract.over_mass", pytest.approx(0.647 / 0.70, abs=2e-3))]
+    assert RUBRIC.deduction(deductions(sub)) == pytest.approx(0.0924, abs=2e-4)
 
 
 @pytest.mark.parametrize(("extra_kg", "code"), [(2.2, None), (3.0, "contract.mass_bound")])

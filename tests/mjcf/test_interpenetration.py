@@ -104,3 +104,12 @@ def test_what_the_stock_joint_already_shares_is_allowed():
     assert find_overlaps(m, [plug], poses, joint_tol=1e-4, weld_tol=np.inf, baseline=[a, b]) == []
     # without the stock baseline the same plug shares material with B
     assert {o.geom2 for o in find_overlaps(m, [plug], poses, joint_tol=1e-4, weld_tol=np.inf)} == {"bar_b"}
+
+
+def test_a_seat_may_share_a_fraction_of_the_smaller_part():
+    m = _arm(-0.005)  # the post (8 x 8 x 15 mm) shares 10 of its 15 mm with bar A: 2/3 of itself
+    (bracket,) = _ids(m, "bracket")
+    share = 0.010 / 0.015
+    assert find_overlaps(m, [bracket], None, joint_tol=1e-4, weld_tol=1e-4, weld_share=share + 0.01) == []
+    (o,) = find_overlaps(m, [bracket], None, joint_tol=1e-4, weld_tol=1e-4, weld_share=share - 0.01)
+    assert o.volume_m3 == pytest.approx(0.010 * 0.008 * 0.008, rel=1e-6)
