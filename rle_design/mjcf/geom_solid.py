@@ -96,16 +96,20 @@ def pose_matrix(xpos: np.ndarray, xmat: np.ndarray) -> np.ndarray:
 def geom_manifold(model: mujoco.MjModel, g: int, cache: dict | None = None):
     """``manifold3d.Manifold`` of geom ``g`` in the geom frame (cached in ``cache`` by geom id).
 
-    A mesh that manifold3d refuses is replaced by its convex hull.
+    A mesh that manifold3d refuses is replaced by its convex hull; a degenerate one (flat, no hull)
+    by the empty solid.
     """
     import manifold3d
 
     if cache is not None and g in cache:
         return cache[g]
-    mesh = geom_trimesh(model, g)
-    man = _to_manifold(mesh)
-    if man.status() != manifold3d.Error.NoError or man.is_empty():
-        man = _to_manifold(mesh.convex_hull)
+    try:
+        mesh = geom_trimesh(model, g)
+        man = _to_manifold(mesh)
+        if man.status() != manifold3d.Error.NoError or man.is_empty():
+            man = _to_manifold(mesh.convex_hull)
+    except Exception:  # noqa: BLE001 - a flat or degenerate mesh (qhull refuses it): no volume, no overlap
+        man = manifold3d.Manifold()
     if cache is not None:
         cache[g] = man
     return man
