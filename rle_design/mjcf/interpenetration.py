@@ -91,28 +91,33 @@ def skipped_pairs(
     """
     audited, fused = set(int(b) for b in bodies), set(int(b) for b in fused)
     weld, parent = model.body_weldid, model.body_parentid
-    solid = [g for g in range(model.ngeom) if is_solid(model, g)]
+    by_weld: dict[int, list[int]] = {}
+    for g in range(model.ngeom):
+        if is_solid(model, g):
+            by_weld.setdefault(int(weld[model.geom_bodyid[g]]), []).append(g)
+    children: dict[int, list[int]] = {}
+    for w in by_weld:
+        if w != 0:
+            children.setdefault(int(weld[parent[w]]), []).append(w)
     out: list[tuple[int, int, bool]] = []
     seen: set[tuple[int, int]] = set()
-    for g1 in solid:
-        b1 = int(model.geom_bodyid[g1])
-        if b1 not in audited:
-            continue
-        w1 = int(weld[b1])
-        for g2 in solid:
-            b2 = int(model.geom_bodyid[g2])
-            if b2 == b1 or (min(g1, g2), max(g1, g2)) in seen:
+    for w1, geoms in sorted(by_weld.items()):
+        up = int(weld[parent[w1]])
+        near = [(w1, False)] + [(w, True) for w in children.get(w1, []) if w1 != 0]
+        near += [(up, True)] if w1 != 0 and up != 0 else []
+        for g1 in geoms:
+            b1 = int(model.geom_bodyid[g1])
+            if b1 not in audited:
                 continue
-            w2 = int(weld[b2])
-            welded = w1 == w2
-            if welded and b1 in fused and b2 in fused:
-                continue
-            wp1, wp2 = int(weld[parent[w1]]), int(weld[parent[w2]])
-            adjacent = w1 != 0 and w2 != 0 and (w1 == wp2 or w2 == wp1)
-            if welded or adjacent:
-                seen.add((min(g1, g2), max(g1, g2)))
-                out.append((g1, g2, not welded))
-    return out
+            for w2, across in near:
+                for g2 in by_weld.get(w2, []):
+                    b2 = int(model.geom_bodyid[g2])
+                    key = (min(g1, g2), max(g1, g2))
+                    if b2 == b1 or key in seen or (not across and b1 in fused and b2 in fused):
+                        continue
+                    seen.add(key)
+                    out.append((g1, g2, across))
+    return sorted(out)
 
 
 def _placed(man, xpos: np.ndarray, xmat: np.ndarray):
