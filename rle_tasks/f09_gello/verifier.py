@@ -282,7 +282,8 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
         report.add_error(
             "clearance.interpenetration",
             f"an added part lies inside the next link across a joint at {len(sunk)} of "
-            f"{len(grid[: size.clearance])} hidden grid poses (each fails motion clearance); deepest: "
+            f"{len(grid[: size.clearance])} hidden grid poses where nothing else collides (each fails "
+            "motion clearance); deepest: "
             f"{deepest.message.replace(f'at pose {deepest.pose}', f'at hidden pose {deepest.pose}')}",
             f"{robot}/lead.xml",
         )

@@ -53,7 +53,10 @@ def test_quick_scores_and_checksums_equal_the_golden_table(reports):
 
 def test_reference_scores_at_least_0_7(reports):
     r = reports["reference"]
-    assert r.score >= 0.7 and r.valid and not r.errors
+    assert r.score >= 0.7 and r.valid
+    # the reference's rods and spring posts lie inside the next link at most poses (README): scored
+    # in motion clearance and named, nothing else
+    assert {e.code for e in r.errors} <= {"clearance.interpenetration"}
     assert [c.id for c in r.checkpoints][:2] == ["motion_clearance", "passive_residual"]
     assert len(r.checkpoints) == 10 and all(c.weight == pytest.approx(0.1) for c in r.checkpoints)
     assert set(r.checkpoint("combined_hold").per_variant) == {"panda", "ur5e", "xarm7"}
@@ -85,10 +88,9 @@ def test_over_mass_beyond_the_hard_bound_is_refused(reports):
     mass = float(r.errors[0].message.split("device mass ")[1].split(" kg")[0])
     assert mass > 3.0 and "hard bound 3.00 kg" in r.errors[0].message
     assert not r.valid
-    # structure failure: only the adapted reference-arm checkpoints (stock copy, its own trim) score
-    scored = {c.id for c in r.checkpoints if c.score > 0}
-    assert scored <= {"reference_hold", "reference_backdrive"}
-    assert r.score <= 0.2 + 1e-9 < ref.score
+    # a refused leader scores 0 at every checkpoint, the adapted reference arm's too (issue 45)
+    assert [c.id for c in r.checkpoints if c.score > 0] == []
+    assert r.score == 0.0 < ref.score
 
 
 def test_hanging_trim_times_out_and_the_verifier_continues(reports):
