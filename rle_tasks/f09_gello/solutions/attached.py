@@ -37,11 +37,13 @@ from rle_tasks.f09_gello.device import ASSET_DIR, STEEL_DENSITY
 
 PLA_DENSITY = 1240.0
 """Solid printed PLA [kg/m^3]."""
-ARM_RADIUS = 0.005
-"""Counterweight rod radius [m]: a 0.5 kg weight 0.1 m out bends a 10 mm PLA rod to ~5 MPa (PLA
-yields at ~50 MPa)."""
+ARM_RADIUS = 0.006
+"""Counterweight rod radius [m]: 12 mm PLA rods. The 10 mm rods of the first fastened reference let
+panda's 0.43 kg wrist weight sag 4.0 mm on its 168 mm rod, 2.4 % of the span, beyond the 2 % sag
+limit (``contract.flexible_part``, issue 45); a 12 mm rod is 2.07 times stiffer (I ~ r^4)."""
 BRACKET_RADIUS = 0.006
-"""Spring post radius [m]: ~40 N of spring force 50 mm out stresses a 12 mm PLA post to ~12 MPa."""
+"""Spring post radius [m]: 60-68 N of spring tension 50 mm out stresses a 12 mm PLA post to ~21 MPa,
+within PLA's 25 MPa allowable (``contract.overstressed_part``: 50 MPa / 2)."""
 EMBED = 0.002
 """Printed parts reach this far into the part they are fastened to [m]."""
 BOX = 0.015
