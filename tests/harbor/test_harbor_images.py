@@ -8,8 +8,10 @@ and cached by Docker, so only a first build is long.
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
+from pathlib import Path
 
 import pytest
 
@@ -55,11 +57,23 @@ def test_agent_and_verifier_images_import_what_they_must(tmp_path):
             "import rle_tasks.core.harbor_reward, rle_tasks.f09_gello.verifier, pinocchio; print('ok')",
         )
         assert verifier.returncode == 0 and verifier.stdout.strip().endswith("ok"), verifier.stderr[-2000:]
+        probe = _run("rle-test-verifier:09", SANDBOX_PROBE)
+        assert probe.returncode == 0, probe.stderr[-2000:]
+        seen = json.loads(probe.stdout.strip().splitlines()[-1])
+        assert seen["read"] == seen["list"] == "PermissionError", seen  # Landlock: EACCES on the package
+        assert seen["import"] == "ImportError" and seen["toolkit"] == "ok", seen
+        assert "/opt/rle-bench" in seen["sys_path"] or seen["editable"], (
+            seen
+        )  # the package is installed there
     finally:
         subprocess.run(
             ["docker", "rmi", "-f", "rle-test-agent:09", "rle-test-verifier:09"], capture_output=True
         )
 
+
+SANDBOX_PROBE = (Path(__file__).parent / "sandbox_probe.py").read_text()
+"""A sandboxed submission in the verifier's image (as root, as ``harbor_reward`` runs) tries to read,
+list and import the verifier package, then imports the public toolkit (``sandbox_probe.py``)."""
 
 BASE_COMPOSE = """services:
   main:
