@@ -216,7 +216,15 @@ def material_findings(
                 )
             )
         outside = _hull_margin(model, b, c0)
-        if outside > tol.com_tol:
+        if not np.isfinite(outside) and m0 > 0:
+            out.append(
+                Finding(
+                    "inertial.com_outside",
+                    f"body '{name}': declares {m0:.6g} kg but has no parts (solid geoms) to carry it",
+                    element="body",
+                )
+            )
+        elif outside > tol.com_tol:
             out.append(
                 Finding(
                     "inertial.com_outside",

@@ -112,3 +112,13 @@ def test_message_names_the_part_and_the_ranges():
         "part 'cube' of body 's' has 0.0634 kg in 8 cm^3 (7925 kg/m^3): no catalog material"
     )
     assert "steel 7800-7870" in f.message and "pla 1240-1250" in f.message
+
+
+def test_a_mass_without_parts_is_named():
+    spec, m = _model(
+        '<body name="ghost"><inertial pos="0 0 0" mass="2.5" diaginertia="1e-4 1e-4 1e-4"/></body>'
+    )
+    found = material_findings(spec, m, [1])
+    assert [(f.code, f.message) for f in found if f.code == "inertial.com_outside"] == [
+        ("inertial.com_outside", "body 'ghost': declares 2.5 kg but has no parts (solid geoms) to carry it")
+    ]

@@ -371,7 +371,10 @@ def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: boo
             lm = leader.compile()
             names = [mujoco.mj_id2name(lm, mujoco.mjtObj.mjOBJ_BODY, b) for b in range(1, lm.nbody)]
             names = [n for n in names if n not in stock]
-            frac = collision_fraction(leader, names, grid)[0]  # spring paths included
+            # spring paths included; parts inside the next link across a joint not: the spring
+            # posts sit inside link2 at every pose (README), which would fail every candidate alike
+            # and leave the greedy nothing to rank placements by
+            frac = collision_fraction(leader, names, grid, across_joints=False)[0]
             mass = float(lm.body_mass[1:].sum())
             # the rods' own moments are re-balanced by ``optimise``; a joint left without a
             # counterweight keeps its subtree's gravity moment
