@@ -193,3 +193,41 @@ def test_the_public_helper_runs_the_same_rules(reference, tmp_path):
     sub = _edited(reference, tmp_path, _thin_strut)
     lines = workshop_check(sub.design.root / "lead.xml", ROBOT)
     assert any(line.startswith("strength.overstressed: part 'strut_pla'") for line in lines)
+
+
+def _stl(tris) -> bytes:
+    import struct
+
+    out = bytearray(80) + struct.pack("<I", len(tris))
+    for t in tris:
+        out += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *v) for v in t) + b"\0\0"
+    return bytes(out)
+
+
+_O, _X, _Y, _Z = (0, 0, 0), (0.02, 0, 0), (0, 0.02, 0), (0, 0, 0.02)
+
+
+@pytest.mark.parametrize(
+    "tris, code",
+    [
+        ([(_O, _X, _Y), (_O, _Y, _X)], "mjcf.compile"),  # flat: MuJoCo refuses it
+        ([(_O, _X, _Y), (_O, _Z, _X)], "contract.printability"),  # open surface
+        ([(_O, _X, _Y), (_O, _Z, _X), (_O, _Y, _Z), (_X, _Z, _Y)], "contract.printability"),  # inside out
+    ],
+    ids=["flat", "open", "inverted"],
+)
+def test_odd_mesh_parts_are_findings_not_crashes(reference, tmp_path, tris, code):
+    out = tmp_path / ROBOT
+    shutil.copytree(reference / ROBOT, out)
+    (out / "meshes").chmod(0o755)
+    (out / "meshes" / "odd.stl").write_bytes(_stl(tris))
+    path = out / "lead.xml"
+    tree = etree.parse(str(path))
+    root = tree.getroot()
+    etree.SubElement(root.find("asset"), "mesh", name="odd", file="odd.stl")
+    body = etree.SubElement(_body(root, "link3"), "body", name="odd", pos="0.01 0 0")
+    etree.SubElement(body, "geom", type="mesh", mesh="odd", density="1240")
+    path.chmod(0o644)
+    tree.write(str(path))
+    sub = load_submission(ROBOT, out)
+    assert code in {f.code for f in sub.structure + sub.validity}
