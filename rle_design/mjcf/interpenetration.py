@@ -142,7 +142,6 @@ class _Solids:
         self.model, self.data, self.cache = model, data, cache
         self.baseline = baseline
         self._outside: dict[int, object] = {}
-        self._group: dict[int, object | None] = {}
 
     def world(self, g: int):
         return _placed(
