@@ -153,7 +153,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
 def _cmd_index(args: argparse.Namespace) -> int:
     from rle_tasks.core.index import index_command
 
-    return index_command(args.reports, html=args.html, name=args.name)
+    return index_command(args.reports, html=args.html, name=args.name, allow_privileged=args.allow_privileged)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -290,6 +290,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("reports", nargs="+", help="verifier report files and/or Harbor job directories")
     s.add_argument("--html", default=None)
     s.add_argument("--name", default="submission", help="system name shown on the leaderboard")
+    s.add_argument(
+        "--allow-privileged",
+        action="store_true",
+        help="accept reports of privileged sessions (an operator's oracle trials; refused by default)",
+    )
     s.set_defaults(fn=_cmd_index)
 
     s = sub.add_parser("demo", help="verify every shipped solution and write out/demo/")

@@ -123,6 +123,11 @@ class GateResult:
         return self.verdict.opened if self.verdict is not None else {}
 
     @property
+    def privileged(self) -> bool:
+        """The session served privileged observations (an operator's oracle run, never an agent's)."""
+        return self.opened.get("privileged") is True
+
+    @property
     def sealed(self) -> dict:
         return self.verdict.sealed if self.verdict is not None else {}
 

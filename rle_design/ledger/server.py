@@ -129,6 +129,7 @@ def serve(
     attempt: str = "",
     ready: Connection | None = None,
     socket_mode: int | None = None,
+    meta: dict | None = None,
 ) -> None:
     """Serve one metered session until sealed or signalled (runs in the server process).
 
@@ -148,6 +149,7 @@ def serve(
             actions_per_record=actions_per_record,
             wall_time_s=wall_time_s,
             attempt=attempt,
+            **({"meta": meta} if meta else {}),
         )
         del key
         old_umask = os.umask(0o077)
@@ -190,6 +192,8 @@ class LedgerServer:
         wall_time_s: Wall-clock time the session may charge steps for [s] (see ``MeteredSession``).
         attempt: The attempt the session belongs to (recorded in the ledger's open record).
         socket_mode: Permission bits of the socket (default 0600: only the server's uid connects).
+        meta: Extra fields of the ledger's open record (``{"privileged": True}`` for an operator's
+            oracle session).
     """
 
     def __init__(
@@ -205,6 +209,7 @@ class LedgerServer:
         wall_time_s: float | None = None,
         attempt: str = "",
         socket_mode: int | None = None,
+        meta: dict | None = None,
     ) -> None:
         if len(str(socket_path)) > 100:
             raise LedgerError(
@@ -225,6 +230,7 @@ class LedgerServer:
             wall_time_s=wall_time_s,
             attempt=attempt,
             socket_mode=socket_mode,
+            meta=meta,
         )
         self._process = ctx.Process(
             target=serve,

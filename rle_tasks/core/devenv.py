@@ -43,7 +43,7 @@ from rle_design.errors import RleError
 from rle_design.ledger import LedgerServer, MeteredEnv, SceneSet
 from rle_tasks.core.devservice import ADDRESS_FUNCTION
 from rle_tasks.core.secrets import Secret, load_secret, using_secret
-from rle_tasks.core.task import TaskSpec
+from rle_tasks.core.task import TaskSpec, privileged_dev
 
 LEDGER_LABEL = b"rle-bench ledger key v1"
 _CLIENT = '''"""Metered development environment of task {task_id} (written by `rle dev`).
@@ -162,12 +162,15 @@ def layout_workspace(
     ledger_dir: Path | None = None,
     attempt: str | None = None,
     socket_mode: int | None = None,
+    privileged: bool = False,
 ) -> DevWorkspace:
     """Lay out the workspace of ``spec`` and start its ledger server when metered and ``serve``.
 
     ``attempt`` (default: ``default_attempt(workspace)``) binds the session's hidden scenes and its
     ledger (module docstring). ``socket_mode`` opens the socket to other uids (a Harbor sidecar
     serving the agent's container through a shared volume; the default lets only this uid connect).
+    ``privileged`` serves privileged observations for an operator's oracle trial (tasks with
+    ``privileged_oracle`` only); the session's ledger records it and verifiers name it.
 
     Raises:
         RleError: ``task.not_implemented`` for a registered task without an implementation,
@@ -180,6 +183,11 @@ def layout_workspace(
             "See `rle tasks` for the implemented ones",
             code="task.not_implemented",
         )
+    if privileged and not spec.privileged_oracle:
+        raise RleError(
+            f"task '{spec.id}' has no privileged development environment (no oracle needs one)",
+            code="task.no_privileged",
+        )
     workspace = Path(workspace).resolve()
     attempt = default_attempt(workspace) if attempt is None else attempt
     bound = (secret if secret is not None else load_secret()).for_attempt(attempt)
@@ -188,7 +196,7 @@ def layout_workspace(
         attempt_ledger(ledgers, attempt)  # refuses before anything is laid out or served
     workspace.mkdir(parents=True, exist_ok=True)
     (workspace / "instruction.md").write_text(spec.instruction.rstrip() + "\n")
-    with using_secret(bound):
+    with using_secret(bound), privileged_dev(privileged):
         env = spec.make_dev_env(workspace) if spec.make_dev_env is not None else None
     ws = DevWorkspace(spec.id, workspace, (), attempt=attempt)
     if isinstance(env, (MeteredEnv, SceneSet)):
@@ -231,6 +239,7 @@ def layout_workspace(
                 wall_time_s=spec.budget.wall_time_s,
                 attempt=attempt,
                 socket_mode=socket_mode,
+                meta={"privileged": True} if privileged else None,
             )
             del key
             ws.server.start()
@@ -263,6 +272,7 @@ def make_workspace(
     ledger_dir: Path | None = None,
     socket_mode: int | None = None,
     prepare: Callable[[Path], None] | None = None,
+    privileged: bool = False,
 ) -> DevWorkspace:
     """``rle dev TASK --workspace DIR [--attempt ID]``: lay out the workspace and serve its environment.
 
@@ -270,7 +280,7 @@ def make_workspace(
     a client seals the session; Ctrl-C or SIGTERM (also of a background ``rle dev &``) seals the
     ledger and stops the server. ``ledger_dir`` and ``socket_mode`` as for ``layout_workspace``;
     ``prepare(workspace)`` runs once the workspace is laid out and served (a Harbor sidecar hands it
-    to the agent's uid).
+    to the agent's uid); ``privileged`` as for ``layout_workspace``.
 
     Raises:
         RleError: ``task.unknown``, ``task.not_implemented``, ``ledger.attempt_used``,
@@ -279,7 +289,13 @@ def make_workspace(
     from rle_tasks.core.registry import get_task
 
     ws = layout_workspace(
-        get_task(task_id), workspace, serve, attempt=attempt, ledger_dir=ledger_dir, socket_mode=socket_mode
+        get_task(task_id),
+        workspace,
+        serve,
+        attempt=attempt,
+        ledger_dir=ledger_dir,
+        socket_mode=socket_mode,
+        privileged=privileged,
     )
     if prepare is not None:
         prepare(ws.workspace)

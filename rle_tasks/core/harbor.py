@@ -122,7 +122,8 @@ def task_toml(spec: TaskSpec) -> str:
         'environment_mode = "separate"',
         'network_mode = "no-network"',
         # No default: Harbor refuses to start the verifier when the host has no RLE_SECRET.
-        'env = { RLE_SECRET = "${RLE_SECRET}", RLE_ALLOW_PUBLIC_KEY = "${RLE_ALLOW_PUBLIC_KEY:-0}" }',
+        'env = { RLE_SECRET = "${RLE_SECRET}", RLE_ALLOW_PUBLIC_KEY = "${RLE_ALLOW_PUBLIC_KEY:-0}", '
+        'RLE_ORACLE_PRIVILEGED = "${RLE_ORACLE_PRIVILEGED:-0}" }',
         "",
         # Every verifier runs on CPU (CI has no GPU): the separate verifier container asks for none,
         # whatever the agent's budget grants, so verification needs no GPU host.

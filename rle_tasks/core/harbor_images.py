@@ -134,6 +134,7 @@ services:
     environment:  # the sidecar refuses to serve without a private secret, unless a smoke test says so
       RLE_SECRET: ${{RLE_SECRET:-}}
       RLE_ALLOW_PUBLIC_KEY: ${{RLE_ALLOW_PUBLIC_KEY:-0}}
+      RLE_ORACLE_PRIVILEGED: ${{RLE_ORACLE_PRIVILEGED:-0}}  # an operator's oracle trial only
     volumes:
       - workspace:/workspace
     healthcheck:

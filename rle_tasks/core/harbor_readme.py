@@ -11,6 +11,19 @@ def _reference_line(spec: TaskSpec, served: str = "", plays: bool = False) -> st
     from rle_tasks.core.solutions import declaration
 
     ref = declaration(spec).get("reference")
+    if plays and spec.privileged_oracle:
+        return (
+            "Harbor's oracle agent plays the reference program (`solution/oracle.py`) through the "
+            "development sidecar. That program reads the pieces' poses and sizes, which agents are never "
+            "given, so the sidecar serves them only for an oracle trial: run it with "
+            "`RLE_ORACLE_PRIVILEGED=1` on the host (`RLE_ORACLE_PRIVILEGED=1 harbor run --path . --agent "
+            "oracle -e docker`). The session's ledger records it, the verifier names it "
+            "(`ledger.privileged`), `rle index` refuses the report, and the reward counts only because the "
+            "verifier reads the same variable (without it, or in any agent's trial, such a session scores "
+            f"0). With the public development key the reference scores **{ref.quick_score:.3f}** (the golden "
+            f"score pinned in `{spec.solutions_module}`); with your private secret the blocks are others, "
+            "so expect a score near it."
+        )
     if plays:
         return (
             f"Harbor's oracle agent plays the reference program (`solution/oracle.py`) through the "

@@ -43,6 +43,7 @@ class TrialRecord:
         output_tokens: Output tokens.
         elapsed_s: Trial wall time, ``finished_at - started_at`` [s] (0 when unknown).
         exception: ``Type: message`` of the recorded exception, or "".
+        privileged: The reward says the session was privileged (an operator's oracle trial).
     """
 
     system: str
@@ -55,6 +56,7 @@ class TrialRecord:
     output_tokens: int = 0
     elapsed_s: float = 0.0
     exception: str = ""
+    privileged: bool = False
 
     @property
     def failed(self) -> bool:
@@ -130,6 +132,7 @@ def read_trial(path: Path) -> TrialRecord | None:
         output_tokens=_int(usage.get("n_output_tokens")),
         elapsed_s=(end - start).total_seconds() if start and end else 0.0,
         exception=f"{exc.get('exception_type')}: {exc.get('exception_message')}" if exc else "",
+        privileged=bool(rewards.get("privileged")),
     )
 
 
@@ -171,7 +174,7 @@ def resources(records: Sequence[TrialRecord]) -> Resources:
 
 
 def systems(
-    records: Iterable[TrialRecord], tasks: Sequence[TaskSpec] | None = None
+    records: Iterable[TrialRecord], tasks: Sequence[TaskSpec] | None = None, allow_privileged: bool = False
 ) -> dict[str, tuple[IndexResult, Resources]]:
     """``{system: (index result, resources)}``: each task's score is the mean reward of its trials
     (a failed trial counts 0), in order of first appearance of the system.
@@ -185,10 +188,20 @@ def systems(
     out = {}
     for system, trials in by_system.items():
         per_task: dict[str, list[Fraction]] = {}
+        privileged = {r.task_id for r in trials if r.privileged}
         for r in trials:
             per_task.setdefault(r.task_id, []).append(Fraction(r.reward or 0.0))
-        reports = [{"task_id": tid, "score": float(sum(v) / len(v))} for tid, v in per_task.items()]
-        result = compute_index(reports, name=system, tasks=tasks)
+        reports = [
+            {
+                "task_id": tid,
+                "score": float(sum(v) / len(v)),
+                "errors": [{"code": "ledger.privileged", "message": "a trial's session was privileged"}]
+                if tid in privileged
+                else [],
+            }
+            for tid, v in per_task.items()
+        ]
+        result = compute_index(reports, name=system, tasks=tasks, allow_privileged=allow_privileged)
         out[system] = (result, resources(trials))
     return out
 

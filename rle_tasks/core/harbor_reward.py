@@ -122,12 +122,23 @@ def write_reward(dir_fd: int, reward: dict[str, float]) -> None:
     _remove(dir_fd, "reward.txt")
 
 
-def reward_from_report(report: dict, secret_private: bool) -> dict[str, float]:
-    """Flat numbers of Harbor's reward file from a verifier report dict."""
-    reward = {"reward": float(report["score"]), "secret_private": 1.0 if secret_private else 0.0}
+def reward_from_report(report: dict, secret_private: bool, oracle: bool = False) -> dict[str, float]:
+    """Flat numbers of Harbor's reward file from a verifier report dict.
+
+    A report of a privileged session (``ledger.privileged``: an operator's oracle trial) counts only when
+    the verifier was told it verifies the oracle (``oracle``: ``RLE_ORACLE_PRIVILEGED=1``); otherwise
+    its reward and checkpoints are 0 and ``privileged`` says why."""
+    privileged = any(e.get("code") == "ledger.privileged" for e in report.get("errors", []))
+    void = privileged and not oracle
+    reward = {
+        "reward": 0.0 if void else float(report["score"]),
+        "secret_private": 1.0 if secret_private else 0.0,
+    }
+    if privileged:
+        reward["privileged"] = 1.0
     for checkpoint in report.get("checkpoints", []):
         key = checkpoint["id"] if checkpoint["id"] not in reward else f"checkpoint_{checkpoint['id']}"
-        reward[key] = float(checkpoint["score"])
+        reward[key] = 0.0 if void else float(checkpoint["score"])
     return reward
 
 
@@ -198,7 +209,7 @@ def run(task_id: str, logs: Path, jobs: int, environ: dict[str, str], sidecar: P
                 f"the report was made with the {report.get('secret')} key, expected "
                 f"{'private' if private else 'public'}: no reward"
             )
-        write_reward(vfd, reward_from_report(report, private))
+        write_reward(vfd, reward_from_report(report, private, environ.get("RLE_ORACLE_PRIVILEGED") == "1"))
     finally:
         os.close(vfd)
         shutil.rmtree(work, ignore_errors=True)

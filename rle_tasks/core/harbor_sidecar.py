@@ -9,7 +9,9 @@ exported ``environment/docker-compose.yaml`` adds a service ``dev`` beside the a
   uid) and serves the same server as ``rle dev`` (``rle_tasks.core.devenv.layout_workspace``) on
   ``/workspace/.rle/ledger.sock``, open to the agent's uid, in that attempt. The key, the secret, the
   hidden scenes and the ledger (``/rle-ledger``, root-only) stay in the sidecar's own filesystem.
-  The service is healthy once the socket exists, and the agent starts only then.
+  The service is healthy once the socket exists, and the agent starts only then. With
+  ``RLE_ORACLE_PRIVILEGED=1`` on the host (an operator's oracle trial) a task with a privileged
+  oracle serves privileged observations; its ledger records it (``ledger.privileged``).
 - ``seal`` (Harbor's ``[[verifier.collect]]`` hook, after the agent phase): asks the server to seal,
   waits for the seal, and leaves ``/rle-ledger/ledger.jsonl`` (the attempt's ledger) and
   ``/rle-ledger/attempt`` for Harbor to collect as an artifact of the service (``[[artifacts]]``).
@@ -34,6 +36,10 @@ WORKSPACE = Path("/workspace")
 """The agent's workspace: the volume both services mount."""
 LEDGER_FILE = "ledger.jsonl"
 ATTEMPT_FILE = "attempt"
+ORACLE_ENV = "RLE_ORACLE_PRIVILEGED"
+"""Host variable of an operator's oracle trial: ``1`` makes the sidecar of a task with a privileged
+oracle (``TaskSpec.privileged_oracle``) serve privileged observations, and lets the verifier's reward
+count such a session (``harbor_reward``). The agent's container never reads it."""
 AGENT_UID = 1000
 """The agent user's uid in the exported agent image (``harbor_images.AGENT_USER``)."""
 
@@ -57,6 +63,18 @@ def serve(task_id: str, workspace: Path = WORKSPACE, ledger_dir: Path = LEDGER_D
             file=sys.stderr,
         )
         return 2
+    from rle_tasks.core.registry import get_task
+
+    privileged = os.environ.get(ORACLE_ENV) == "1"
+    if privileged and not get_task(task_id).privileged_oracle:
+        print(f"rle-bench sidecar: {ORACLE_ENV}=1 ignored: {task_id} has no privileged oracle", flush=True)
+        privileged = False
+    elif privileged:
+        print(
+            f"rle-bench sidecar: {ORACLE_ENV}=1: serving PRIVILEGED observations for an oracle trial; the "
+            "ledger records it and the verifier names it (ledger.privileged)",
+            flush=True,
+        )
     attempt = "harbor-" + secrets.token_hex(8)
     ledger_dir.mkdir(mode=0o700, parents=True, exist_ok=True)
     (ledger_dir / ATTEMPT_FILE).write_text(attempt + "\n")
@@ -67,6 +85,7 @@ def serve(task_id: str, workspace: Path = WORKSPACE, ledger_dir: Path = LEDGER_D
         ledger_dir=ledger_dir,
         socket_mode=0o666,
         prepare=lambda path: _chown_tree(path, AGENT_UID),
+        privileged=privileged,
     )
     print(f"rle-bench sidecar: attempt {attempt}, session ended; ledger {ws.ledger_path}", flush=True)
     return 0

@@ -97,7 +97,11 @@ def _mean(values: Sequence[Fraction]) -> Fraction:
 
 
 def compute_index(
-    reports: Iterable[ReportLike], *, name: str = "submission", tasks: Sequence[TaskSpec] | None = None
+    reports: Iterable[ReportLike],
+    *,
+    name: str = "submission",
+    tasks: Sequence[TaskSpec] | None = None,
+    allow_privileged: bool = False,
 ) -> IndexResult:
     """Aggregate verifier reports into the RLE Index.
 
@@ -105,6 +109,8 @@ def compute_index(
         reports: ``VerifierReport`` objects, report dicts, or paths to report JSON files.
         name: System name for tables and figures.
         tasks: The task set (default: every registered task, ``registry.all_tasks()``).
+        allow_privileged: Accept reports of privileged sessions (``ledger.privileged``: an operator's
+            oracle trial, never an agent's result).
 
     Returns:
         The scores at task, family and workflow level and the index.
@@ -112,7 +118,8 @@ def compute_index(
     Raises:
         RleError: A report is unreadable, names an unknown task, has a score outside [0, 1], or two
             reports name the same task (``code`` ``index.input``, ``index.unknown_task``,
-            ``index.score`` or ``index.duplicate``).
+            ``index.score`` or ``index.duplicate``), or a report is of a privileged session and
+            ``allow_privileged`` is not set (``index.privileged``).
     """
     if tasks is None:
         from rle_tasks.core.registry import all_tasks
@@ -130,6 +137,12 @@ def compute_index(
             raise RleError(
                 f"{label} names unknown task '{tid}'. Known ids: {', '.join(close)}",
                 code="index.unknown_task",
+            )
+        if not allow_privileged and any(e.code == "ledger.privileged" for e in report.errors):
+            raise RleError(
+                f"{label} (task '{tid}') comes from a privileged session (an operator's oracle trial), not "
+                "an agent's result; index it only on purpose (--allow-privileged)",
+                code="index.privileged",
             )
         if tid in scores:
             raise RleError(
@@ -325,15 +338,21 @@ workflow, and the RLE Index is the mean of the four workflow scores (paper eq. 1
     return path
 
 
-def _gather(paths: Sequence[str | os.PathLike], name: str) -> tuple[list[IndexResult], dict[str, Any]]:
+def _gather(
+    paths: Sequence[str | os.PathLike], name: str, allow_privileged: bool = False
+) -> tuple[list[IndexResult], dict[str, Any]]:
     """Index results per system from report files (system ``name``) and Harbor job directories."""
     from rle_tasks.core.harbor_results import is_job_dir, read_job, systems
 
     reports = [p for p in paths if not is_job_dir(Path(p))]
     records = [r for p in paths if is_job_dir(Path(p)) for r in read_job(Path(p))]
-    results = [compute_index(reports, name=name)] if reports or not records else []
+    results = (
+        [compute_index(reports, name=name, allow_privileged=allow_privileged)]
+        if reports or not records
+        else []
+    )
     rows = {}
-    for system, (result, res) in systems(records).items():
+    for system, (result, res) in systems(records, allow_privileged=allow_privileged).items():
         if system == name and reports:
             raise RleError(f"system '{system}' is named by both reports and a job", code="index.duplicate")
         results.append(result)
@@ -342,7 +361,10 @@ def _gather(paths: Sequence[str | os.PathLike], name: str) -> tuple[list[IndexRe
 
 
 def index_command(
-    paths: Sequence[str | os.PathLike], html: str | os.PathLike | None = None, name: str = "submission"
+    paths: Sequence[str | os.PathLike],
+    html: str | os.PathLike | None = None,
+    name: str = "submission",
+    allow_privileged: bool = False,
 ) -> int:
     """``rle index REPORTS|JOB_DIRS... [--html OUT] [--name NAME]``: print the tables, optionally write
     the page. A Harbor job directory contributes one result per system (agent and model) and the
@@ -353,7 +375,7 @@ def index_command(
         duplicated.
     """
     try:
-        results, rows = _gather(paths, name)
+        results, rows = _gather(paths, name, allow_privileged)
     except RleError as exc:
         print(f"rle index: error [{exc.code}]: {exc}", file=sys.stderr)
         return 2

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -112,6 +114,8 @@ class TaskSpec:
             (``rle verify --episodes N``) applies.
         harbor_unsupported: Why the task cannot be exported as a Harbor task yet ("" when it can).
         quick_note: What ``--quick`` runs for this task ("" when it is the family's usual reduction).
+        privileged_oracle: ``make_dev_env`` can serve privileged observations (``serving_privileged``)
+            for an operator's oracle trial; the session's ledger says so (``ledger.privileged``).
     """
 
     id: str
@@ -127,6 +131,7 @@ class TaskSpec:
     episode_scored: bool = False
     harbor_unsupported: str = ""
     quick_note: str = ""
+    privileged_oracle: bool = False
 
     @property
     def workflow(self) -> str:
@@ -135,3 +140,22 @@ class TaskSpec:
     @property
     def implemented(self) -> bool:
         return self.verify is not None
+
+
+_PRIVILEGED: ContextVar[bool] = ContextVar("rle_privileged_dev", default=False)
+
+
+@contextmanager
+def privileged_dev(on: bool = True) -> Iterator[None]:
+    """Inside the block, ``make_dev_env`` serves privileged observations (``serving_privileged``)."""
+    token = _PRIVILEGED.set(on)
+    try:
+        yield
+    finally:
+        _PRIVILEGED.reset(token)
+
+
+def serving_privileged() -> bool:
+    """Whether the development environment being laid out serves privileged observations: only for an
+    operator's oracle trial (``harbor_sidecar`` with ``RLE_ORACLE_PRIVILEGED=1``), never for an agent."""
+    return _PRIVILEGED.get()

@@ -26,7 +26,7 @@ from rle_tasks.core.task import VerifyContext
 
 from .scene import CONFIG, Piece, make_env, settle
 from .scoring import CANTILEVER_ID, CANTILEVER_RUBRIC, PZ4
-from .session import LEDGER_FILE, final_poses, open_ledger, tabletop_limits
+from .session import LEDGER_FILE, final_poses, note_privileged, open_ledger, tabletop_limits
 
 __all__ = ["DENSITY", "Instance", "instance", "measure", "verify"]
 
@@ -123,6 +123,7 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         findings.add_error(gate.code, gate.message, LEDGER_FILE)
         outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
         return CANTILEVER_RUBRIC.report({"overhang": outcome}, valid=False, errors=findings.errors)
+    privileged = note_privileged(opened, findings)
     m = measure(inst, gate.poses, gate.velocities)
     message = (
         f"overhang {1000 * m['overhang_m']:.1f} mm of the optimum {1000 * m['optimum_m']:.1f} mm "
@@ -131,7 +132,8 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     outcome = Outcome({"scene": CANTILEVER_RUBRIC.spec("overhang").score(m["ratio"])}, message, m)
     return CANTILEVER_RUBRIC.report(
         {"overhang": outcome}, valid=True, errors=findings.errors,
-        native_metrics={"steps": gate.steps, "block_length_m": inst.length, "attempt": gate.attempt},
+        native_metrics={"steps": gate.steps, "block_length_m": inst.length, "attempt": gate.attempt,
+                        "privileged_session": privileged},
     )  # fmt: skip
 
 

@@ -153,3 +153,17 @@ def final_poses(opened: OpenedLedger, env: TabletopEnv, pieces: tuple[Piece, ...
         poses=piece_poses(gate.model, gate.data, pieces),
         velocities=piece_velocities(gate.model, gate.data, pieces),
     )
+
+
+PRIVILEGED_MESSAGE = (
+    "the session served privileged observations (piece poses and sizes) for an operator's oracle trial "
+    "(RLE_ORACLE_PRIVILEGED=1): its score is the reference program's, not an agent's; `rle index` refuses "
+    "this report and a Harbor reward is 0 unless the verifier is also told it verifies the oracle"
+)
+
+
+def note_privileged(opened: OpenedLedger, findings) -> bool:
+    """Add ``ledger.privileged`` to ``findings`` when the session was an oracle's; returns whether."""
+    if opened.gate.privileged:
+        findings.add_error("ledger.privileged", PRIVILEGED_MESSAGE, LEDGER_FILE)
+    return opened.gate.privileged

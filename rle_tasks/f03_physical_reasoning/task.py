@@ -11,7 +11,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from rle_tasks.core.secrets import current_secret as _current_secret
-from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec, serving_privileged
 
 HERE = Path(__file__).resolve().parent
 STEP_BUDGET = 50_000
@@ -51,7 +51,7 @@ def tabletop_task(
     from .scene import make_env
 
     def make_dev_env(workspace: Path):
-        return make_env(pieces())
+        return make_env(pieces(), privileged=serving_privileged())
 
     return TaskSpec(
         id=task_id,
@@ -64,6 +64,7 @@ def tabletop_task(
         verify=verify,
         solutions=solutions,
         solutions_module=solutions_module,
+        privileged_oracle=True,
     )
 
 

@@ -29,7 +29,7 @@ from rle_tasks.core.task import VerifyContext
 
 from .scene import CONFIG, Piece, make_env, settle
 from .scoring import TOWER_ID, TOWER_RUBRIC
-from .session import LEDGER_FILE, final_poses, open_ledger, tabletop_limits
+from .session import LEDGER_FILE, final_poses, note_privileged, open_ledger, tabletop_limits
 from .tower_optimum import Block, TowerPlan, optimal_tower
 
 __all__ = ["BUILD_SPOT", "DENSITY", "Instance", "instance", "measure", "reference_plan", "verify"]
@@ -132,12 +132,14 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         findings.add_error(gate.code, gate.message, LEDGER_FILE)
         outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
         return TOWER_RUBRIC.report({"height": outcome}, valid=False, errors=findings.errors)
+    privileged = note_privileged(opened, findings)
     m = measure(inst, gate.poses, gate.velocities)
     message = f"tower {1000 * m['height_m']:.1f} mm of H* = {1000 * m['optimum_m']:.1f} mm"
     outcome = Outcome({"scene": TOWER_RUBRIC.spec("height").score(m["ratio"])}, message, m)
     return TOWER_RUBRIC.report(
         {"height": outcome}, valid=True, errors=findings.errors,
-        native_metrics={"steps": gate.steps, "optimal_order": list(inst.plan.order), "attempt": gate.attempt},
+        native_metrics={"steps": gate.steps, "optimal_order": list(inst.plan.order), "attempt": gate.attempt,
+                        "privileged_session": privileged},
     )  # fmt: skip
 
 

@@ -83,6 +83,7 @@ def test_task_toml_fields(tmp_path, spec):
     assert cfg["verifier"]["env"] == {
         "RLE_SECRET": "${RLE_SECRET}",
         "RLE_ALLOW_PUBLIC_KEY": "${RLE_ALLOW_PUBLIC_KEY:-0}",
+        "RLE_ORACLE_PRIVILEGED": "${RLE_ORACLE_PRIVILEGED:-0}",
     }
     venv = cfg["verifier"]["environment"]
     assert (venv["cpus"], venv["memory_mb"], venv["gpus"]) == (

@@ -1,5 +1,6 @@
 """Exported tasks with a development server: the server runs in the sidecar ``dev``, the verifier scores
-its session as its attempt, and the oracle of family 01 plays through it.
+its session as its attempt, and the oracles of families 01 and 03 play through it (03's only in a
+privileged session the operator asked for).
 
 The sidecar's commands run here as processes (no Docker): ``serve`` in a workspace and ledger
 directory of the test's own, a client that connects as the agent's would, ``seal`` as Harbor's collect
@@ -73,10 +74,23 @@ def test_the_oracle_of_family_01_plays_through_the_sidecar(exported):
     assert "plays the reference program" in (exported["01-open-fridge-l3"] / "README.md").read_text()
 
 
-def test_a_ledger_task_whose_reference_reads_privileged_state_says_its_oracle_scores_zero(exported):
+def test_a_ledger_task_whose_reference_reads_privileged_state_plays_only_with_the_operators_consent(exported):
     task = exported["03-cantilever"]
-    assert (task / "environment" / "docker-compose.yaml").is_file()
-    assert "scores **0**" in (task / "README.md").read_text()
+    compose = yaml.safe_load((task / "environment" / "docker-compose.yaml").read_text())
+    assert compose["services"]["dev"]["environment"]["RLE_ORACLE_PRIVILEGED"] == "${RLE_ORACLE_PRIVILEGED:-0}"
+    assert "RLE_ORACLE_PRIVILEGED" not in str(compose["services"]["main"])  # never the agent's
+    cfg = tomllib.loads((task / "task.toml").read_text())
+    assert cfg["verifier"]["env"]["RLE_ORACLE_PRIVILEGED"] == "${RLE_ORACLE_PRIVILEGED:-0}"
+    assert "RLE_ORACLE_PRIVILEGED" not in str(cfg.get("agent", {})) + str(cfg.get("environment", {}))
+    sol = task / "solution"
+    assert (
+        not (sol / "reference").exists() and "python3 /solution/oracle.py" in (sol / "solve.sh").read_text()
+    )
+    oracle = (sol / "oracle.py").read_text()
+    assert "harmonic_cantilever(env.step, obs, edge_x=0.45" in oracle and "scale=0.93" in oracle
+    assert "rle_tasks" not in (sol / "agents.py").read_text()
+    readme = (task / "README.md").read_text()
+    assert "RLE_ORACLE_PRIVILEGED=1" in readme and "ledger.privileged" in readme
     plain = exported["09-gello"]  # no development server: no sidecar
     assert not (plain / "environment" / "docker-compose.yaml").exists()
     assert "collect" not in tomllib.loads((plain / "task.toml").read_text())["verifier"]
@@ -112,8 +126,9 @@ def test_the_sidecar_serves_an_attempt_of_its_own_and_leaves_its_sealed_ledger(t
             time.sleep(0.1)
         assert stat.S_IMODE(sock.stat().st_mode) == 0o666  # the agent's uid connects
         with _client(ws).connect() as env:  # the workspace's own client, as the agent runs it
-            env.reset()
+            obs = env.reset()
             env.step([0.0] * env.info()["action_size"])
+        assert "bodies" not in obs and "sizes" not in obs  # an agent's session: no piece poses
         sealed = subprocess.run(
             [sys.executable, "-m", "rle_tasks.core.harbor_sidecar", "seal", *where],
             env={**os.environ, "PYTHONPATH": str(REPO_ROOT)},
@@ -133,7 +148,7 @@ def test_the_sidecar_serves_an_attempt_of_its_own_and_leaves_its_sealed_ledger(t
     key = ledger_key(Secret(SECRET.encode(), public=False), "03-cantilever")
     limits = Limits(BUDGET.steps, BUDGET.wall_time_s)
     gate = check_ledger(ledgers / "ledger.jsonl", key, "03-cantilever", limits, attempt)
-    assert gate.ok and gate.development_steps == 2, gate.message
+    assert gate.ok and gate.development_steps == 2 and not gate.privileged, gate.message
     assert check_ledger(ledgers / "ledger.jsonl", key, "03-cantilever", limits, "harbor-other").code == (
         "ledger.wrong_attempt"
     )
@@ -176,3 +191,52 @@ def test_the_verifier_scores_the_sidecars_session_as_its_attempt(tmp_path):
     (sidecar / "attempt").unlink()  # the sidecar never ran: no reward rather than an unbound score
     with pytest.raises(VerifierSetupError, match="left no attempt"):
         run("03-cantilever", logs, 1, env, sidecar)
+
+
+@pytest.mark.physics
+def test_the_cantilever_oracle_plays_through_a_privileged_sidecar_and_is_named(exported, tmp_path):
+    """The exported oracle program, run as Harbor's oracle agent runs it, against a sidecar the operator
+    started with RLE_ORACLE_PRIVILEGED=1 (public key here): the reference's overhang, and the report
+    names the privileged session; the reward counts it only when the verifier is told (the same flag)."""
+    from rle_tasks.core.harbor_reward import reward_from_report
+    from rle_tasks.core.registry import get_task
+    from rle_tasks.core.secrets import PUBLIC_KEY
+    from rle_tasks.core.solutions import declaration
+    from rle_tasks.core.task import VerifyContext
+    from rle_tasks.core.verify import run_verify
+
+    ws, ledgers = tmp_path / "ws", tmp_path / "ledgers"
+    where = ["--workspace", str(ws), "--ledger-dir", str(ledgers)]
+    env = {"RLE_SECRET": "", "RLE_ALLOW_PUBLIC_KEY": "1", "RLE_ORACLE_PRIVILEGED": "1"}
+    server = _sidecar("serve", "03-cantilever", *where, env=env)
+    try:
+        deadline = time.monotonic() + 90
+        while not (ws / ".rle" / "ledger.sock").exists():
+            assert time.monotonic() < deadline and server.poll() is None, server.stdout.read()
+            time.sleep(0.1)
+        oracle = (exported["03-cantilever"] / "solution" / "oracle.py").read_text()
+        oracle = oracle.replace(
+            '"/workspace", "/solution"', f"{str(ws)!r}, {str(exported['03-cantilever'] / 'solution')!r}"
+        )
+        played = subprocess.run(
+            [sys.executable, "-c", oracle], cwd=ws, env={**os.environ, "PYTHONPATH": str(REPO_ROOT)},
+            capture_output=True, text=True, timeout=900,
+        )  # fmt: skip
+        assert played.returncode == 0, played.stdout[-2000:] + played.stderr[-2000:]
+        assert server.wait(60) == 0
+    finally:
+        if server.poll() is None:
+            server.kill()
+    artifact = tmp_path / "artifact"
+    artifact.mkdir()
+    attempt = (ledgers / "attempt").read_text().strip()
+    (artifact / "ledger.jsonl").write_bytes(sorted(ledgers.glob(f"{attempt}*.jsonl"))[-1].read_bytes())
+    ctx = VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True, attempt=attempt)
+    report, internal = run_verify(get_task("03-cantilever"), artifact, ctx)
+    golden = declaration(get_task("03-cantilever")).get("reference").quick_score
+    assert not internal and report.score == pytest.approx(golden, abs=0.05), report.errors
+    assert [e.code for e in report.errors] == ["ledger.privileged"]
+    assert report.native_metrics["privileged_session"] is True
+    as_dict = report.to_dict()
+    assert reward_from_report(as_dict, False)["reward"] == 0.0  # an agent's verifier: nothing counts
+    assert reward_from_report(as_dict, False, oracle=True)["reward"] == pytest.approx(report.score)

@@ -1,0 +1,68 @@
+"""The Harbor oracle of 03-cantilever: the reference program, playing through a privileged sidecar.
+
+The reference program (``agents.harmonic_cantilever``) reads each block's pose and size, which the
+card withholds from agents. An exported task's sidecar serves them only when the operator runs the
+oracle with ``RLE_ORACLE_PRIVILEGED=1`` on the host (``harbor_sidecar``); the session's ledger then
+says so (``privileged``), the verifier names it (``ledger.privileged``), ``rle index`` refuses the
+report, and the Harbor reward is 0 unless the verifier, too, was told it verifies the oracle (the same
+variable). An agent's trial never gets a privileged session: the variable is the host's, read by the
+sidecar and the verifier, never by the agent's container.
+
+``harbor_oracle`` writes ``agents.py`` (it imports only the public toolkit) and ``oracle.py`` into the
+task's ``solution/``: connect with the workspace's ``client.py``, play the program, seal.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+SCALE = 0.93
+"""The reference's fraction of the harmonic stack's critical offsets (``make_ledgers``)."""
+
+_ORACLE = '''"""Oracle of 03-cantilever: the reference program plays through the privileged development sidecar."""
+
+import sys
+
+sys.path[:0] = ["/workspace", "/solution"]
+
+from agents import harmonic_cantilever  # noqa: E402
+from client import connect  # noqa: E402
+
+with connect() as env:
+    obs = env.reset()
+    if "bodies" not in obs:
+        sys.exit("the sidecar serves no privileged observations: run the oracle with RLE_ORACLE_PRIVILEGED=1")
+    harmonic_cantilever(env.step, obs, edge_x={edge_x!r}, top_z={top_z!r}, scale={scale!r})
+    print(f"played: {{env.info()['steps_used']}} steps", flush=True)
+    env.seal()
+'''
+
+_SOLVE = """#!/usr/bin/env bash
+# Oracle: the reference program plays the task through the (privileged) development sidecar, then seals.
+set -euo pipefail
+cd /workspace
+exec python3 /solution/oracle.py
+"""
+
+
+def harbor_oracle(spec, dest: Path) -> str | None:
+    """Write the playing oracle of ``spec`` into ``dest``; returns ``solve.sh`` (03-cantilever), else None.
+
+    Raises:
+        ValueError: the copied program imports the verifier's package.
+    """
+    from ..cantilever import CANTILEVER_ID
+    from ..scene import CONFIG
+
+    if spec.id != CANTILEVER_ID:
+        return None
+    text = (HERE / "agents.py").read_text()
+    if "rle_tasks" in text:
+        raise ValueError("agents.py imports rle_tasks, which the agent's image does not hold")
+    Path(dest).mkdir(parents=True, exist_ok=True)
+    (Path(dest) / "agents.py").write_text(text)
+    (Path(dest) / "oracle.py").write_text(
+        _ORACLE.format(edge_x=float(CONFIG.edge_x), top_z=float(CONFIG.top_z), scale=SCALE)
+    )
+    return _SOLVE
