@@ -101,6 +101,7 @@ def main(argv: list[str] | None = None) -> int:
     dirs = export_harbor(out / "tasks", args.tasks)
     env = {**os.environ, "LITELLM_LOCAL_MODEL_COST_MAP": "True"}
     env.setdefault("RLE_SECRET", secrets.token_hex(32))  # private: never the public key
+    env["RLE_ORACLE_PRIVILEGED"] = "1"  # oracle trials: a privileged oracle (03-cantilever) may play
     failed = 0
     print(f"{'task':<20} {'reward':>8} {'expected':>9} {'time':>7}  verdict (expected from)", flush=True)
     for task_dir in dirs:
@@ -118,7 +119,10 @@ def main(argv: list[str] | None = None) -> int:
               f"{'ok' if ok else 'FAIL'} ({why})", flush=True)  # fmt: skip
         if got is None:
             print(tail, file=sys.stderr)
-    print(f"job directories: {out / 'jobs'} (`rle index {out / 'jobs'}/*` reads them)")
+    print(
+        f"job directories: {out / 'jobs'} (`rle index --allow-privileged {out / 'jobs'}/*` reads them: "
+        "an oracle's privileged sessions are refused otherwise)"
+    )
     return 1 if failed else 0
 
 
