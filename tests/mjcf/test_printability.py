@@ -95,7 +95,9 @@ def test_open_mesh_is_not_watertight():
 def test_unknown_material_lists_the_catalog():
     with pytest.raises(Exception) as info:
         printability_report(trimesh.creation.box([0.01] * 3), material="abs")
-    assert str(info.value) == "materials entry 'abs' does not exist. Available: aluminium_6063, petg, pla"
+    assert (
+        str(info.value) == "materials entry 'abs' does not exist. Available: aluminium_6063, petg, pla, steel"
+    )
 
 
 def test_collision_hulls_of_an_l_shape_are_convex_and_fast():
