@@ -8,8 +8,8 @@ For every audited body (one a submission adds or changes):
    every material is ``material.too_light``, denser than every one ``material.too_dense``, between
    two ranges ``material.density``; a geom declared massless (``mass="0"``, or ``density="0"``) is no part and is skipped
    unless ``massless_ok`` is False;
-2. the body's inertial (explicit or not) equals what MuJoCo derives from those geoms
-   (``inertiafromgeom="true"``): mass within ``mass_rtol`` (``inertial.mass_mismatch``), centre of mass
+2. the body's inertial (explicit or not) equals what MuJoCo derives from those geoms as solids
+   (``inertiafromgeom="true"``, every geom group, no shell inertia): mass within ``mass_rtol`` (``inertial.mass_mismatch``), centre of mass
    within ``com_tol`` (``inertial.com_mismatch``), inertia tensor in the body frame within
    ``inertia_rtol`` of the largest computed principal moment (``inertial.inertia_mismatch``);
 3. the declared centre of mass lies inside the convex hull of the body's geoms (``com_tol`` slack,
@@ -121,6 +121,22 @@ def _density_findings(
     return out
 
 
+def _from_geoms(spec: mujoco.MjSpec, model: mujoco.MjModel, b: int) -> bool:
+    """Whether MuJoCo derived body ``b``'s inertial from its geoms (no explicit ``<inertial>``, and
+    the compiler does not ignore the geoms)."""
+    if spec.compiler.inertiafromgeom == mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE:
+        return False
+    if list(spec.compiler.inertiagrouprange) != [0, 5]:
+        return False  # some geoms may not count towards the mass MuJoCo derives
+    name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b)
+    body = spec.body(name) if name else None
+    if body is None or body.explicitinertial:
+        return False
+    return all(
+        g.typeinertia == mujoco.mjtGeomInertia.mjINERTIA_VOLUME and 0 <= g.group <= 5 for g in body.geoms
+    )
+
+
 def _tensor(model: mujoco.MjModel, b: int) -> np.ndarray:
     rot = np.zeros(9)
     mujoco.mju_quat2Mat(rot, model.body_iquat[b])
@@ -179,19 +195,29 @@ def material_findings(
     """
     if materials is not None:
         materials = list(materials) or list(load_catalog("materials"))
+    bodies = [int(b) for b in bodies]
+    masses = geom_masses(spec, model) if materials is not None else None
+    out: list[Finding] = []
+    if materials is not None:
+        for b in bodies:
+            out += _density_findings(model, b, masses, materials, massless_ok)
+    # a body whose inertial MuJoCo derived from its geoms agrees with them by construction
+    declared = [b for b in bodies if not _from_geoms(spec, model, b)]
+    if not declared:
+        return out
     copy = spec.copy()
     copy.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_TRUE
+    copy.compiler.inertiagrouprange = [0, 5]  # every part counts, as a solid
+    for g in copy.geoms:
+        g.typeinertia = mujoco.mjtGeomInertia.mjINERTIA_VOLUME
     try:
         geo = copy.compile()
     except ValueError as exc:
-        return [Finding("inertial.mass_mismatch", f"the inertials cannot be derived from the geoms: {exc}")]
-    masses = geom_masses(spec, model) if materials is not None else None
-    out: list[Finding] = []
-    for b in bodies:
-        b = int(b)
+        return out + [
+            Finding("inertial.mass_mismatch", f"the inertials cannot be derived from the geoms: {exc}")
+        ]
+    for b in declared:
         name = _name(model, mujoco.mjtObj.mjOBJ_BODY, b)
-        if materials is not None:
-            out += _density_findings(model, b, masses, materials, massless_ok)
         m0, m1 = float(model.body_mass[b]), float(geo.body_mass[b])
         c0, c1 = model.body_ipos[b].copy(), geo.body_ipos[b].copy()
         i0, i1 = _tensor(model, b), _tensor(geo, b)

@@ -122,3 +122,20 @@ def test_a_mass_without_parts_is_named():
     assert [(f.code, f.message) for f in found if f.code == "inertial.com_outside"] == [
         ("inertial.com_outside", "body 'ghost': declares 2.5 kg but has no parts (solid geoms) to carry it")
     ]
+
+
+@pytest.mark.parametrize(
+    "trick",
+    ['<compiler inertiagrouprange="0 2"/>', ""],
+    ids=["geom_group_left_out", "shell_inertia"],
+)
+def test_a_part_left_out_of_the_mass_is_named(trick):
+    # a 100 mm PLA rod whose mass MuJoCo leaves out (group 3 outside inertiagrouprange) or computes as
+    # a thin shell: the body's mass is not its geometry's
+    geom = '<geom type="box" size="0.05 0.01 0.01" density="1240" {}/>'
+    extra = 'group="3"' if trick else 'shellinertia="true"'
+    xml = f"<mujoco>{trick}<worldbody><body name='rod'>{geom.format(extra)}</body></worldbody></mujoco>"
+    spec = mujoco.MjSpec.from_string(xml)
+    m = spec.compile()
+    codes = [f.code for f in material_findings(spec, m, [1])]
+    assert "inertial.mass_mismatch" in codes
