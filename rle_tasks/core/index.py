@@ -36,6 +36,7 @@ class IndexResult:
         index: The RLE Index, the mean of the four workflow scores.
         missing: Registered task ids without a report.
         sources: Where each reported task's score came from (file path or ``report #i``).
+        partial: Reported task ids whose score comes from a reduced evaluation (``allow_partial``).
     """
 
     name: str
@@ -45,6 +46,7 @@ class IndexResult:
     index: float
     missing: tuple[str, ...]
     sources: dict[str, str] = field(default_factory=dict)
+    partial: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (family keys as ``"F01"`` ...)."""
@@ -55,6 +57,7 @@ class IndexResult:
             "family_scores": {f"F{k:02d}": v for k, v in self.family_scores.items()},
             "task_scores": dict(self.task_scores),
             "missing": list(self.missing),
+            "partial": list(self.partial),
         }
 
 
@@ -102,6 +105,7 @@ def compute_index(
     name: str = "submission",
     tasks: Sequence[TaskSpec] | None = None,
     allow_privileged: bool = False,
+    allow_partial: bool = False,
 ) -> IndexResult:
     """Aggregate verifier reports into the RLE Index.
 
@@ -111,6 +115,8 @@ def compute_index(
         tasks: The task set (default: every registered task, ``registry.all_tasks()``).
         allow_privileged: Accept reports of privileged sessions (``ledger.privileged``: an operator's
             oracle trial, never an agent's result).
+        allow_partial: Accept reports of a reduced evaluation (``VerifierReport.partial``); the result
+            lists them (``partial``) and the tables and page mark them.
 
     Returns:
         The scores at task, family and workflow level and the index.
@@ -119,7 +125,8 @@ def compute_index(
         RleError: A report is unreadable, names an unknown task, has a score outside [0, 1], or two
             reports name the same task (``code`` ``index.input``, ``index.unknown_task``,
             ``index.score`` or ``index.duplicate``), or a report is of a privileged session and
-            ``allow_privileged`` is not set (``index.privileged``).
+            ``allow_privileged`` is not set (``index.privileged``), or a report is partial and
+            ``allow_partial`` is not set (``index.partial``).
     """
     if tasks is None:
         from rle_tasks.core.registry import all_tasks
@@ -128,6 +135,7 @@ def compute_index(
     known = {t.id: t for t in tasks}
     scores: dict[str, Fraction] = {}
     sources: dict[str, str] = {}
+    partial: list[str] = []
     for i, item in enumerate(reports):
         report, label = _load(item, i)
         tid = report.task_id
@@ -144,6 +152,13 @@ def compute_index(
                 "an agent's result; index it only on purpose (--allow-privileged)",
                 code="index.privileged",
             )
+        if report.partial and not allow_partial:
+            raise RleError(
+                f"{label} (task '{tid}') was verified on a reduced evaluation (quick mode or a subset): the "
+                "index is computed on full scores; verify it in full, or index partial scores on purpose "
+                "(--allow-partial marks them)",
+                code="index.partial",
+            )
         if tid in scores:
             raise RleError(
                 f"two reports for task '{tid}': {sources[tid]} and {label}; pass one report per task",
@@ -154,6 +169,8 @@ def compute_index(
             raise RleError(f"{label} (task '{tid}') has score {score}, outside [0, 1]", code="index.score")
         scores[tid] = Fraction(score)
         sources[tid] = label
+        if report.partial:
+            partial.append(tid)
 
     by_family: dict[int, list[Fraction]] = {}
     for t in tasks:
@@ -169,6 +186,7 @@ def compute_index(
         index=float(index),
         missing=tuple(t.id for t in tasks if t.id not in scores),
         sources=sources,
+        partial=tuple(t.id for t in tasks if t.id in partial),
     )
 
 
@@ -189,7 +207,12 @@ def format_tables(result: IndexResult, tasks: Sequence[TaskSpec] | None = None) 
     lines += ["", f"{'workflow':<32}{'score':>9}"]
     for w, s in result.workflow_scores.items():
         lines.append(f"{w:<32}{100 * s:>8.1f}%")
-    lines += ["", f"{'RLE Index':<32}{100 * result.index:>8.1f}%", ""]
+    mark = " (includes partial scores)" if result.partial else ""
+    lines += ["", f"{'RLE Index':<32}{100 * result.index:>8.1f}%{mark}", ""]
+    if result.partial:
+        lines.append(
+            f"partial ({len(result.partial)} tasks, reduced evaluation): {', '.join(result.partial)}"
+        )
     if result.missing:
         lines.append(f"missing ({len(result.missing)} tasks, scored 0):")
         by_fam: dict[str, list[str]] = {}
@@ -302,7 +325,8 @@ def write_index_html(
     def row(label: str, values: list[float]) -> str:
         return f"<tr><td>{escape(label)}</td>" + "".join(f"<td>{100 * v:.1f}</td>" for v in values) + "</tr>"
 
-    rows = [row("RLE Index", [r.index for r in results])]
+    rows = [row("RLE Index" + (" (includes partial scores)" if any(r.partial for r in results) else ""),
+                [r.index for r in results])]  # fmt: skip
     rows += [row(_LABELS[w], [r.workflow_scores[w] for r in results]) for w in WORKFLOW_ORDER]
     fam_rows = [
         row(f"F{f:02d} ({_LABELS[WORKFLOWS[f]]})", [r.family_scores[f] for r in results])
@@ -313,6 +337,14 @@ def write_index_html(
         + (escape(", ".join(r.missing)) or "none")
         + "</p>"
         for r in results
+    )
+    partial = "".join(
+        f"<h3>{escape(r.name)}: {len(r.partial)} partial scores</h3><p>"
+        + escape(", ".join(r.partial))
+        + "</p><p>These tasks were verified on a reduced evaluation (quick mode or an episode subset); "
+        "their scores are not a full verification's, and the index above includes them.</p>"
+        for r in results
+        if r.partial
     )
     page = f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>RLE Index</title>
@@ -331,6 +363,7 @@ workflow, and the RLE Index is the mean of the four workflow scores (paper eq. 1
 <h2>Families</h2>
 <table><tr><th>family</th>{head}</tr>{"".join(fam_rows)}</table>
 <h2>Missing reports</h2>{missing}
+{"<h2>Partial scores</h2>" + partial if partial else ""}
 </body></html>
 """
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -339,7 +372,7 @@ workflow, and the RLE Index is the mean of the four workflow scores (paper eq. 1
 
 
 def _gather(
-    paths: Sequence[str | os.PathLike], name: str, allow_privileged: bool = False
+    paths: Sequence[str | os.PathLike], name: str, allow_privileged: bool = False, allow_partial: bool = False
 ) -> tuple[list[IndexResult], dict[str, Any]]:
     """Index results per system from report files (system ``name``) and Harbor job directories."""
     from rle_tasks.core.harbor_results import is_job_dir, read_job, systems
@@ -347,7 +380,7 @@ def _gather(
     reports = [p for p in paths if not is_job_dir(Path(p))]
     records = [r for p in paths if is_job_dir(Path(p)) for r in read_job(Path(p))]
     results = (
-        [compute_index(reports, name=name, allow_privileged=allow_privileged)]
+        [compute_index(reports, name=name, allow_privileged=allow_privileged, allow_partial=allow_partial)]
         if reports or not records
         else []
     )
@@ -365,6 +398,7 @@ def index_command(
     html: str | os.PathLike | None = None,
     name: str = "submission",
     allow_privileged: bool = False,
+    allow_partial: bool = False,
 ) -> int:
     """``rle index REPORTS|JOB_DIRS... [--html OUT] [--name NAME]``: print the tables, optionally write
     the page. A Harbor job directory contributes one result per system (agent and model) and the
@@ -375,7 +409,7 @@ def index_command(
         duplicated.
     """
     try:
-        results, rows = _gather(paths, name, allow_privileged)
+        results, rows = _gather(paths, name, allow_privileged, allow_partial)
     except RleError as exc:
         print(f"rle index: error [{exc.code}]: {exc}", file=sys.stderr)
         return 2

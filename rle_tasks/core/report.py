@@ -130,7 +130,12 @@ class Findings:
 
 @dataclass(frozen=True)
 class VerifierReport:
-    """Report of DESIGN.md, built once by the rubric (``rle_tasks.core.scoring``) or the guard."""
+    """Report of DESIGN.md, built once by the rubric (``rle_tasks.core.scoring``) or the guard.
+
+    ``partial``: verified on a reduced evaluation (``--quick``, or a subset the verifier marks
+    ``partial`` in its native metrics); the RLE Index takes such a score only when asked to
+    (``rle index --allow-partial``) and says so.
+    """
 
     task_id: str
     family: str
@@ -143,6 +148,7 @@ class VerifierReport:
     errors: tuple[ErrorEntry, ...] = ()
     artifact_sha256: str = ""
     secret: str = "public"
+    partial: bool = False
     seed_digest: str = ""
     verifier_version: str = VERIFIER_VERSION
     elapsed_s: float = 0.0
