@@ -240,3 +240,17 @@ def test_the_cantilever_oracle_plays_through_a_privileged_sidecar_and_is_named(e
     as_dict = report.to_dict()
     assert reward_from_report(as_dict, False)["reward"] == 0.0  # an agent's verifier: nothing counts
     assert reward_from_report(as_dict, False, oracle=True)["reward"] == pytest.approx(report.score)
+
+
+def test_reference_programs_that_read_only_what_agents_get_are_the_oracles_of_their_tasks(tmp_path):
+    for task in export_harbor(tmp_path, ["03-balance-coins", "03-hidden-com"]):
+        sol = task / "solution"
+        assert sorted(p.name for p in sol.iterdir()) == ["oracle.py", "solve.sh"], task.name
+        program = (sol / "oracle.py").read_text()
+        assert "from client import connect" in program and "env.seal()" in program
+        assert "rle_tasks" not in program and "privileged" not in program.split('"""', 2)[2]
+        assert (
+            'PYTHONPATH="/workspace${PYTHONPATH:+:$PYTHONPATH}" exec python3 /solution/oracle.py'
+            in (sol / "solve.sh").read_text()
+        )
+        assert "RLE_ORACLE_PRIVILEGED" not in (task / "README.md").read_text()  # plays as an agent would

@@ -66,3 +66,28 @@ def harbor_oracle(spec, dest: Path) -> str | None:
         _ORACLE.format(edge_x=float(CONFIG.edge_x), top_z=float(CONFIG.top_z), scale=SCALE)
     )
     return _SOLVE
+
+
+_SOLVE_PROGRAM = """#!/usr/bin/env bash
+# Oracle: the reference program (it reads only what agents get) plays the task through the development
+# sidecar with the workspace's client, then seals.
+set -euo pipefail
+cd /workspace
+PYTHONPATH="/workspace${PYTHONPATH:+:$PYTHONPATH}" exec python3 /solution/oracle.py
+"""
+
+
+def harbor_program_oracle(program: Path, dest: Path) -> str:
+    """Write ``program`` (a reference agent that connects with ``client.connect()``, plays and seals
+    when run as a script, reading only what agents get) into ``dest`` as ``oracle.py``; returns
+    ``solve.sh``.
+
+    Raises:
+        ValueError: the program imports the verifier's package.
+    """
+    text = Path(program).read_text()
+    if "rle_tasks" in text or "from ." in text:
+        raise ValueError(f"{Path(program).name} imports rle_tasks, which the agent's image does not hold")
+    Path(dest).mkdir(parents=True, exist_ok=True)
+    (Path(dest) / "oracle.py").write_text(text)
+    return _SOLVE_PROGRAM

@@ -67,3 +67,10 @@ SOLUTIONS = SolutionSet(
     ),
 )
 """Committed public-key ledgers: the reference (two weighings), five weighings (0.4), the reference unsealed (0)."""
+
+
+def harbor_oracle(spec, dest: Path) -> str:
+    """The Harbor oracle: ``reference.py`` (it reads only what agents get) plays through the sidecar."""
+    from rle_tasks.f03_physical_reasoning.solutions.oracle import harbor_program_oracle
+
+    return harbor_program_oracle(Path(__file__).resolve().parent / "reference.py", dest)
