@@ -235,6 +235,15 @@ exec python3 -m rle_tasks.core.harbor_reward {spec.id} --logs "$LOGS" --jobs "$J
 """
 
 
+PLAYING_SOLVE_SH = """#!/usr/bin/env bash
+# Oracle: the reference program (solution/oracle.py) plays the task through the development sidecar
+# with the workspace's client, then seals.
+set -euo pipefail
+cd /workspace
+PYTHONPATH="/workspace${PYTHONPATH:+:$PYTHONPATH}" exec python3 /solution/oracle.py
+"""
+"""``solve.sh`` of every playing oracle (a family's ``harbor_oracle`` writes ``oracle.py`` beside it)."""
+
 _SOLVE_SH = """#!/usr/bin/env bash
 # Oracle: submit the shipped reference solution.
 set -euo pipefail

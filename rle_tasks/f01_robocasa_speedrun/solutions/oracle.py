@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from rle_tasks.core.harbor import PLAYING_SOLVE_SH
+
 HERE = Path(__file__).resolve().parent
 HARNESS_IMPORT = "rle_tasks.envs.kitchen.harness"
 """The harness package as the programs import it; the workspace's copy is ``harness``."""
@@ -32,13 +34,6 @@ with connect() as env:
     print(f"trials as the program saw them: {{wins}}", flush=True)
     env.seal()
 '''
-
-_SOLVE = """#!/usr/bin/env bash
-# Oracle: the reference program plays the task through the development sidecar, then seals.
-set -euo pipefail
-cd /workspace
-exec python3 /solution/oracle.py
-"""
 
 
 def harbor_oracle(spec, dest: Path) -> str | None:
@@ -65,4 +60,4 @@ def harbor_oracle(spec, dest: Path) -> str | None:
             raise ValueError(f"{src.name} imports rle_tasks, which the agent's image does not hold")
         (out / src.name).write_text(text)
     (Path(dest) / "oracle.py").write_text(_ORACLE.format(task_id=spec.id, task=kitchen.task, level=level))
-    return _SOLVE
+    return PLAYING_SOLVE_SH

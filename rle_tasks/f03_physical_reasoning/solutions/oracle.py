@@ -16,6 +16,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from rle_tasks.core.harbor import PLAYING_SOLVE_SH
+
 HERE = Path(__file__).resolve().parent
 SCALE = 0.93
 """The reference's fraction of the harmonic stack's critical offsets (``make_ledgers``)."""
@@ -38,13 +40,6 @@ with connect() as env:
     env.seal()
 '''
 
-_SOLVE = """#!/usr/bin/env bash
-# Oracle: the reference program plays the task through the (privileged) development sidecar, then seals.
-set -euo pipefail
-cd /workspace
-exec python3 /solution/oracle.py
-"""
-
 
 def harbor_oracle(spec, dest: Path) -> str | None:
     """Write the playing oracle of ``spec`` into ``dest``; returns ``solve.sh`` (03-cantilever), else None.
@@ -65,16 +60,7 @@ def harbor_oracle(spec, dest: Path) -> str | None:
     (Path(dest) / "oracle.py").write_text(
         _ORACLE.format(edge_x=float(CONFIG.edge_x), top_z=float(CONFIG.top_z), scale=SCALE)
     )
-    return _SOLVE
-
-
-_SOLVE_PROGRAM = """#!/usr/bin/env bash
-# Oracle: the reference program (it reads only what agents get) plays the task through the development
-# sidecar with the workspace's client, then seals.
-set -euo pipefail
-cd /workspace
-PYTHONPATH="/workspace${PYTHONPATH:+:$PYTHONPATH}" exec python3 /solution/oracle.py
-"""
+    return PLAYING_SOLVE_SH
 
 
 def harbor_program_oracle(program: Path, dest: Path) -> str:
@@ -90,4 +76,4 @@ def harbor_program_oracle(program: Path, dest: Path) -> str:
         raise ValueError(f"{Path(program).name} imports rle_tasks, which the agent's image does not hold")
     Path(dest).mkdir(parents=True, exist_ok=True)
     (Path(dest) / "oracle.py").write_text(text)
-    return _SOLVE_PROGRAM
+    return PLAYING_SOLVE_SH
