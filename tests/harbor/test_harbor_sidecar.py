@@ -34,7 +34,7 @@ SECRET = "sidecar-test-secret"
 @pytest.fixture(scope="module")
 def exported(tmp_path_factory):
     out = tmp_path_factory.mktemp("export")
-    dirs = export_harbor(out, ["01-open-fridge-l3", "03-cantilever", "09-gello"])
+    dirs = export_harbor(out, ["01-open-fridge-l3", "03-cantilever", "03-tower", "09-gello"])
     return {d.name: d for d in dirs}
 
 
@@ -194,10 +194,23 @@ def test_the_verifier_scores_the_sidecars_session_as_its_attempt(tmp_path):
 
 
 @pytest.mark.physics
-def test_the_cantilever_oracle_plays_through_a_privileged_sidecar_and_is_named(exported, tmp_path):
+@pytest.mark.parametrize(
+    "task_id",
+    [
+        "03-cantilever",
+        pytest.param(
+            "03-tower",
+            marks=pytest.mark.skipif(
+                os.environ.get("RLE_FULL_BATTERY") != "1",
+                reason="56 s of play: full battery only (RLE_FULL_BATTERY=1); the reduced run plays the cantilever",
+            ),
+        ),
+    ],
+)
+def test_a_privileged_oracle_plays_through_the_sidecar_and_is_named(exported, tmp_path, task_id):
     """The exported oracle program, run as Harbor's oracle agent runs it, against a sidecar the operator
-    started with RLE_ORACLE_PRIVILEGED=1 (public key here): the reference's overhang, and the report
-    names the privileged session; the reward counts it only when the verifier is told (the same flag)."""
+    started with RLE_ORACLE_PRIVILEGED=1 (public key here): the reference's score, and the report names
+    the privileged session; the reward counts it only when the verifier is told (the same flag)."""
     from rle_tasks.core.harbor_reward import reward_from_report
     from rle_tasks.core.registry import get_task
     from rle_tasks.core.secrets import PUBLIC_KEY
@@ -208,15 +221,15 @@ def test_the_cantilever_oracle_plays_through_a_privileged_sidecar_and_is_named(e
     ws, ledgers = tmp_path / "ws", tmp_path / "ledgers"
     where = ["--workspace", str(ws), "--ledger-dir", str(ledgers)]
     env = {"RLE_SECRET": "", "RLE_ALLOW_PUBLIC_KEY": "1", "RLE_ORACLE_PRIVILEGED": "1"}
-    server = _sidecar("serve", "03-cantilever", *where, env=env)
+    server = _sidecar("serve", task_id, *where, env=env)
     try:
         deadline = time.monotonic() + 90
         while not (ws / ".rle" / "ledger.sock").exists():
             assert time.monotonic() < deadline and server.poll() is None, server.stdout.read()
             time.sleep(0.1)
-        oracle = (exported["03-cantilever"] / "solution" / "oracle.py").read_text()
+        oracle = (exported[task_id] / "solution" / "oracle.py").read_text()
         oracle = oracle.replace(
-            '"/workspace", "/solution"', f"{str(ws)!r}, {str(exported['03-cantilever'] / 'solution')!r}"
+            '"/workspace", "/solution"', f"{str(ws)!r}, {str(exported[task_id] / 'solution')!r}"
         )
         played = subprocess.run(
             [sys.executable, "-c", oracle], cwd=ws, env={**os.environ, "PYTHONPATH": str(REPO_ROOT)},
@@ -232,8 +245,8 @@ def test_the_cantilever_oracle_plays_through_a_privileged_sidecar_and_is_named(e
     attempt = (ledgers / "attempt").read_text().strip()
     (artifact / "ledger.jsonl").write_bytes(sorted(ledgers.glob(f"{attempt}*.jsonl"))[-1].read_bytes())
     ctx = VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True, attempt=attempt)
-    report, internal = run_verify(get_task("03-cantilever"), artifact, ctx)
-    golden = declaration(get_task("03-cantilever")).get("reference").quick_score
+    report, internal = run_verify(get_task(task_id), artifact, ctx)
+    golden = declaration(get_task(task_id)).get("reference").quick_score
     assert not internal and report.score == pytest.approx(golden, abs=0.05), report.errors
     assert [e.code for e in report.errors] == ["ledger.privileged"]
     assert report.native_metrics["privileged_session"] is True

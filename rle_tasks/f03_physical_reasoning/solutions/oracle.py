@@ -1,6 +1,7 @@
-"""The Harbor oracle of 03-cantilever: the reference program, playing through a privileged sidecar.
+"""Harbor oracles of family 03: the reference programs, playing through the sidecar.
 
-The reference program (``agents.harmonic_cantilever``) reads each block's pose and size, which the
+The programs of 03-cantilever and 03-tower (``agents.harmonic_cantilever``, ``agents.tower`` with the
+plan ``tower_optimum`` computes from the pieces' sizes) read each piece's pose and size, which the
 card withholds from agents. An exported task's sidecar serves them only when the operator runs the
 oracle with ``RLE_ORACLE_PRIVILEGED=1`` on the host (``harbor_sidecar``); the session's ledger then
 says so (``privileged``), the verifier names it (``ledger.privileged``), ``rle index`` refuses the
@@ -41,25 +42,58 @@ with connect() as env:
 '''
 
 
+_TOWER = '''"""Oracle of 03-tower: the reference program plays through the privileged development sidecar."""
+
+import sys
+
+sys.path[:0] = ["/workspace", "/solution"]
+
+from agents import tower  # noqa: E402
+from client import connect  # noqa: E402
+from tower_optimum import Block, optimal_tower  # noqa: E402
+
+with connect() as env:
+    obs = env.reset()
+    if "sizes" not in obs:
+        sys.exit("the sidecar serves no privileged observations: run the oracle with RLE_ORACLE_PRIVILEGED=1")
+    blocks = []
+    for name, (hx, hy, hz) in sorted(obs["sizes"].items()):  # each piece resting on its spawn face
+        wedge = name == "wedge"
+        mass = {density!r} * (4.0 if wedge else 8.0) * hx * hy * hz
+        blocks.append(Block(name, min(hx, hy), 2.0 * hz, mass, supports=not wedge))
+    plan = [(name, 0.0) for name in optimal_tower(blocks).order if name != "wedge"]
+    tower(env.step, obs, plan, {spot!r}, {top_z!r})
+    print(f"played {{plan}}: {{env.info()['steps_used']}} steps", flush=True)
+    env.seal()
+'''
+
+
 def harbor_oracle(spec, dest: Path) -> str | None:
-    """Write the playing oracle of ``spec`` into ``dest``; returns ``solve.sh`` (03-cantilever), else None.
+    """Write the privileged playing oracle of ``spec`` into ``dest``; returns ``solve.sh`` (03-cantilever,
+    03-tower), else None.
 
     Raises:
         ValueError: the copied program imports the verifier's package.
     """
+    from .. import tower
     from ..cantilever import CANTILEVER_ID
     from ..scene import CONFIG
 
-    if spec.id != CANTILEVER_ID:
+    if spec.id == CANTILEVER_ID:
+        oracle = _ORACLE.format(edge_x=float(CONFIG.edge_x), top_z=float(CONFIG.top_z), scale=SCALE)
+        modules = ("agents.py",)
+    elif spec.id == tower.TOWER_ID:
+        oracle = _TOWER.format(density=tower.DENSITY, spot=tuple(tower.BUILD_SPOT), top_z=float(CONFIG.top_z))
+        modules = ("agents.py", "../tower_optimum.py")
+    else:
         return None
-    text = (HERE / "agents.py").read_text()
-    if "rle_tasks" in text:
-        raise ValueError("agents.py imports rle_tasks, which the agent's image does not hold")
     Path(dest).mkdir(parents=True, exist_ok=True)
-    (Path(dest) / "agents.py").write_text(text)
-    (Path(dest) / "oracle.py").write_text(
-        _ORACLE.format(edge_x=float(CONFIG.edge_x), top_z=float(CONFIG.top_z), scale=SCALE)
-    )
+    for module in modules:
+        text = (HERE / module).read_text()
+        if "rle_tasks" in text:
+            raise ValueError(f"{module} imports rle_tasks, which the agent's image does not hold")
+        (Path(dest) / Path(module).name).write_text(text)
+    (Path(dest) / "oracle.py").write_text(oracle)
     return PLAYING_SOLVE_SH
 
 

@@ -27,3 +27,10 @@ SOLUTIONS = SolutionSet(
         ),
     ),
 )
+
+
+def harbor_oracle(spec, dest):
+    """The Harbor oracle that plays 03-tower through its privileged sidecar (``oracle``)."""
+    from rle_tasks.f03_physical_reasoning.solutions.oracle import harbor_oracle as write
+
+    return write(spec, dest)
