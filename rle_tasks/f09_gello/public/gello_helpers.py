@@ -74,7 +74,8 @@ def workshop_check(lead_xml: str | Path, robot: str, stock_xml: str | Path | Non
             the bodies named ``base``/``link<k>`` are taken as stock).
 
     Returns:
-        One ``"code: message"`` line per finding; empty when the leader passes.
+        One ``"code: message"`` line per finding (the across-joint poses summed up in one line);
+        empty when the leader passes.
     """
     lead_xml = Path(lead_xml)
     spec = mujoco.MjSpec.from_file(str(lead_xml))
@@ -91,7 +92,14 @@ def workshop_check(lead_xml: str | Path, robot: str, stock_xml: str | Path | Non
     stock = [b for b in range(1, m.nbody) if b not in set(added)]
     grid = workspace_grid(m.jnt_range, PUBLIC_GRID_SIZE)
     found = workshop_findings(spec, m, added, WORKSHOP, poses=grid, baseline=stock, fused=added)
-    return [f"{f.code}: {f.message}" for f in found]
+    out = [f"{f.code}: {f.message}" for f in found if f.code != "interpenetration.joint"]
+    poses = [f.message for f in found if f.code == "interpenetration.joint"]
+    if poses:  # one line for all the public-grid poses where a part lies inside the next link
+        out.append(
+            f"interpenetration.joint: at {len(poses)} of {len(grid)} public-grid poses an added part lies "
+            f"inside the next link across a joint (each such pose fails motion clearance); first: {poses[0]}"
+        )
+    return out
 
 
 def workspace_grid(ranges: np.ndarray, n: int, seed: int = GRID_SEED) -> np.ndarray:
