@@ -12,7 +12,9 @@ capsule's axis is its own z), of constant section, so the clamp is its weakest s
 radius r (A = pi r^2, I = pi r^4 / 4, c = r, torsion tau = 2 T / (pi r^3)) or rectangle b x h
 (I_y = b h^3 / 12, I_z = h b^3 / 12; bending in the worst direction sigma = M sqrt((c_y / I_y)^2 +
 (c_z / I_z)^2); torsion tau = T (3 a + 1.8 b) / (a^2 b^2), a >= b, Roark). Spheres and ellipsoids
-are masses, not beams; mesh parts are not analysed here (their walls: ``printability``).
+are masses, not beams. A mesh part is cut into ``MESH_SECTIONS`` sections along its longest axis
+(manifold3d slices; area and second moments of each by Green's theorem); each section between the
+clamp and the far end carries the loads beyond it, the part's own weight in proportion.
 
 Loads, bounded for any pose. For a force F at lever r from the clamp (r = |r|, rho its distance from
 the beam axis) the bending moment is at most F r and the torsion at most F rho; the axial force at
@@ -39,9 +41,12 @@ from rle_design.catalog import Material
 __all__ = [
     "Beam",
     "PartLoad",
+    "Section",
     "StrengthFault",
     "beam_section",
+    "mesh_sections",
     "part_loads",
+    "polygon_section",
     "spring_tensions",
     "strength_faults",
 ]
@@ -49,7 +54,6 @@ __all__ = [
 G = 9.81
 """Gravitational acceleration [m/s^2]."""
 _GT = mujoco.mjtGeom
-_BEAMS = {int(_GT.mjGEOM_BOX), int(_GT.mjGEOM_CYLINDER), int(_GT.mjGEOM_CAPSULE)}
 
 
 @dataclass(frozen=True)
@@ -96,6 +100,108 @@ def beam_section(geom_type: int, size: np.ndarray) -> Beam | None:
             np.eye(3)[k],
         )
     return None
+
+
+MESH_SECTIONS = 24
+"""Sections a mesh part is cut into along its longest axis, the first and last at its ends [1]."""
+
+
+@dataclass(frozen=True)
+class Section:
+    """One cross-section of a part, perpendicular to its beam axis.
+
+    Attributes:
+        s: Position along the axis from the geom frame's origin [m].
+        centre: Its centroid in the geom frame [m].
+        area: Area [m^2].
+        inertia: Smallest principal second moment of area [m^4].
+        bending: Largest over the section's points of hypot(v / I_1, u / I_2) in principal axes
+            (u, v): bending stress per unit moment in the worst direction [1/m^3].
+        torsion: Shear stress per unit torque, c_max / J with Saint-Venant's J = A^4 / (4 pi^2 I_p)
+            (exact for a circle, low for thin sections: conservative) [1/m^3].
+    """
+
+    s: float
+    centre: np.ndarray
+    area: float
+    inertia: float
+    bending: float
+    torsion: float
+
+
+def _loop_moments(p: np.ndarray) -> np.ndarray:
+    """(A, S_x, S_y, I_xx, I_yy, I_xy) of a closed polygon loop by Green's theorem (signed: holes,
+    wound clockwise, subtract), moments about the origin."""
+    x, y = p[:, 0], p[:, 1]
+    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    cross = x * y1 - x1 * y
+    return np.array(
+        [
+            cross.sum() / 2,
+            ((x + x1) * cross).sum() / 6,
+            ((y + y1) * cross).sum() / 6,
+            ((y**2 + y * y1 + y1**2) * cross).sum() / 12,
+            ((x**2 + x * x1 + x1**2) * cross).sum() / 12,
+            ((x * y1 + 2 * x * y + 2 * x1 * y1 + x1 * y) * cross).sum() / 24,
+        ]
+    )
+
+
+def polygon_section(loops: list[np.ndarray]) -> tuple[float, np.ndarray, float, float, float] | None:
+    """Area, centroid, smallest principal moment, worst-direction bending factor and torsion factor
+    of a planar section given as closed loops (outer counter-clockwise, holes clockwise) [m]; None
+    for an empty section."""
+    loops = [np.asarray(p, float) for p in loops if len(p) >= 3]
+    if not loops:
+        return None
+    a, sx, sy, ixx, iyy, ixy = sum(_loop_moments(p) for p in loops)
+    if a <= 1e-14:
+        return None
+    cx, cy = sx / a, sy / a
+    ixx, iyy, ixy = ixx - a * cy**2, iyy - a * cx**2, ixy - a * cx * cy  # about the centroid
+    vals, vecs = np.linalg.eigh(np.array([[iyy, -ixy], [-ixy, ixx]]))  # inertia tensor of the plane
+    vals = np.maximum(vals, 1e-30)
+    pts = np.vstack(loops) - [cx, cy]
+    uv = pts @ vecs  # principal coordinates; I about axis u is vals[1] (stress ~ v), about v vals[0]
+    # bending about principal axis k: sigma = M v / I_u; worst direction: hypot of the two
+    bend = float(np.max(np.hypot(uv[:, 1] / vals[1] if vals[1] > 0 else 0, uv[:, 0] / vals[0])))
+    ip = float(vals.sum())
+    j = a**4 / (4 * np.pi**2 * ip)
+    tors = float(np.max(np.linalg.norm(pts, axis=1)) / j)
+    return float(a), np.array([cx, cy]), float(vals.min()), bend, tors
+
+
+def mesh_sections(model: mujoco.MjModel, g: int, n: int = MESH_SECTIONS, cache: dict | None = None):
+    """The beam axis of mesh geom ``g`` (its oriented bounding box's longest axis, geom frame), the
+    axial extent (lo, hi) [m] and ``n`` cross-sections, evenly inside it."""
+    import trimesh
+
+    from rle_design.mjcf.geom_solid import geom_manifold, geom_trimesh
+
+    verts = np.asarray(geom_trimesh(model, g).vertices)
+    to_box, extents = trimesh.bounds.oriented_bounds(verts)
+    k = int(np.argmax(extents))
+    axis = np.asarray(to_box[k, :3], float)
+    axis /= np.linalg.norm(axis)
+    u = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
+    u /= np.linalg.norm(u)
+    v = np.cross(axis, u)
+    frame = np.vstack([u, v, axis])  # rows: geom frame -> (u, v, axis)
+    mat = np.zeros((3, 4))
+    mat[:, :3] = frame
+    man = geom_manifold(model, g, cache).transform(mat)
+    z = verts @ axis
+    lo, hi = float(z.min()), float(z.max())
+    out = []
+    pad = 1e-4 * (hi - lo)  # the end sections just inside the part's faces
+    for s in np.linspace(lo + pad, hi - pad, n):
+        sec = polygon_section([np.asarray(p) for p in man.slice(float(s)).to_polygons()])
+        if sec is None:
+            continue
+        area, c, inertia, bend, tors = sec
+        centre = frame.T @ np.array([c[0], c[1], s])
+        out.append(Section(float(s), centre, area, inertia, bend, tors))
+    return axis, (lo, hi), out
 
 
 @dataclass(frozen=True)
@@ -276,38 +382,63 @@ def part_loads(
         return out
 
     out: list[PartLoad] = []
+    cache: dict = {}
     for g in clamp:
-        beam = beam_section(int(model.geom_type[g]), model.geom_size[g])
         mat = material_of(g)
-        if beam is None or mat is None:
+        if mat is None:
             continue
         rot = data.geom_xmat[g].reshape(3, 3)
-        axis = rot @ beam.axis
+        beam = beam_section(int(model.geom_type[g]), model.geom_size[g])
+        if beam is not None:
+            lo, hi = -beam.length / 2, beam.length / 2
+            local_axis = beam.axis
+        elif int(model.geom_type[g]) == int(_GT.mjGEOM_MESH):
+            local_axis, (lo, hi), sections = mesh_sections(model, g, cache=cache)
+            if not sections:
+                continue
+        else:
+            continue  # spheres and ellipsoids are masses, not beams
+        axis = rot @ local_axis
         # the clamp section: the point of contact projected onto the beam's axis
-        s0 = float(np.clip((clamp[g] - data.geom_xpos[g]) @ axis, -beam.length / 2, beam.length / 2))
+        s0 = float(np.clip((clamp[g] - data.geom_xpos[g]) @ axis, lo, hi))
+        far = hi if hi - s0 >= s0 - lo else lo
+        span = abs(far - s0)
         root = data.geom_xpos[g] + s0 * axis
-        span = max(beam.length / 2 - s0, beam.length / 2 + s0)
-        loads = [(data.geom_xpos[k].copy(), masses[k] * G, True) for k in subtree(g)]
-        loads += [(x, f, False) for k in subtree(g) for x, f in spring_at.get(k, [])]
-        moment = torsion = axial = total = 0.0
+        if beam is not None:  # prismatic: the clamp section is the weakest
+            sections = [Section(s0, local_axis * s0, beam.area, beam.inertia, beam.bending, beam.torsion)]
+        else:
+            sections = [c for c in sections if (c.s - s0) * (far - s0) >= 0]  # between clamp and far end
+        others = [(data.geom_xpos[k].copy(), masses[k] * G, True) for k in subtree(g) if k != g]
+        others += [(x, f, False) for k in subtree(g) for x, f in spring_at.get(k, [])]
+        own = masses[g] * G
+        stress = moment_max = 0.0
+        for sec in sections:
+            centre = data.geom_xpos[g] + rot @ sec.centre
+            beyond = abs(far - sec.s) / span if span > 0 else 0.0  # share of the part beyond it
+            own_at = data.geom_xpos[g] + axis * (sec.s + far) / 2 if beam is None else data.geom_xpos[g]
+            loads = others + [(own_at, own * (beyond if beam is None else 1.0), True)]
+            moment = torsion = axial = 0.0
+            for x, f, weight in loads:
+                r = x - centre
+                fd = f * (dynamic_factor if weight else 1.0)
+                moment += fd * float(np.linalg.norm(r))
+                torsion += fd * float(np.linalg.norm(r - (r @ axis) * axis))
+                axial += fd
+            sigma = moment * sec.bending + axial / sec.area
+            sec_stress = float(np.sqrt(sigma**2 + 3 * (torsion * sec.torsion) ** 2))
+            if sec_stress >= stress:
+                stress, moment_max = sec_stress, moment
+        # sag of the far end under the static loads, the weakest section over the whole span
+        ei = mat.youngs_modulus * min(sec.inertia for sec in sections)
         deflection = 0.0
-        ei = mat.youngs_modulus * beam.inertia
-        for x, f, weight in loads:
-            r = x - root
-            lever = float(np.linalg.norm(r))
-            rho = float(np.linalg.norm(r - (r @ axis) * axis))
-            fd = f * (dynamic_factor if weight else 1.0)
-            moment += fd * lever
-            torsion += fd * rho
-            axial += fd
-            total += fd
-            a = lever
+        total = 0.0
+        for x, f, weight in others + [(data.geom_xpos[g], own, True)]:
+            a = float(np.linalg.norm(x - root))
+            total += f * (dynamic_factor if weight else 1.0)
             if a <= span:
                 deflection += f * a**2 * (3 * span - a) / (6 * ei)
             else:
                 deflection += f * span**3 / (3 * ei) + f * (a - span) * span**2 / (2 * ei)
-        sigma = moment * beam.bending + axial / beam.area
-        stress = float(np.sqrt(sigma**2 + 3 * (torsion * beam.torsion) ** 2))
         out.append(
             PartLoad(
                 _name(model, mujoco.mjtObj.mjOBJ_GEOM, g),
@@ -315,7 +446,7 @@ def part_loads(
                 mat.id,
                 span,
                 total,
-                moment,
+                moment_max,
                 stress,
                 mat.yield_strength / safety_factor(mat),
                 deflection,

@@ -22,7 +22,7 @@ Structure rules (each a ``Finding``; any of them skips the submitted-arm battery
   what its geometry gives (``contract.mass_mismatch``, ``contract.com_mismatch``,
   ``contract.com_outside``, ``contract.inertia_mismatch``); no added part shares more than a quarter
   of the smaller part's volume with a part welded to it (``contract.interpenetration``); every printed or metal
-  beam (box, cylinder, capsule) holds its loads (``contract.overstressed_part``) without sagging
+  beam (box, cylinder, capsule, mesh) holds its loads (``contract.overstressed_part``) without sagging
   beyond its limit (``contract.flexible_part``). Parts inside the next link across a joint fail
   motion clearance pose by pose (``clearance.py``).
 """

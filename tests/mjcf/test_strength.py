@@ -5,7 +5,14 @@ import numpy as np
 import pytest
 
 from rle_design.catalog import load_catalog
-from rle_design.mjcf.strength import G, beam_section, part_loads, spring_tensions, strength_faults
+from rle_design.mjcf.strength import (
+    G,
+    beam_section,
+    part_loads,
+    polygon_section,
+    spring_tensions,
+    strength_faults,
+)
 
 PLA = load_catalog("materials").get("pla")
 R, L, M_TIP = 0.004, 0.08, 0.2  # rod radius, length [m]; steel weight at its tip [kg]
@@ -124,3 +131,42 @@ def test_spring_tension_loads_its_post():
     assert load.load == pytest.approx(50.0)  # the spring is not multiplied by the dynamic factor
     assert load.moment == pytest.approx(50.0 * 0.05, rel=1e-6)  # F x lever 50 mm
     assert load.deflection == pytest.approx(50.0 * 0.05**3 / (3 * PLA.youngs_modulus * i), rel=1e-6)
+
+
+def test_polygon_sections_closed_form():
+    b, h = 0.003, 0.0004
+    rect = np.array([[-b / 2, -h / 2], [b / 2, -h / 2], [b / 2, h / 2], [-b / 2, h / 2]])
+    area, centre, inertia, bending, _ = polygon_section([rect + [0.01, 0.02]])  # off the origin
+    assert area == pytest.approx(b * h) and centre == pytest.approx([0.01, 0.02])
+    assert inertia == pytest.approx(b * h**3 / 12)  # I = b h^3 / 12 about the weak axis
+    assert bending == pytest.approx(np.hypot((h / 2) / (b * h**3 / 12), (b / 2) / (h * b**3 / 12)))
+    # hollow square tube (outer B, inner a, hole wound clockwise): I = (B^4 - a^4) / 12
+    big, small = 0.02, 0.016
+    outer = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]]) * big / 2
+    hole = np.array([[-1, -1], [-1, 1], [1, 1], [1, -1]]) * small / 2
+    area, _, inertia, _, _ = polygon_section([outer, hole])
+    assert area == pytest.approx(big**2 - small**2) and inertia == pytest.approx((big**4 - small**4) / 12)
+
+
+def test_a_mesh_beam_carries_what_the_same_box_carries():
+    # the 3 x 0.4 mm x 120 mm strut as a mesh: its sections are the box's, so its clamp stress and
+    # sag are the closed-form ones of the primitive strut
+    hx, hy, hz = 0.06, 0.0015, 0.0002
+    verts = " ".join(f"{x * hx} {y * hy} {z * hz}" for x in (-1, 1) for y in (-1, 1) for z in (-1, 1))
+    faces = "0 2 1 1 2 3 4 5 6 5 7 6 0 1 4 1 5 4 2 6 3 3 6 7 0 4 2 2 4 6 1 3 5 3 7 5"
+    xml = f"""<mujoco><asset><mesh name="strut" vertex="{verts}" face="{faces}"/></asset><worldbody>
+        <body name="support"><geom type="box" size="0.02 0.02 0.02" pos="-0.02 0 0"/></body>
+        <body name="cw"><geom name="strut" type="mesh" mesh="strut" pos="0.06 0 0"/>
+          <geom name="steel" type="sphere" size="0.01" pos="0.13 0 0"/></body>
+        </worldbody></mujoco>"""
+    m = mujoco.MjModel.from_xml_string(xml)
+    masses = np.array([0.0, 0.0, 0.18])  # the steel only
+    (mesh,) = [p for p in _loads(m, masses) if p.part == "strut"]
+    box = beam_section(int(mujoco.mjtGeom.mjGEOM_BOX), np.array([hx, hy, hz]))
+    f, lever = 0.18 * G, 0.13  # the weight 130 mm from the clamp
+    sigma = DYN * f * lever * box.bending + DYN * f / box.area  # M c / I (worst direction) + N / A
+    assert mesh.span == pytest.approx(0.12, rel=1e-6)
+    assert mesh.stress == pytest.approx(sigma, rel=1e-3)
+    ei = PLA.youngs_modulus * box.inertia  # beyond the end: F L^3 / 3 E I + F (a - L) L^2 / 2 E I
+    assert mesh.deflection == pytest.approx(f * 0.12**3 / (3 * ei) + f * 0.01 * 0.12**2 / (2 * ei), rel=1e-3)
+    assert [x.code for x in strength_faults([mesh])] == ["overstressed", "too_flexible"]
