@@ -32,13 +32,11 @@ import sys
 import tempfile
 from pathlib import Path
 
+from rle_tasks.core.verify import VerifierSetupError
+
 SECRET_ENV = "RLE_SECRET"
 ALLOW_PUBLIC_ENV = "RLE_ALLOW_PUBLIC_KEY"
 REWARD_FILES = ("reward.json", "reward.txt")
-
-
-class VerifierSetupError(Exception):
-    """The verification could not be run or its result not trusted (exit status 1, no reward)."""
 
 
 def check_secret(environ: dict[str, str]) -> bool:
