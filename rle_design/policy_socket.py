@@ -170,7 +170,9 @@ def check_actions(actions: np.ndarray, action_dim: int) -> np.ndarray:
     if a.ndim != 2 or a.shape[1] != action_dim:
         raise ProtocolError("shape", f"actions must have shape (k, {action_dim}), got {excerpt(a.shape, 40)}")
     if not 1 <= a.shape[0] <= MAX_CHUNK:
-        raise ProtocolError("chunk_size", f"a reply carries 1..{MAX_CHUNK} actions, got {excerpt(a.shape[0], 20)}")
+        raise ProtocolError(
+            "chunk_size", f"a reply carries 1..{MAX_CHUNK} actions, got {excerpt(a.shape[0], 20)}"
+        )
     if a.dtype.kind != "f":
         raise ProtocolError("dtype", f"actions must be floating point, got {excerpt(a.dtype, 20)}")
     if not np.all(np.isfinite(a)):

@@ -76,7 +76,9 @@ def test_devrun_refuses_what_the_verifier_refuses_with_the_same_code(tmp_path, c
     assert stop.value.code == 2
     said = capsys.readouterr().err
     assert "sandbox.bad_type: policy.make_policy(): «cannot return value of type Policy" in said
-    report = verify(tmp_path, VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True, hang_cap_s=5.0))
+    report = verify(
+        tmp_path, VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True, hang_cap_s=5.0)
+    )
     assert [(e.code, e.message) for e in report.errors] == [
         ("sandbox.bad_type", "policy could not be loaded: " + said.split("sandbox.bad_type: ")[1].strip())
     ]
