@@ -25,7 +25,7 @@ QUICK = VerifyContext(secret=PUBLIC, quick=True)
     [
         ("baseline/empty", "no_entry_point", "names no 'Entry point"),
         ("baseline/missing_function", "missing_function", "agent_harness.skills cannot be imported"),
-        ("baseline/reads_hidden_state", "sandbox.forbidden", "is not allowed in the sandbox"),
+        ("baseline/reads_hidden_state", "sandbox.forbidden", "«PermissionError: rle-sandbox: "),  # an excerpt
     ],
 )
 def test_baselines_score_zero_for_their_reason(name, agent, reason):

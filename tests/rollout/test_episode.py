@@ -204,7 +204,7 @@ def test_invalid_actions_are_participant_faults():
     env = _Env()
     m = env.build()
     with pytest.raises(
-        ActionError, match=r"action must be 1 real numbers \(the actuators' ctrl\), got shape \(2,\)"
+        ActionError, match=r"action must be 1 real numbers \(the actuators' ctrl\), got shape «\(2,\)»"
     ):
         env.action(m, [1.0, 2.0])
     with pytest.raises(ActionError, match="NaN or infinity"):
