@@ -160,7 +160,12 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     from rle_tasks.demo import run_demo
 
     return run_demo(
-        Path(args.out), quick=args.quick, jobs=args.jobs, full_baselines=args.full_baselines, tasks=args.task
+        Path(args.out),
+        quick=args.quick,
+        jobs=args.jobs,
+        full_baselines=args.full_baselines,
+        tasks=args.task,
+        full=args.full,
     )
 
 
@@ -309,6 +314,11 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         metavar="ID",
         help="only this task (an id, or a family number such as 05); repeatable (default: every task)",
+    )
+    s.add_argument(
+        "--full",
+        action="store_true",
+        help="also the solutions that exist to run out a long time limit (listed, not run, by default)",
     )
     s.set_defaults(fn=_cmd_demo)
 

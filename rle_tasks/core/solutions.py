@@ -61,6 +61,8 @@ class Solution:
             (``"."`` for its root), source relative to the family package; a source directory is
             copied recursively (``__pycache__`` and ``.pyc`` left out), files are replaced.
         transforms: Module-level functions applied in order after the overlay.
+        runs_out_s: The solution exists to run out a time limit of this many seconds [s] (None: it
+            does not): ``rle demo`` lists it with the limit and runs it only with ``--full``.
     """
 
     name: str
@@ -69,6 +71,7 @@ class Solution:
     base: str | None = None
     files: tuple[tuple[str, str], ...] = ()
     transforms: tuple[Transform, ...] = ()
+    runs_out_s: float | None = None
 
 
 @dataclass(frozen=True)

@@ -74,6 +74,7 @@ _OPEN = SolutionSet(
             sha256="f8e983502a6bb3444bdaa170b3eb6ff83cd453ab350babe50abe7879e89475d4",
             quick_score=0.0,
             files=(("solution.py", "solutions/baseline/over_budget.py"),),
+            runs_out_s=1920.0,
         ),
         Solution(
             "baseline/reads_eval_states",
