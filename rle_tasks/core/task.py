@@ -114,6 +114,8 @@ class TaskSpec:
             (``rle verify --episodes N``) applies.
         harbor_unsupported: Why the task cannot be exported as a Harbor task yet ("" when it can).
         quick_note: What ``--quick`` runs for this task ("" when it is the family's usual reduction).
+        quick_reduces: ``--quick`` verifies less than the full evaluation (False where the verifier has
+            nothing to reduce, e.g. a recorded ledger): a quick report is ``partial`` only then.
         privileged_oracle: ``make_dev_env`` can serve privileged observations (``serving_privileged``)
             for an operator's oracle trial; the session's ledger says so (``ledger.privileged``).
     """
@@ -131,6 +133,7 @@ class TaskSpec:
     episode_scored: bool = False
     harbor_unsupported: str = ""
     quick_note: str = ""
+    quick_reduces: bool = True
     privileged_oracle: bool = False
 
     @property

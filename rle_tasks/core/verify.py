@@ -97,7 +97,7 @@ def run_verify(task: TaskSpec, artifact_dir: str | Path, ctx: VerifyContext) -> 
         report = report.withheld()
     report = report.replace(
         secret=ctx.secret.label,
-        partial=bool(ctx.quick or report.native_metrics.get("partial") is True),
+        partial=bool((ctx.quick and task.quick_reduces) or report.native_metrics.get("partial") is True),
         seed_digest=seed_digest(ctx.secret, task.id),
         elapsed_s=time.perf_counter() - t0,
         sandbox_layers=_sandbox_layers(),

@@ -34,6 +34,7 @@ def task_spec() -> TaskSpec:
     from .balance_verifier import verify
 
     return TaskSpec(
+        quick_reduces=False,  # a recorded ledger: quick verifies the same
         id=TASK_ID,
         family=3,
         title="Tabletop physical reasoning: find the heavy cube among nine with a balance",

@@ -37,6 +37,7 @@ def task_spec() -> TaskSpec:
     from .hidden_com_verifier import verify
 
     return TaskSpec(
+        quick_reduces=False,  # a recorded ledger: quick verifies the same
         id=TASK_ID,
         family=3,
         title="Tabletop physical reasoning: identify the ballast quadrant of three sealed boxes",

@@ -38,3 +38,15 @@ def test_the_index_refuses_partial_scores_unless_asked_and_then_names_them(tmp_p
     page = write_index_html([result], tmp_path / "index.html").read_text()
     assert "<h2>Partial scores</h2>" in page and "05-libero-open" in page
     assert compute_index([FULL]).partial == () and "partial" not in format_tables(compute_index([FULL]))
+
+
+def test_a_quick_verification_of_a_recorded_ledger_is_not_partial():
+    """03's verifier replays the recorded session whatever the mode: nothing is reduced."""
+    task = get_task("03-cantilever")
+    assert not task.quick_reduces and get_task("01-open-fridge-l3").quick_reduces is False
+    report, _ = run_verify(
+        task,
+        materialise(task, "reference"),
+        VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True),
+    )
+    assert report.partial is False and report.score > 0.8
