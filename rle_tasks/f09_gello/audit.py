@@ -56,7 +56,7 @@ def _dense_steel(root) -> None:
     g.set("mass", f"{7870 * 1.01 * 4 / 3 * np.pi * float(g.get('size')) ** 3:.9g}")
 
 
-def _thin_strut(root) -> None:
+def thin_strut(root) -> None:
     """A 0.4 mm x 3 mm x 12 cm PLA strut seated in link3's servo housing, 0.18 kg of steel at its end."""
     strut = etree.SubElement(_body(root, "link3"), "body", name="strut")
     etree.SubElement(
@@ -100,7 +100,7 @@ def cases() -> list[Case]:
     table = [
         ("displaced_counterweight_inertial", "contract.com_mismatch", _displaced_inertial, REFUSED),
         ("steel_one_percent_dense", "contract.point_mass", _dense_steel, REFUSED),
-        ("thin_strut_carrying_steel", "contract.overstressed_part", _thin_strut, REFUSED),
+        ("thin_strut_carrying_steel", "contract.overstressed_part", thin_strut, REFUSED),
         ("steel_inside_a_servo", "contract.interpenetration", _steel_inside_a_servo, REFUSED),
         ("part_sunk_into_next_link", "clearance.interpenetration", _sunk_into_next_link, SCORED_DOWN),
     ]

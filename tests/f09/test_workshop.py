@@ -14,6 +14,7 @@ from lxml import etree
 
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
+from rle_tasks.f09_gello.audit import thin_strut as _thin_strut
 from rle_tasks.f09_gello.clearance import collision_fraction, joint_overlaps
 from rle_tasks.f09_gello.device import load_submission, stock_model
 from rle_tasks.f09_gello.leaders import ROBOTS
@@ -69,31 +70,6 @@ def _steel_at_the_edge(root):
     g = _geom(root, "counterweight3_steel")
     r = float(g.get("size"))
     g.set("mass", f"{7870 * 4 / 3 * np.pi * r**3:.9g}")  # exactly the catalog's heaviest steel
-
-
-def _thin_strut(root):
-    # the issue's 0.4 mm x 3 mm x 12 cm printed strut, seated 5 mm in link3's servo housing, with
-    # 0.18 kg of steel at its end
-    strut = etree.SubElement(_body(root, "link3"), "body", name="strut")
-    etree.SubElement(
-        strut,
-        "geom",
-        name="strut_pla",
-        type="box",
-        size="0.06 0.0015 0.0002",
-        pos="0.065 0 0",
-        density="1240",
-    )
-    side = (0.18 / 7850) ** (1 / 3) / 2
-    etree.SubElement(
-        strut,
-        "geom",
-        name="strut_steel",
-        type="box",
-        size=f"{side} {side} {side}",
-        pos=f"{0.125 + side} 0 0",
-        mass="0.18",
-    )
 
 
 def _brass(root):

@@ -23,49 +23,34 @@ HERE = Path(__file__).resolve().parent
 SCALE = 0.93
 """The reference's fraction of the harmonic stack's critical offsets (``make_ledgers``)."""
 
-_ORACLE = '''"""Oracle of 03-cantilever: the reference program plays through the privileged development sidecar."""
+_PROLOGUE = '''"""Oracle of {task}: the reference program plays through the privileged development sidecar."""
 
 import sys
 
 sys.path[:0] = ["/workspace", "/solution"]
 
-from agents import harmonic_cantilever  # noqa: E402
 from client import connect  # noqa: E402
 
-with connect() as env:
-    obs = env.reset()
-    if "bodies" not in obs:
-        sys.exit("the sidecar serves no privileged observations: run the oracle with RLE_ORACLE_PRIVILEGED=1")
-    harmonic_cantilever(env.step, obs, edge_x={edge_x!r}, top_z={top_z!r}, scale={scale!r})
-    print(f"played: {{env.info()['steps_used']}} steps", flush=True)
-    env.seal()
-'''
-
-
-_TOWER = '''"""Oracle of 03-tower: the reference program plays through the privileged development sidecar."""
-
-import sys
-
-sys.path[:0] = ["/workspace", "/solution"]
-
-from agents import tower  # noqa: E402
-from client import connect  # noqa: E402
-from tower_optimum import Block, optimal_tower  # noqa: E402
+{imports}
 
 with connect() as env:
     obs = env.reset()
     if "sizes" not in obs:
         sys.exit("the sidecar serves no privileged observations: run the oracle with RLE_ORACLE_PRIVILEGED=1")
-    blocks = []
+'''
+_EPILOGUE = """    print(f"played: {env.info()['steps_used']} steps", flush=True)
+    env.seal()
+"""
+_CANTILEVER = """    harmonic_cantilever(env.step, obs, edge_x={edge_x!r}, top_z={top_z!r}, scale={scale!r})
+"""
+_TOWER = """    blocks = []
     for name, (hx, hy, hz) in sorted(obs["sizes"].items()):  # each piece resting on its spawn face
         wedge = name == "wedge"
         mass = {density!r} * (4.0 if wedge else 8.0) * hx * hy * hz
         blocks.append(Block(name, min(hx, hy), 2.0 * hz, mass, supports=not wedge))
     plan = [(name, 0.0) for name in optimal_tower(blocks).order if name != "wedge"]
     tower(env.step, obs, plan, {spot!r}, {top_z!r})
-    print(f"played {{plan}}: {{env.info()['steps_used']}} steps", flush=True)
-    env.seal()
-'''
+"""
 
 
 def harbor_oracle(spec, dest: Path) -> str | None:
@@ -80,13 +65,16 @@ def harbor_oracle(spec, dest: Path) -> str | None:
     from ..scene import CONFIG
 
     if spec.id == CANTILEVER_ID:
-        oracle = _ORACLE.format(edge_x=float(CONFIG.edge_x), top_z=float(CONFIG.top_z), scale=SCALE)
+        imports = "from agents import harmonic_cantilever  # noqa: E402"
+        body = _CANTILEVER.format(edge_x=float(CONFIG.edge_x), top_z=float(CONFIG.top_z), scale=SCALE)
         modules = ("agents.py",)
     elif spec.id == tower.TOWER_ID:
-        oracle = _TOWER.format(density=tower.DENSITY, spot=tuple(tower.BUILD_SPOT), top_z=float(CONFIG.top_z))
+        imports = "from agents import tower  # noqa: E402\nfrom tower_optimum import Block, optimal_tower  # noqa: E402"
+        body = _TOWER.format(density=tower.DENSITY, spot=tuple(tower.BUILD_SPOT), top_z=float(CONFIG.top_z))
         modules = ("agents.py", "../tower_optimum.py")
     else:
         return None
+    oracle = _PROLOGUE.format(task=spec.id, imports=imports) + body + _EPILOGUE
     Path(dest).mkdir(parents=True, exist_ok=True)
     for module in modules:
         text = (HERE / module).read_text()
