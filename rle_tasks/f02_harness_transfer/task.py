@@ -99,7 +99,7 @@ def instruction(group: Group) -> str:
 
 def task_specs() -> list[TaskSpec]:
     from .solutions import SOLUTIONS
-    from .verifier import verifier
+    from .verifier import QUICK_TRIALS, verifier
 
     specs = []
     for group in GROUPS:
@@ -121,6 +121,7 @@ def task_specs() -> list[TaskSpec]:
                 verify=verifier(group),
                 solutions=shipped.names if shipped is not None else (),
                 solutions_module="rle_tasks.f02_harness_transfer.solutions",
+                quick_note=f"quick runs {QUICK_TRIALS} of the {TRIALS} fresh agents; the score is partial",
             )
         )
     return specs

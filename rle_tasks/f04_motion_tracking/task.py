@@ -73,6 +73,8 @@ def verify(root: Path, ctx, *, task_id: str):
 
 
 def task_spec(task_id: str) -> TaskSpec:
+    from rle_tasks.f04_motion_tracking.scoring import N_SEEDS, QUICK_SEEDS
+
     style, title = STYLES[task_id]
     return TaskSpec(
         id=task_id,
@@ -89,6 +91,7 @@ def task_spec(task_id: str) -> TaskSpec:
         verify=partial(verify, task_id=task_id),
         solutions=SOLUTION_NAMES,
         solutions_module="rle_tasks.f04_motion_tracking.solutions",
+        quick_note=f"quick plays {QUICK_SEEDS} of the {N_SEEDS} hidden seeds; the score is partial",
     )
 
 

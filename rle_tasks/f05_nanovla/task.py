@@ -90,6 +90,9 @@ def task_spec(task_id: str = "05-libero-open") -> TaskSpec:
         solutions=SOLUTION_NAMES[task_id],
         solutions_module="rle_tasks.f05_nanovla.solutions",
         episode_scored=True,
+        quick_note="quick trains the recipe in full, then evaluates the first "
+        + ("12" if task_id.startswith("05-robotwin") else "2")
+        + " episodes of the hidden set; the score is partial",
         harbor_unsupported=(
             "its images would need the stand-in's demonstration dataset (about 200 MB, built by `make "
             "standin-demos`) and its development server (ledger key) a process outside the agent's user; "

@@ -66,4 +66,6 @@ def task_spec() -> TaskSpec:
         verify=verify,
         solutions=("reference", *(f"baseline/{b}" for b in BASELINES)),
         solutions_module="rle_tasks.f09_gello.solutions",
+        quick_note="quick uses 256 workspace-grid poses (full 4,096), 48 clearance poses (384), 2 hidden test "
+        "poses (6), 1 hidden copy (2) and 0.5 s holds (2 s); the score is partial",
     )
