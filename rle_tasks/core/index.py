@@ -37,6 +37,8 @@ class IndexResult:
         missing: Registered task ids without a report.
         sources: Where each reported task's score came from (file path or ``report #i``).
         partial: Reported task ids whose score comes from a reduced evaluation (``allow_partial``).
+        native: Each reported task's scalar native metrics (``native_scalars``), for the page's
+            per-family diagnostics.
     """
 
     name: str
@@ -47,6 +49,7 @@ class IndexResult:
     missing: tuple[str, ...]
     sources: dict[str, str] = field(default_factory=dict)
     partial: tuple[str, ...] = ()
+    native: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (family keys as ``"F01"`` ...)."""
@@ -95,6 +98,27 @@ def _load(item: ReportLike, position: int) -> tuple[VerifierReport, str]:
         raise RleError(f"{label} is not a valid verifier report: {exc!r}", code="index.input") from None
 
 
+NATIVE_COLUMNS = 8
+"""Most native metrics shown per family on the page (the first ones the family's reports share)."""
+BOOKKEEPING = frozenset({"quick", "partial", "secret", "seed_digest", "attempt", "secret_private"})
+"""Native keys that say how a report was made, not what was measured: left off the diagnostics."""
+
+
+def native_scalars(metrics: dict[str, Any], limit: int = 24) -> dict[str, Any]:
+    """The top-level numbers, flags and short words of a report's native metrics (a family's own
+    diagnostics: clearance and parts/min, MPJPE and survival, per-arm results ...), in report order."""
+    out: dict[str, Any] = {}
+    for key, value in metrics.items():
+        if key in BOOKKEEPING:
+            continue
+        number = isinstance(value, int | float) and (isinstance(value, bool) or math.isfinite(value))
+        if number or (isinstance(value, str) and len(value) <= 24):
+            out[key] = value
+        if len(out) >= limit:
+            break
+    return out
+
+
 def _mean(values: Sequence[Fraction]) -> Fraction:
     return sum(values, Fraction(0)) / len(values) if values else Fraction(0)
 
@@ -136,6 +160,7 @@ def compute_index(
     scores: dict[str, Fraction] = {}
     sources: dict[str, str] = {}
     partial: list[str] = []
+    native: dict[str, dict[str, Any]] = {}
     for i, item in enumerate(reports):
         report, label = _load(item, i)
         tid = report.task_id
@@ -171,6 +196,7 @@ def compute_index(
         sources[tid] = label
         if report.partial:
             partial.append(tid)
+        native[tid] = native_scalars(report.native_metrics)
 
     by_family: dict[int, list[Fraction]] = {}
     for t in tasks:
@@ -187,6 +213,7 @@ def compute_index(
         missing=tuple(t.id for t in tasks if t.id not in scores),
         sources=sources,
         partial=tuple(t.id for t in tasks if t.id in partial),
+        native={t.id: native[t.id] for t in tasks if t.id in native},
     )
 
 
@@ -338,6 +365,7 @@ def write_index_html(
         + "</p>"
         for r in results
     )
+    diagnostics = _diagnostics_html(results)
     partial = "".join(
         f"<h3>{escape(r.name)}: {len(r.partial)} partial scores</h3><p>"
         + escape(", ".join(r.partial))
@@ -362,6 +390,7 @@ workflow, and the RLE Index is the mean of the four workflow scores (paper eq. 1
 {cost}
 <h2>Families</h2>
 <table><tr><th>family</th>{head}</tr>{"".join(fam_rows)}</table>
+{diagnostics}
 <h2>Missing reports</h2>{missing}
 {"<h2>Partial scores</h2>" + partial if partial else ""}
 </body></html>
@@ -369,6 +398,43 @@ workflow, and the RLE Index is the mean of the four workflow scores (paper eq. 1
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(page)
     return path
+
+
+def _diagnostics_html(results: Sequence[IndexResult]) -> str:
+    """One table per family: each reported task's scalar native metrics (the family's diagnostics)."""
+    from html import escape
+
+    rows: dict[int, list[tuple[str, str, dict[str, Any]]]] = {}
+    for r in results:
+        for tid, metrics in r.native.items():
+            if metrics:
+                rows.setdefault(int(tid.split("-")[0]), []).append((r.name, tid, metrics))
+    if not rows:
+        return ""
+
+    def cell(v: Any) -> str:
+        return escape(f"{v:.4g}" if isinstance(v, float) else str(v))
+
+    out = [
+        "<h2>Family diagnostics</h2><p>Each family's own measurements, from the reports' native metrics.</p>"
+    ]
+    for fam in sorted(rows):
+        keys: list[str] = []
+        for _, _, m in rows[fam]:
+            keys += [k for k in m if k not in keys]
+        keys = keys[:NATIVE_COLUMNS]
+        head = "".join(f"<th>{escape(k)}</th>" for k in keys)
+        body = "".join(
+            f"<tr><td>{escape(name)}</td><td>{escape(tid)}</td>"
+            + "".join(f"<td>{cell(m[k]) if k in m else ''}</td>" for k in keys)
+            + "</tr>"
+            for name, tid, m in rows[fam]
+        )
+        out.append(
+            f"<h3>F{fam:02d} ({escape(_LABELS[WORKFLOWS[fam]])})</h3>"
+            f"<table><tr><th>system</th><th>task</th>{head}</tr>{body}</table>"
+        )
+    return "".join(out)
 
 
 def _gather(

@@ -50,3 +50,20 @@ def test_a_quick_verification_of_a_recorded_ledger_is_not_partial():
         VerifyContext(secret=Secret(PUBLIC_KEY, public=True), quick=True),
     )
     assert report.partial is False and report.score > 0.8
+
+
+def test_the_page_shows_each_familys_native_diagnostics(tmp_path):
+    reports = [
+        {**FULL, "native_metrics": {"clearance_pct": 98.33, "piles": {"pile1": {}}, "quick": False}},
+        {
+            "task_id": "07-bin-clearing",
+            "score": 0.8,
+            "native_metrics": {"clearance_pct": 98.3, "parts_per_min": 7.466},
+        },
+    ]
+    result = compute_index(reports)
+    assert result.native["07-bin-clearing"] == {"clearance_pct": 98.3, "parts_per_min": 7.466}
+    assert result.native["08-mobile-base"] == {"clearance_pct": 98.33}  # no nested tables, no bookkeeping
+    page = write_index_html([result], tmp_path / "index.html").read_text()
+    assert "<h2>Family diagnostics</h2>" in page and "<h3>F07 (" in page and "<td>7.466</td>" in page
+    assert page.index("<h3>F07 (") < page.index("<h3>F08 (")
