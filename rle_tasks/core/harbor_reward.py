@@ -36,6 +36,9 @@ from rle_tasks.core.verify import VerifierSetupError
 
 SECRET_ENV = "RLE_SECRET"
 ALLOW_PUBLIC_ENV = "RLE_ALLOW_PUBLIC_KEY"
+QUICK_ENV = "RLE_VERIFY_QUICK"
+"""``1``: the operator asks for the task's quick evaluation (``rle verify --quick``); the reward file
+says ``partial`` 1 and ``rle index`` takes it only with ``--allow-partial``."""
 REWARD_FILES = ("reward.json", "reward.txt")
 
 
@@ -134,6 +137,8 @@ def reward_from_report(report: dict, secret_private: bool, oracle: bool = False)
     }
     if privileged:
         reward["privileged"] = 1.0
+    if report.get("partial"):
+        reward["partial"] = 1.0
     for checkpoint in report.get("checkpoints", []):
         key = checkpoint["id"] if checkpoint["id"] not in reward else f"checkpoint_{checkpoint['id']}"
         reward[key] = 0.0 if void else float(checkpoint["score"])
@@ -192,6 +197,8 @@ def run(task_id: str, logs: Path, jobs: int, environ: dict[str, str], sidecar: P
             if ledger.is_file():
                 shutil.copyfile(ledger, target)
             cmd += ["--attempt", attempt]
+        if environ.get(QUICK_ENV) == "1":
+            cmd.append("--quick")
         with open(_create(vfd, "verify.log"), "wb") as log:
             status = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, env=environ).returncode
         if report_path.is_file():  # a copy for the operator; the reward is computed from the private one

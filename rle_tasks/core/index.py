@@ -451,7 +451,9 @@ def _gather(
         else []
     )
     rows = {}
-    for system, (result, res) in systems(records, allow_privileged=allow_privileged).items():
+    for system, (result, res) in systems(
+        records, allow_privileged=allow_privileged, allow_partial=allow_partial
+    ).items():
         if system == name and reports:
             raise RleError(f"system '{system}' is named by both reports and a job", code="index.duplicate")
         results.append(result)

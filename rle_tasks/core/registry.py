@@ -65,9 +65,18 @@ def all_tasks() -> tuple[TaskSpec, ...]:
 
 
 def get_task(task_id: str) -> TaskSpec:
-    """Task by id; raises ``RleError`` listing close matches."""
+    """Task by id; raises ``RleError`` listing close matches.
+
+    Besides the registered tasks, a family package may resolve ids of its evaluation stages with
+    ``stage_task(task_id) -> TaskSpec | None`` (family 02's fresh agents, ``02-group-NN-fresh-K``): tasks
+    an operator runs as trials of their own, not among the 51."""
     for spec in all_tasks():
         if spec.id == task_id:
+            return spec
+    prefix = task_id.split("-")[0]
+    if prefix.isdigit() and (name := family_packages().get(int(prefix))) is not None:
+        stage = getattr(importlib.import_module(name), "stage_task", None)
+        if stage is not None and (spec := stage(task_id)) is not None:
             return spec
     ids = [s.id for s in all_tasks()]
     close = [i for i in ids if i.split("-")[0] == task_id.split("-")[0]] or ids

@@ -89,6 +89,27 @@ class VerifyContext:
     attempt: str | None = None
 
 
+@dataclass(frozen=True)
+class ImageData:
+    """A built dataset that an exported task's images hold (``rle export harbor``), copied from the
+    operator's build into the agent's, the development sidecar's and the verifier's image at
+    ``/opt/rle-data/<name>``.
+
+    Attributes:
+        name: Folder under ``/opt/rle-data``.
+        source: Returns the operator's built copy (a directory).
+        env: Environment variable pointing the project's code at it inside the images.
+        built: File of the dataset whose presence shows it is built (its manifest).
+        build: The command that builds it (named when it is missing).
+    """
+
+    name: str
+    source: Callable[[], Path]
+    env: str
+    built: str = "manifest.sha256"
+    build: str = ""
+
+
 VerifyFn = Callable[[Path, VerifyContext], "VerifierReport"]
 DevEnvFn = Callable[[Path], object]  # returns a MeteredEnv for metered tasks, else None
 
@@ -113,6 +134,9 @@ class TaskSpec:
         episode_scored: The score is a rate over a fixed episode set, so ``VerifyContext.episodes``
             (``rle verify --episodes N``) applies.
         harbor_unsupported: Why the task cannot be exported as a Harbor task yet ("" when it can).
+        harbor_data: Built datasets its exported images hold (``ImageData``).
+        side_envs: Side virtual environments its development server and verifier need (``"libero"``:
+            ``.venv-libero`` from ``requirements-libero.lock``), installed in those exported images.
         quick_note: What ``--quick`` runs for this task ("" when it is the family's usual reduction).
         quick_reduces: ``--quick`` verifies less than the full evaluation (False where the verifier has
             nothing to reduce, e.g. a recorded ledger): a quick report is ``partial`` only then.
@@ -132,6 +156,8 @@ class TaskSpec:
     solutions_module: str = ""
     episode_scored: bool = False
     harbor_unsupported: str = ""
+    harbor_data: tuple[ImageData, ...] = ()
+    side_envs: tuple[str, ...] = ()
     quick_note: str = ""
     quick_reduces: bool = True
     privileged_oracle: bool = False

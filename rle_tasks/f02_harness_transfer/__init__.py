@@ -9,3 +9,17 @@ def tasks() -> list[TaskSpec]:
     from .task import task_specs
 
     return task_specs()
+
+
+def stage_task(task_id: str) -> TaskSpec | None:
+    """A fresh agent of a group's transfer evaluation as a task of its own (``02-group-NN-fresh-K``)."""
+    from .fresh import stage_task as fresh
+
+    return fresh(task_id)
+
+
+def commands() -> tuple:
+    """``rle transfer-trials GROUP SUBMISSION --agent AGENT``: the five fresh agents as Harbor trials."""
+    from .harbor_trials import add_parser
+
+    return (add_parser,)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+from rle_tasks.core.task import ArtifactContract, Budget, ImageData, TaskSpec
 
 HERE = Path(__file__).resolve().parent
 SOLUTION_NAMES = {
@@ -66,6 +66,26 @@ def make_dev_env(workspace: Path, task_id: str = "05-libero-open"):
     return make(workspace, task_id)
 
 
+def _image_data(task_id: str) -> ImageData:
+    """The demonstrations, in every exported image: the agent trains on them, the sidecar links them
+    into the workspace, the verifier retrains on them."""
+    from rle_tasks.f05_nanovla.verifier import DATASET_ENV, STANDIN_DATASET_ENV
+
+    standin = task_id.startswith("05-robotwin")
+    return ImageData(
+        name="standin-demos" if standin else "libero-demos",
+        source=functools.partial(_dataset_dir, task_id),
+        env=STANDIN_DATASET_ENV if standin else DATASET_ENV,
+        build="make standin-demos" if standin else "make libero-demos",
+    )
+
+
+def _dataset_dir(task_id: str) -> Path:
+    from rle_tasks.f05_nanovla.verifier import dataset_dir
+
+    return dataset_dir(task_id)
+
+
 def task_specs() -> list[TaskSpec]:
     return [task_spec(t) for t in SOLUTION_NAMES]
 
@@ -93,13 +113,6 @@ def task_spec(task_id: str = "05-libero-open") -> TaskSpec:
         quick_note="quick trains the recipe in full, then evaluates the first "
         + ("12" if task_id.startswith("05-robotwin") else "2")
         + " episodes of the hidden set; the score is partial",
-        harbor_unsupported=(
-            "its images would need the stand-in's demonstration dataset (about 200 MB, built by `make "
-            "standin-demos`) and its development server (ledger key) a process outside the agent's user; "
-            "run it with `rle dev` and `rle verify`"
-            if task_id.startswith("05-robotwin")
-            else "its images would need the LIBERO side environment and the demonstration dataset "
-            "(several GB), and its development server (LIBERO, ledger key) a process outside the agent's user; "
-            "run it with `rle dev` and `rle verify`"
-        ),
+        harbor_data=(_image_data(task_id),),
+        side_envs=() if task_id.startswith("05-robotwin") else ("libero",),
     )

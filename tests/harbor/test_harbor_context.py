@@ -14,7 +14,6 @@ from pathlib import Path
 
 from rle_design.paths import REPO_ROOT
 from rle_tasks.core.devenv import layout_workspace
-from rle_tasks.core.registry import all_tasks
 from rle_tasks.core.solutions import materialise
 
 FORBIDDEN_PARTS = {"rle_tasks", "solutions", "reference", "baseline", "design_gen.py"}
@@ -49,8 +48,8 @@ def _solution_digests(spec) -> dict[str, str]:
     return out
 
 
-def test_agent_context_holds_only_toolkit_and_public_workspace(exported, tmp_path):
-    implemented = [t for t in all_tasks() if t.implemented and not t.harbor_unsupported]
+def test_agent_context_holds_only_toolkit_and_public_workspace(exported, exported_specs, tmp_path):
+    implemented = exported_specs
     assert sorted(exported) == sorted(t.id for t in implemented) and implemented
     toolkit = _files(REPO_ROOT / "rle_design")
     verifier_side = _verifier_side_digests()
@@ -96,10 +95,10 @@ def test_verifier_context_holds_the_whole_project(exported):
         assert (snap / "rle_design" / "sandbox" / "process.py").is_file()
 
 
-def test_every_task_directory_has_an_operator_readme(exported):
+def test_every_task_directory_has_an_operator_readme(exported, exported_specs):
     from rle_tasks.core.solutions import declaration
 
-    for spec in (t for t in all_tasks() if t.implemented and not t.harbor_unsupported):
+    for spec in exported_specs:
         text = (exported[spec.id] / "README.md").read_text()
         assert text.startswith(f"# rle-bench/{spec.id}: {spec.title}\n")
         if "reference" in spec.solutions:

@@ -1,5 +1,6 @@
 """Harbor export: task.toml fields (tomllib), files and scripts, reference solution, errors."""
 
+import dataclasses
 import json
 import os
 import re
@@ -14,6 +15,7 @@ import pytest
 
 from rle_design.errors import RleError
 from rle_tasks.core.harbor import export_harbor
+from rle_tasks.core.registry import get_task
 from rle_tasks.core.report import Checkpoint, VerifierReport, artifact_sha256
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
@@ -84,6 +86,7 @@ def test_task_toml_fields(tmp_path, spec):
         "RLE_SECRET": "${RLE_SECRET}",
         "RLE_ALLOW_PUBLIC_KEY": "${RLE_ALLOW_PUBLIC_KEY:-0}",
         "RLE_ORACLE_PRIVILEGED": "${RLE_ORACLE_PRIVILEGED:-0}",
+        "RLE_VERIFY_QUICK": "${RLE_VERIFY_QUICK:-0}",
     }
     venv = cfg["verifier"]["environment"]
     assert (venv["cpus"], venv["memory_mb"], venv["gpus"]) == (
@@ -177,18 +180,21 @@ def test_unimplemented_unsupported_and_unknown_ids_are_refused(tmp_path):
         "task '04-run' is registered but not implemented (no verifier), so it cannot be exported. "
         "Implemented tasks: "
     )
+    unsupported = dataclasses.replace(get_task("09-gello"), harbor_unsupported="it needs a robot arm")
     with pytest.raises(RleError) as exc:
-        export_harbor(tmp_path, ["05-libero-open"])
-    assert exc.value.code == "harbor.unsupported" and "LIBERO side environment" in str(exc.value)
+        export_harbor(tmp_path, [unsupported])
+    assert exc.value.code == "harbor.unsupported"
+    assert str(exc.value) == "task '09-gello' cannot be exported as a Harbor task yet: it needs a robot arm"
     with pytest.raises(RleError, match="task '01-open-fridg-l1' does not exist"):
         export_harbor(tmp_path, ["01-open-fridg-l1"])
 
 
 def test_default_exports_every_implemented_task_that_can_be_exported(tmp_path):
+    from rle_tasks.core.harbor import not_exportable
     from rle_tasks.core.registry import all_tasks
 
-    implemented = [t.id for t in all_tasks() if t.implemented and not t.harbor_unsupported]
-    assert "05-libero-open" not in implemented and "09-gello" in implemented
+    implemented = [t.id for t in all_tasks() if t.implemented and not not_exportable(t)]
+    assert "09-gello" in implemented and "05-robotwin-open" in {t.id for t in all_tasks() if t.implemented}
     written = export_harbor(tmp_path, None)
     assert [p.name for p in written] == implemented
 

@@ -76,10 +76,12 @@ FULL = os.environ.get("RLE_FULL_BATTERY") == "1"
 
 
 def _checked_ids() -> list[str]:
-    """Every implemented task with RLE_FULL_BATTERY=1; otherwise the first of each family."""
+    """Every task of the shared export (``conftest.exported_specs``) with RLE_FULL_BATTERY=1; otherwise
+    the first of each family."""
+    from rle_tasks.core.harbor import not_exportable
     from rle_tasks.core.registry import all_tasks
 
-    tasks = [t for t in all_tasks() if t.implemented and not t.harbor_unsupported]
+    tasks = [t for t in all_tasks() if t.implemented and not not_exportable(t) and not t.harbor_data]
     return [t.id for t in tasks] if FULL else list({t.family: t.id for t in reversed(tasks)}.values())
 
 
