@@ -156,7 +156,7 @@ def final_poses(opened: OpenedLedger, env: TabletopEnv, pieces: tuple[Piece, ...
 
 
 PRIVILEGED_MESSAGE = (
-    "the session served privileged observations (piece poses and sizes) for an operator's oracle trial "
+    "the session served privileged observations (piece poses and sizes; the cube's plan) for an operator's oracle trial "
     "(RLE_ORACLE_PRIVILEGED=1): its score is the reference program's, not an agent's; `rle index` refuses "
     "this report and a Harbor reward is 0 unless the verifier is also told it verifies the oracle"
 )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
@@ -23,13 +24,35 @@ def instruction() -> str:
 
 
 def make_dev_env(workspace: Path):
-    """The metered environment of the scramble of the current secret (the public one without a secret)."""
+    """The metered environment of the scramble of the current secret (the public one without a secret).
+
+    Serving an operator's oracle trial (``serving_privileged``), each observation also holds ``plan``:
+    the reference's moves for this scramble (``solutions.pocket_cube.reference.plan``), which the
+    exported oracle executes. Agents never get it; the ledger says the session was privileged."""
     from rle_tasks.core.secrets import current_secret
+    from rle_tasks.core.task import serving_privileged
 
     from .env import make_env
     from .scene import instance
 
-    return make_env(instance(current_secret()))
+    inst = instance(current_secret())
+    env = make_env(inst)
+    if not serving_privileged():
+        return env
+    from ..solutions.pocket_cube.reference import plan
+
+    moves = tuple(plan(inst.state))
+    return dataclasses.replace(env, observers=(*env.observers, ("plan", _Plan(moves))))
+
+
+@dataclasses.dataclass(frozen=True)
+class _Plan:
+    """Observer of a privileged session: the reference's plan (a constant list of move names)."""
+
+    moves: tuple[str, ...]
+
+    def __call__(self, model, data) -> list[str]:
+        return list(self.moves)
 
 
 def task_spec() -> TaskSpec:
@@ -58,4 +81,5 @@ def task_spec() -> TaskSpec:
             "baseline/unsealed",
         ),
         solutions_module="rle_tasks.f03_physical_reasoning.solutions.pocket_cube",
+        privileged_oracle=True,
     )

@@ -121,13 +121,14 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
-    from ..session import open_ledger, tabletop_limits
+    from ..session import note_privileged, open_ledger, tabletop_limits
     from .task import BUDGET_STEPS, WALL_TIME_S
 
     findings = Findings()
     opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)
     if not opened.ok:
         return _invalid(opened.code, opened.message, findings)
+    privileged = note_privileged(opened, findings)
     inst = instance(opened.secret)
     readings: list = []
     try:
@@ -141,6 +142,7 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         "actions": n_actions,
         "optimal": inst.optimal,
         "attempt": opened.attempt,
+        "privileged_session": privileged,
         **session,
     }
     if session["attempt_void"]:

@@ -104,3 +104,61 @@ SOLUTIONS = SolutionSet(
 )
 """Committed public-key ledgers: the reference (1.0), four baselines (0 each for its reason), the reference
 unsealed (0)."""
+
+_ORACLE = '''"""Oracle of 03-pocket-cube: the reference's two-handed moves, executing the plan that the privileged
+development sidecar serves (the reference's plan for this scramble; agents never get it)."""
+
+import sys
+
+sys.path[:0] = ["/workspace", "/solution"]
+
+from client import connect  # noqa: E402
+from two_hands import TwoHands, finish, take_up, turn, {moves}  # noqa: E402
+
+MOVES = {{{table}}}
+TURN_SENSE = {sense!r}
+
+with connect() as env:
+    obs = env.reset()
+    if "plan" not in obs:
+        sys.exit("the sidecar serves no privileged observations: run the oracle with RLE_ORACLE_PRIVILEGED=1")
+    hands = TwoHands(env.step, obs)
+    take_up(hands)
+    for move in obs["plan"]:
+        if move in MOVES:
+            MOVES[move](hands)
+        else:
+            turn(hands, TURN_SENSE[move])
+    finish(hands)
+    print(f"played {{len(obs['plan'])}} moves: {{env.info()['steps_used']}} steps", flush=True)
+    env.seal()
+'''
+
+
+def harbor_oracle(spec, dest: Path) -> str:
+    """Write the privileged playing oracle (``oracle.py``, and ``two_hands.py`` and ``top_turns.py`` with
+    the one constant they take from the environment inlined) into ``dest``; returns ``solve.sh``."""
+    from rle_tasks.core.harbor import PLAYING_SOLVE_SH
+
+    from ...cube.env import ARM_ACTION
+    from .reference import MOVES, TURN_SENSE
+
+    here = Path(__file__).resolve().parent
+    dest = Path(dest)
+    dest.mkdir(parents=True, exist_ok=True)
+    for module in ("two_hands.py", "top_turns.py"):
+        text = (here / module).read_text()
+        text = text.replace("from ...cube.env import ARM_ACTION", f"ARM_ACTION = {ARM_ACTION}")
+        text = text.replace("from .top_turns import", "from top_turns import")
+        if "rle_tasks" in text or "from ." in text:
+            raise ValueError(f"{module} imports rle_tasks, which the agent's image does not hold")
+        (dest / module).write_text(text)
+    names = {move: fn.__name__ for move, fn in MOVES.items()}
+    (dest / "oracle.py").write_text(
+        _ORACLE.format(
+            moves=", ".join(sorted(set(names.values()))),
+            table=", ".join(f"{m!r}: {fn}" for m, fn in names.items()),
+            sense=TURN_SENSE,
+        )
+    )
+    return PLAYING_SOLVE_SH
