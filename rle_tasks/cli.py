@@ -167,7 +167,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
     return run_demo(
         Path(args.out),
-        quick=args.quick,
+        quick=args.quick or not args.full,
         jobs=args.jobs,
         full_baselines=args.full_baselines,
         tasks=args.task,
@@ -315,7 +315,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("demo", help="verify every shipped solution and write out/demo/")
     s.add_argument("--out", default="out/demo")
-    s.add_argument("--quick", action="store_true", help="reduced batteries for every solution")
+    s.add_argument(
+        "--quick",
+        action="store_true",
+        help="reduced batteries for every solution (the default without --full)",
+    )
     s.add_argument(
         "--full-baselines", action="store_true", help="full batteries for baselines too (default: quick)"
     )
@@ -329,7 +333,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument(
         "--full",
         action="store_true",
-        help="also the solutions that exist to run out a long time limit (listed, not run, by default)",
+        help="the complete run: references in full, every recipe retrained, and the solutions that exist "
+        "to run out a long time limit (listed, not run, by default)",
     )
     s.set_defaults(fn=_cmd_demo)
 

@@ -1,9 +1,13 @@
 """``rle demo``: the main job. Verifies every shipped solution of every implemented task, computes the
 RLE Index of the reference solutions, renders the canonical arms, and writes ``out/demo/index.html``.
 
-Reference solutions are verified in full (their reports feed the RLE Index); baselines, which exist to
-fail for a named reason, are verified with the reduced (quick) batteries unless ``full_baselines`` is
-set, and the page marks every report's mode. A report made in quick mode with the public development key
+``rle demo`` (``make demo``) verifies every solution in quick mode (each task's reduction is its
+``quick_note``, printed on the page), and family 05 evaluates the checkpoint an earlier training of the
+same recipe on the same data left in this machine's cache instead of training again
+(``VerifyContext.reuse_training``); its RLE Index marks the partial scores. ``rle demo --full``
+(``make demo-full``) is the complete run: references in full, baselines quick unless ``full_baselines``,
+every recipe retrained (the report says whether the checkpoint reproduced the cached one), and the
+solutions that exist to run out a long time limit. The page marks every report's mode. A report made in quick mode with the public development key
 is compared with the solution's golden score (``Solution.quick_score``): a difference is printed and
 marked on the page, because it means this machine or this checkout does not reproduce the pinned result
 (a recipe whose training stopped early on a loaded machine, for example).
@@ -118,6 +122,7 @@ def _verify_all(
             out_dir=report_path.parent / f"{slug}_figures",
             jobs=jobs,
             quick=_mode(name, quick, full_baselines, task.episode_scored),
+            reuse_training=not full,
         )
         try:
             report, _ = run_verify(task, directory, ctx)
@@ -166,13 +171,17 @@ def write_html(
     modes: dict[tuple[str, str], bool] | None = None,
     differs: dict[tuple[str, str], float] | None = None,
     subset: list[str] | None = None,
+    full: bool = True,
 ) -> Path:
-    """Write ``out/index.html``; ``subset`` lists the task ids when the demo ran only some tasks."""
+    """Write ``out/index.html``; ``subset`` lists the task ids when the demo ran only some tasks; ``full``:
+    the complete run (``rle demo --full``), else the page says what quick mode shortened."""
     rows = []
     modes = modes or {}
     differs = differs or {}
     for task_id, name, path, rep in results:
         mode = "quick" if modes.get((task_id, name)) else "full"
+        if rep.native_metrics.get("training") == "reused":
+            mode += ", cached training"
         golden = differs.get((task_id, name))
         note = "" if golden is None else f" <span style='color:#b00'>(golden {golden:.3f})</span>"
         reasons = "; ".join(f"{e.code}" for e in rep.errors[:4])
@@ -210,15 +219,36 @@ def write_html(
         + html.escape(", ".join(subset))
         + "; the RLE Index counts every other task 0)"
     )
+    tasks = {t.id: t for t in all_tasks()}
+    shown = sorted({task_id for task_id, *_ in results})
+    notes = "".join(
+        f"<tr><td>{html.escape(t)}</td><td>{html.escape(tasks[t].quick_note)}</td></tr>"
+        for t in shown
+        if tasks[t].quick_note
+    )
+    how = (
+        "References run the full batteries; baselines run the reduced (quick) batteries unless "
+        "<code>rle demo --full-baselines</code>; every recipe is trained."
+        if full
+        else "Every solution runs in quick mode: the scores are partial (what each task's quick run covers is "
+        "listed below; tasks not listed verify the same in both modes). Family 05 evaluates the checkpoint "
+        "that an earlier training of the same recipe on the same data left in this machine's cache "
+        "(marked <i>cached training</i>), else trains it. <code>make demo-full</code> runs references in "
+        "full, retrains every recipe and runs the solutions that exist to run out a long limit."
+    )
+    quick_table = (
+        f"<h2>What quick mode runs</h2><table><tr><th>task</th><th>quick run</th></tr>{notes}</table>"
+        if notes and not full
+        else ""
+    )
     page = f"""<!doctype html><html><head><meta charset="utf-8"><title>RLE-Bench demo</title>
 <style>body{{font-family:sans-serif;margin:2em;max-width:1400px}}table{{border-collapse:collapse}}
 td,th{{border:1px solid #ccc;padding:4px 8px;font-size:14px}}figure{{display:inline-block;margin:6px}}</style></head>
 <body><h1>RLE-Bench demo</h1><p>{scope}, verified with the public
-development key ({elapsed:.0f} s). References run the full batteries; baselines run the reduced (quick)
-batteries unless <code>rle demo --full-baselines</code>. A quick-mode score that differs from the solution's
+development key ({elapsed:.0f} s). {how} A quick-mode score that differs from the solution's
 pinned golden score is shown in red beside it.</p>{index_link}
 <h2>Verifier reports</h2><table><tr><th>task</th><th>solution</th><th>mode</th><th>score</th><th>cap</th>
-<th>failed checkpoints</th><th>errors</th><th>report</th></tr>{"".join(rows)}</table>
+<th>failed checkpoints</th><th>errors</th><th>report</th></tr>{"".join(rows)}</table>{quick_table}
 <h2>Design renders</h2>{"".join(figs) or "<p>(no figures)</p>"}
 <h2>Canonical arms</h2>{arms}</body></html>"""
     path = out / "index.html"
@@ -269,6 +299,7 @@ def run_demo(
         modes,
         differs,
         [t.id for t in selected] if subset else None,
+        full,
     )
     summary = {f"{t}:{n}": round(r.score, 4) for t, n, _, r in results}
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")

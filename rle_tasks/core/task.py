@@ -76,6 +76,9 @@ class VerifyContext:
         attempt: The attempt being verified (the operator's id, a Harbor trial's): a session ledger
             of another attempt is refused (``ledger.wrong_attempt``). None takes the ledger's own
             attempt and reports the verification as unbound.
+        reuse_training: A verifier that trains the artifact (family 05) may take the checkpoint of an
+            earlier training of the same bytes on the same data from this machine's cache instead of
+            training again (``rle demo``); the report says so. Never for an official score.
     """
 
     secret: Secret
@@ -87,6 +90,7 @@ class VerifyContext:
     hang_cap_s: float = 30.0
     episodes: int | None = None
     attempt: str | None = None
+    reuse_training: bool = False
 
 
 @dataclass(frozen=True)

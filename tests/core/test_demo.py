@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import html
+
 from rle_tasks import demo
 from rle_tasks.core.registry import all_tasks, get_task
 from rle_tasks.core.report import VerifierReport, artifact_sha256
@@ -122,3 +124,34 @@ def test_demo_runs_the_tasks_it_is_given_by_id_or_family_number(tmp_path, monkey
     page = demo.write_html(tmp_path, [], [], None, 1.0, subset=["09-gello"]).read_text()
     assert "selected tasks only (09-gello" in page
     assert "every implemented task" in demo.write_html(tmp_path, [], [], None, 1.0).read_text()
+
+
+def test_the_quick_demo_says_what_it_shortened_and_the_full_demo_trains(tmp_path, monkeypatch):
+    """``rle demo`` runs every solution quick and reuses cached trainings; ``--full`` does neither."""
+    seen = {}
+
+    def fake_verify(task, directory, ctx):
+        seen.setdefault(task.id, set()).add((ctx.quick, ctx.reuse_training))
+        native = {"training": "reused"} if task.family == 5 and ctx.reuse_training else {}
+        return VerifierReport(
+            task.id, f"{task.family:02d}", task.workflow, valid=True, native_metrics=native
+        ), False
+
+    monkeypatch.setattr(demo, "run_verify", fake_verify)
+    monkeypatch.setattr(demo, "render_arms", lambda out: [])
+    from rle_tasks.cli import main
+
+    assert main(["demo", "--out", str(tmp_path / "q"), "--task", "09", "--task", "05-robotwin-open"]) == 0
+    assert seen == {"05-robotwin-open": {(True, True)}, "09-gello": {(True, True)}}
+    page = (tmp_path / "q" / "index.html").read_text()
+    assert "Every solution runs in quick mode" in page and "cached training" in page
+    assert "<h2>What quick mode runs</h2>" in page and html.escape(get_task("09-gello").quick_note) in page
+    seen.clear()
+    assert (
+        main(["demo", "--out", str(tmp_path / "f"), "--task", "09", "--task", "05-robotwin-open", "--full"])
+        == 0
+    )
+    # the reference in full, baselines quick; 05's episodes stay quick (hours in full), its recipes retrain
+    assert seen == {"05-robotwin-open": {(True, False)}, "09-gello": {(False, False), (True, False)}}
+    page = (tmp_path / "f" / "index.html").read_text()
+    assert "References run the full batteries" in page and "What quick mode runs" not in page

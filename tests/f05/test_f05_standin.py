@@ -242,3 +242,30 @@ def test_augmented_frames_are_seeded_and_recolour_the_table():
         commonest = colours[counts.argmax()]
         assert np.abs(commonest.astype(int) - (220, 188, 148)).max() > 10  # a new table colour
         assert counts.max() > 0.6 * 128 * 128  # the table: one colour, boxes and block aside
+
+
+def test_a_cached_training_is_reused_only_when_asked_and_a_retraining_is_compared(
+    demos, tmp_path, monkeypatch
+):
+    from rle_tasks.core.solutions import CACHE_ENV
+
+    monkeypatch.setenv(CACHE_ENV, str(tmp_path / "cache"))
+    sub = materialise(TASK, "baseline/mean_action")
+    first = verifier.verify(sub, _ctx(episodes=1), task_id=OPEN, max_steps=6).native_metrics
+    assert first["training"] == "trained" and "ckpt_reproduced" not in first
+    entry = verifier.training_cache((sub / "solution.py").read_bytes(), first["dataset_sha256"])
+    assert (entry / "ckpt.pt").is_file() and entry.is_relative_to(tmp_path / "cache")
+    reused = verifier.verify(sub, _ctx(episodes=1, reuse_training=True), task_id=OPEN, max_steps=6)
+    assert reused.native_metrics["training"] == "reused"
+    assert reused.native_metrics["ckpt_sha256"] == first["ckpt_sha256"] and reused.score == 0.0
+    again = verifier.verify(sub, _ctx(episodes=1), task_id=OPEN, max_steps=6).native_metrics
+    assert again["training"] == "trained" and again["ckpt_reproduced"] is True
+    # another recipe (or other data) has another entry; a damaged entry is not used
+    assert verifier.training_cache(b"other", first["dataset_sha256"]) != entry
+    (entry / "ckpt.pt").write_bytes(b"damaged")
+    assert (
+        verifier.verify(sub, _ctx(episodes=1, reuse_training=True), task_id=OPEN, max_steps=6).native_metrics[
+            "training"
+        ]
+        == "trained"
+    )
