@@ -23,7 +23,7 @@ from pathlib import Path
 
 from rle_design.errors import RleError
 from rle_tasks.core.index import IndexResult, compute_index
-from rle_tasks.core.task import TaskSpec
+from rle_tasks.core.task import WORKFLOWS, TaskSpec
 
 ORG_PREFIX = "rle-bench/"
 
@@ -38,6 +38,7 @@ class TrialRecord:
         trial: Trial name (its folder).
         reward: The ``reward`` value, or None when the trial produced none (failed).
         cost_usd: Agent cost [USD] (0 when not reported).
+        cost_reported: The agent reported a cost (some harnesses report none).
         input_tokens: Input tokens including cached ones.
         cached_tokens: Cached input tokens.
         output_tokens: Output tokens.
@@ -52,6 +53,7 @@ class TrialRecord:
     trial: str
     reward: float | None
     cost_usd: float = 0.0
+    cost_reported: bool = False
     input_tokens: int = 0
     cached_tokens: int = 0
     output_tokens: int = 0
@@ -69,24 +71,34 @@ class TrialRecord:
 class Resources:
     """Resources of one system over its trials (the paper's resources table).
 
+    Means follow the RLE Index's hierarchy: a task's trials are averaged, then the tasks of a family,
+    the families of a workflow and the workflows reached (a task without a trial is not averaged in;
+    ``tasks`` says how many were reached). Totals sum every trial.
+
     Attributes:
         trials: Trials run.
         failed: Trials without a reward (scored 0).
-        mean_cost_usd: Mean agent cost per trial [USD].
-        elapsed_h: Total trial wall time [h].
-        input_tokens: Mean input tokens per trial (including cached).
-        cached_tokens: Mean cached input tokens per trial.
-        output_tokens: Mean output tokens per trial.
+        tasks: Distinct tasks with at least one trial.
+        mean_cost_usd: Mean agent cost [USD] through the hierarchy.
+        total_cost_usd: Summed agent cost [USD].
+        cost_runs: Trials whose agent reported a cost (the paper's cost coverage).
+        mean_elapsed_h: Mean trial wall time [h] through the hierarchy.
+        input_tokens: Total input tokens (including cached).
+        cached_tokens: Total cached input tokens.
+        output_tokens: Total output tokens.
         failed_trials: ``task id/trial: reason`` of each failed trial.
     """
 
     trials: int
     failed: int
+    tasks: int
     mean_cost_usd: float
-    elapsed_h: float
-    input_tokens: float
-    cached_tokens: float
-    output_tokens: float
+    total_cost_usd: float
+    cost_runs: int
+    mean_elapsed_h: float
+    input_tokens: int
+    cached_tokens: int
+    output_tokens: int
     failed_trials: tuple[str, ...] = ()
 
 
@@ -129,6 +141,7 @@ def read_trial(path: Path) -> TrialRecord | None:
         trial=str(data["trial_name"]),
         reward=float(reward) if isinstance(reward, int | float) else None,
         cost_usd=float(usage.get("cost_usd") or 0.0),
+        cost_reported=isinstance(usage.get("cost_usd"), int | float),
         input_tokens=_int(usage.get("n_input_tokens")),
         cached_tokens=_int(usage.get("n_cache_tokens")),
         output_tokens=_int(usage.get("n_output_tokens")),
@@ -156,22 +169,42 @@ def read_job(job_dir: Path) -> list[TrialRecord]:
     return records
 
 
+def hierarchical_mean(values: dict[str, list[float]]) -> float:
+    """Mean of per-task values (``{task id: values of its trials}``) through the RLE Index's hierarchy:
+    trials -> task -> family -> workflow -> the mean of the workflows reached (unknown ids are refused
+    by ``systems``)."""
+    from rle_tasks.core.registry import get_task
+
+    families: dict[int, list[Fraction]] = {}
+    for task_id, vals in values.items():
+        if vals:
+            families.setdefault(get_task(task_id).family, []).append(sum(map(Fraction, vals)) / len(vals))
+    workflows: dict[str, list[Fraction]] = {}
+    for fam, tasks in families.items():
+        workflows.setdefault(WORKFLOWS[fam], []).append(sum(tasks) / len(tasks))
+    means = [sum(f) / len(f) for f in workflows.values()]
+    return float(sum(means) / len(means)) if means else 0.0
+
+
 def resources(records: Sequence[TrialRecord]) -> Resources:
-    """The resources row of one system's trials."""
-    n = len(records)
-
-    def mean(values: Iterable[float]) -> float:
-        return float(sum(Fraction(v) for v in values) / n) if n else 0.0
-
+    """The resources row of one system's trials (``Resources``)."""
+    cost: dict[str, list[float]] = {}
+    hours: dict[str, list[float]] = {}
+    for r in records:
+        cost.setdefault(r.task_id, []).append(r.cost_usd)
+        hours.setdefault(r.task_id, []).append(r.elapsed_s / 3600)
     failed = tuple(f"{r.task_id}/{r.trial}: {r.exception or 'no reward'}" for r in records if r.failed)
     return Resources(
-        trials=n,
+        trials=len(records),
         failed=len(failed),
-        mean_cost_usd=mean(r.cost_usd for r in records),
-        elapsed_h=float(sum(Fraction(r.elapsed_s) for r in records) / 3600),
-        input_tokens=mean(r.input_tokens for r in records),
-        cached_tokens=mean(r.cached_tokens for r in records),
-        output_tokens=mean(r.output_tokens for r in records),
+        tasks=len(cost),
+        mean_cost_usd=hierarchical_mean(cost),
+        total_cost_usd=float(sum(Fraction(r.cost_usd) for r in records)),
+        cost_runs=sum(r.cost_reported for r in records),
+        mean_elapsed_h=hierarchical_mean(hours),
+        input_tokens=sum(r.input_tokens for r in records),
+        cached_tokens=sum(r.cached_tokens for r in records),
+        output_tokens=sum(r.output_tokens for r in records),
         failed_trials=failed,
     )
 
@@ -217,13 +250,21 @@ def systems(
 
 
 def format_resources(rows: dict[str, Resources]) -> str:
-    """The resources table as plain text (means per trial; elapsed hours summed)."""
-    head = f"{'system':<32}{'trials':>7}{'failed':>7}{'cost $':>9}{'hours':>8}{'input':>11}{'cached':>11}{'output':>10}"
-    lines = ["Resources (means per trial; hours summed over trials)", head]
+    """The resources table as plain text (the paper's columns; tokens in millions)."""
+    head = (
+        f"{'system':<32}{'mean $':>9}{'total $':>10}{'coverage':>10}{'mean h':>8}{'input M':>9}{'cached M':>9}"
+        f"{'output M':>9}{'tasks':>7}{'failed':>7}"
+    )
+    lines = [
+        "Resources (means through the task -> family -> workflow hierarchy; totals over trials; coverage: "
+        "trials with a reported cost)",
+        head,
+    ]
     for name, r in rows.items():
         lines.append(
-            f"{name[:31]:<32}{r.trials:>7}{r.failed:>7}{r.mean_cost_usd:>9.2f}{r.elapsed_h:>8.2f}"
-            f"{r.input_tokens:>11.0f}{r.cached_tokens:>11.0f}{r.output_tokens:>10.0f}"
+            f"{name[:31]:<32}{r.mean_cost_usd:>9.2f}{r.total_cost_usd:>10.2f}{f'{r.cost_runs}/{r.trials}':>10}"
+            f"{r.mean_elapsed_h:>8.2f}{r.input_tokens / 1e6:>9.2f}{r.cached_tokens / 1e6:>9.2f}"
+            f"{r.output_tokens / 1e6:>9.2f}{r.tasks:>7}{r.failed:>7}"
         )
     for name, r in rows.items():
         for entry in r.failed_trials:
@@ -232,22 +273,25 @@ def format_resources(rows: dict[str, Resources]) -> str:
 
 
 def resources_html(rows: dict[str, Resources]) -> str:
-    """The resources table and the failed-trial list as HTML."""
+    """The resources table (the paper's columns) and the failed-trial list as HTML."""
     from html import escape
 
     cells = "".join(
-        f"<tr><td>{escape(name)}</td><td>{r.trials}</td><td>{r.failed}</td><td>{r.mean_cost_usd:.2f}</td>"
-        f"<td>{r.elapsed_h:.2f}</td><td>{r.input_tokens:.0f}</td><td>{r.cached_tokens:.0f}</td>"
-        f"<td>{r.output_tokens:.0f}</td></tr>"
+        f"<tr><td>{escape(name)}</td><td>{r.mean_cost_usd:.2f}</td><td>{r.total_cost_usd:.2f}</td>"
+        f"<td>{r.cost_runs}/{r.trials}</td><td>{r.mean_elapsed_h:.2f}</td><td>{r.input_tokens / 1e6:.2f}</td>"
+        f"<td>{r.cached_tokens / 1e6:.2f}</td><td>{r.output_tokens / 1e6:.2f}</td><td>{r.tasks}</td>"
+        f"<td>{r.failed}</td></tr>"
         for name, r in rows.items()
     )
     failed = "".join(
         f"<li>{escape(name)}: {escape(entry)}</li>" for name, r in rows.items() for entry in r.failed_trials
     )
     return (
-        "<table><tr><th>system</th><th>trials</th><th>failed (scored 0)</th><th>mean cost [USD]</th>"
-        "<th>elapsed [h]</th><th>input tokens</th><th>cached tokens</th><th>output tokens</th></tr>"
-        f"{cells}</table><p>Tokens and cost are means per trial; elapsed hours are summed.</p>"
+        "<table><tr><th>system</th><th>mean $</th><th>total $</th><th>coverage</th><th>mean h</th>"
+        "<th>input M</th><th>cached M</th><th>output M</th><th>tasks</th><th>failed (scored 0)</th></tr>"
+        f"{cells}</table><p>Costs in USD, elapsed time in hours, tokens in millions. Mean cost and elapsed "
+        "time follow the RLE Index's task, family, workflow hierarchy; totals sum every trial; coverage counts "
+        "the trials whose agent reported a cost; elapsed time is a trial's start to finish.</p>"
         f"<h3>Failed trials</h3><ul>{failed or '<li>none</li>'}</ul>"
     )
 
@@ -266,7 +310,7 @@ def cost_figure(results: Sequence[IndexResult], rows: dict[str, Resources]) -> s
         cost = rows[r.name].mean_cost_usd if r.name in rows else 0.0
         ax.scatter([cost], [100 * r.index], s=40)
         ax.annotate(r.name, (cost, 100 * r.index), textcoords="offset points", xytext=(5, 5), fontsize=8)
-    ax.set_xlabel("mean cost per trial [USD]")
+    ax.set_xlabel("mean cost [USD] (task, family, workflow hierarchy)")
     ax.set_ylabel("RLE Index [%]")
     ax.set_ylim(0, 105)
     ax.set_xlim(left=0)

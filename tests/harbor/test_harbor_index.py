@@ -10,8 +10,11 @@ Trials (reward, cost USD, input/cached/output tokens, wall time):
 Index by hand (eq. 1; n06 = registered F06 tasks, F07 scores 0, other workflows 0):
     claude: mechanical (0.8 + 0.4)/2 = 0.6; perception (0.6/n06 + 0)/2; index = (perception + 0.6)/4
     codex:  F09 = (0 + 0.3)/2 = 0.15; mechanical (0.5 + 0.15)/2 = 0.325; index = 0.325/4 = 0.08125
-Resources: claude 3 trials, 0 failed, mean cost 2.00, 3.5 h, mean tokens 2000/666.7/200;
-           codex 3 trials, 1 failed, mean cost 1.00, 1.5 h, mean tokens 1000/266.7/100.
+Resources (means through task -> family -> workflow, as the index; totals over trials):
+    claude: cost per task 08 2, 09 1, F06 3 -> mechanical (2 + 1)/2 = 1.5, perception 3 -> mean 2.25;
+            hours 08 1, 09 0.5, F06 2 -> (0.75 + 2)/2 = 1.375; total $6; tokens 6000/2000/600
+    codex:  cost 08 0.5, 09 (1.5 + 1)/2 = 1.25 -> mechanical 0.875 (its only workflow) -> 0.875;
+            hours 08 0.25, 09 (0.75 + 0.5)/2 = 0.625 -> 0.4375; total $3; tokens 3000/800/300
 """
 
 from __future__ import annotations
@@ -89,15 +92,14 @@ def test_index_per_system_and_resources(job):
     f06 = next(t.id for t in all_tasks() if t.family == 6)
     assert claude.task_scores[f06] == 0.6 and f06 not in claude.missing and f06 in codex.missing
     assert len(codex.missing) == len(all_tasks()) - 2  # 08 and 09 reached; the rest count 0
-    assert (claude_res.trials, claude_res.failed) == (3, 0)
-    assert claude_res.mean_cost_usd == pytest.approx(2.0) and claude_res.elapsed_h == pytest.approx(3.5)
-    assert (claude_res.input_tokens, claude_res.output_tokens) == pytest.approx((2000, 200))
-    assert claude_res.cached_tokens == pytest.approx(2000 / 3)
-    assert (codex_res.trials, codex_res.failed) == (3, 1)
-    assert codex_res.mean_cost_usd == pytest.approx(1.0) and codex_res.elapsed_h == pytest.approx(1.5)
-    assert (codex_res.input_tokens, codex_res.cached_tokens, codex_res.output_tokens) == pytest.approx(
-        (1000, 800 / 3, 100)
-    )
+    assert (claude_res.trials, claude_res.failed, claude_res.tasks, claude_res.cost_runs) == (3, 0, 3, 3)
+    assert claude_res.mean_cost_usd == pytest.approx(2.25) and claude_res.total_cost_usd == pytest.approx(6.0)
+    assert claude_res.mean_elapsed_h == pytest.approx(1.375)
+    assert (claude_res.input_tokens, claude_res.cached_tokens, claude_res.output_tokens) == (6000, 2000, 600)
+    assert (codex_res.trials, codex_res.failed, codex_res.tasks, codex_res.cost_runs) == (3, 1, 2, 3)
+    assert codex_res.mean_cost_usd == pytest.approx(0.875) and codex_res.total_cost_usd == pytest.approx(3.0)
+    assert codex_res.mean_elapsed_h == pytest.approx(0.4375)
+    assert (codex_res.input_tokens, codex_res.cached_tokens, codex_res.output_tokens) == (3000, 800, 300)
     assert codex_res.failed_trials == ("09-gello/b2: AgentTimeoutError: agent ran past 7200 s",)
 
 
@@ -110,10 +112,10 @@ def test_rle_index_command_on_a_job_directory(job, tmp_path, capsys):
     assert "failed (codex (gpt-5)): 09-gello/b2: AgentTimeoutError: agent ran past 7200 s" in text
     html = page.read_text()
     assert (
-        "<td>codex (gpt-5)</td><td>3</td><td>1</td><td>1.00</td><td>1.50</td><td>1000</td><td>267</td>"
-        in html
+        "<td>codex (gpt-5)</td><td>0.88</td><td>3.00</td><td>3/3</td><td>0.44</td><td>0.00</td><td>0.00</td>"
+        "<td>0.00</td><td>2</td><td>1</td>" in html
     )
-    assert "<td>claude-code (claude-opus-4-5)</td><td>3</td><td>0</td><td>2.00</td><td>3.50</td>" in html
+    assert "<td>claude-code (claude-opus-4-5)</td><td>2.25</td><td>6.00</td><td>3/3</td><td>1.38</td>" in html
     assert "<li>codex (gpt-5): 09-gello/b2: AgentTimeoutError: agent ran past 7200 s</li>" in html
     for alt in ("leaderboard", "capability profile", "performance versus cost"):
         png = html.split(f'<img alt="{alt}" src="data:image/png;base64,', 1)[1].split('"', 1)[0]
@@ -131,3 +133,15 @@ def test_plain_reports_and_errors(job, tmp_path, capsys):
     empty.mkdir()
     assert index_command([str(empty)]) == 2
     assert "is a directory; pass the report files" in capsys.readouterr().err
+
+
+def test_cost_coverage_counts_only_trials_whose_agent_reported_a_cost(tmp_path):
+    job = tmp_path / "j"
+    job.mkdir()
+    _trial(job, "x1", "terminus", "m", "08-mobile-base", 0.5, 2.0, (10, 0, 1), 1.0)
+    _trial(job, "x2", "terminus", "m", "09-gello", 0.5, None, (10, 0, 1), 1.0)  # the harness reports none
+    (_, res), *_ = systems(read_job(job)).values()
+    assert (res.cost_runs, res.trials, res.total_cost_usd) == (1, 2, 2.0)
+    assert res.mean_cost_usd == pytest.approx(
+        1.0
+    )  # an unreported cost counts 0 in the mean: coverage says so
