@@ -77,7 +77,7 @@ $(HARBOR_VENV)/.installed: $(HARBOR_LOCK)
 
 # Real Harbor trials, one oracle trial per family with a private secret, rewards checked against the
 # exported READMEs (not part of `make test`; needs root for Docker: docs/harbor.md).
-harbor-e2e: $(STAMP) harbor-venv
+harbor-e2e: $(STAMP) harbor-venv standin-demos
 	bash scripts/harbor_e2e_setup.sh
 	$(PY) scripts/harbor_e2e.py
 
