@@ -26,11 +26,12 @@ from rle_design.errors import RleError
 from rle_design.ledger import Limits, check_ledger
 from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.scoring import CheckpointSpec, Fraction, Outcome, Rubric
+from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import Secret, current_secret
 from rle_tasks.core.task import ArtifactContract, Budget, ImageData, TaskSpec, VerifyContext
 
 from .groups import GROUPS, Group
+from .scoring import fresh_rubric as rubric
 from .scoring import rubric as group_rubric
 from .task import AGENT_STEPS, AGENT_WALL_S, TRIALS, targets
 from .transfer import (
@@ -122,24 +123,6 @@ def make_dev_env(workspace: Path, group: Group, trial: int, harness: Path | None
         )
     )
     return env
-
-
-@functools.cache
-def rubric(task_id: str) -> Rubric:
-    return Rubric(
-        task_id=task_id,
-        family="02",
-        workflow="interactive_control",
-        variants=("agent",),
-        checkpoints=(
-            CheckpointSpec(
-                "s_trial",
-                1.0,
-                "this fresh agent's s_trial = 1 on success, else clip((m - b) / (n - b), 0, 1)",
-                Fraction("s_trial of the replayed session"),
-            ),
-        ),
-    )
 
 
 def verify(root: Path, ctx: VerifyContext, group: Group, trial: int) -> VerifierReport:

@@ -14,22 +14,43 @@ import functools
 from rle_tasks.core.scoring import CheckpointSpec, Fraction, Rubric
 
 
-@functools.cache
-def rubric(task_id: str) -> Rubric:
-    """The rubric of one group (all fifteen share it)."""
+def _rubric(task_id: str, variant: str, checkpoint: CheckpointSpec) -> Rubric:
     return Rubric(
         task_id=task_id,
         family="02",
         workflow="interactive_control",
-        variants=("agents",),
-        checkpoints=(
-            CheckpointSpec(
-                "transfer",
-                1.0,
-                "mean over five fresh agents of s_trial = 1 on success, else clip((m - b) / (n - b), 0, 1) "
-                "(b: conjuncts satisfied at the start, m: most satisfied at once, n: conjuncts)",
-                Fraction("mean s_trial of the five fresh agents (missing agents count 0)"),
-            ),
+        variants=(variant,),
+        checkpoints=(checkpoint,),
+    )
+
+
+@functools.cache
+def rubric(task_id: str) -> Rubric:
+    """The rubric of one group (all fifteen share it)."""
+    return _rubric(
+        task_id,
+        "agents",
+        CheckpointSpec(
+            "transfer",
+            1.0,
+            "mean over five fresh agents of s_trial = 1 on success, else clip((m - b) / (n - b), 0, 1) "
+            "(b: conjuncts satisfied at the start, m: most satisfied at once, n: conjuncts)",
+            Fraction("mean s_trial of the five fresh agents (missing agents count 0)"),
+        ),
+    )
+
+
+@functools.cache
+def fresh_rubric(task_id: str) -> Rubric:
+    """The rubric of one fresh agent run as a task of its own (``fresh.py``): its s_trial."""
+    return _rubric(
+        task_id,
+        "agent",
+        CheckpointSpec(
+            "s_trial",
+            1.0,
+            "this fresh agent's s_trial = 1 on success, else clip((m - b) / (n - b), 0, 1)",
+            Fraction("s_trial of the replayed session"),
         ),
     )
 
