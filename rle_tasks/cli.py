@@ -151,7 +151,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
 
 def _cmd_index(args: argparse.Namespace) -> int:
-    from rle_tasks.core.index import index_command
+    from rle_tasks.core.results import index_command
 
     return index_command(
         args.reports,

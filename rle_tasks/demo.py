@@ -283,7 +283,7 @@ def run_demo(
     index_html = None
     refs = [str(p) for _, name, p, _ in results if name == "reference"]
     if refs:
-        from rle_tasks.core.index import index_command
+        from rle_tasks.core.results import index_command
 
         index_html = out / "rle_index.html"
         index_command(refs, html=str(index_html), name="reference solutions" + subset, allow_partial=True)

@@ -296,6 +296,15 @@ def resources_html(rows: dict[str, Resources]) -> str:
     )
 
 
+def resources_section(results: Sequence[IndexResult], rows: dict[str, Resources]) -> str:
+    """The index page's section for Harbor jobs: performance versus cost, resources, failed trials."""
+    return (
+        "<h2>Performance versus cost</h2>"
+        f'<img alt="performance versus cost" src="data:image/png;base64,{cost_figure(results, rows)}">'
+        f"<h2>Resources</h2>{resources_html(rows)}"
+    )
+
+
 def cost_figure(results: Sequence[IndexResult], rows: dict[str, Resources]) -> str:
     """RLE Index [%] against mean cost per trial [USD], one point per system, as a base64 PNG."""
     import matplotlib

@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -321,16 +320,15 @@ def profile_figure(results: Sequence[IndexResult]) -> str:
     return _png(fig)
 
 
-def write_index_html(
-    results: Sequence[IndexResult], path: Path, resources: dict[str, Any] | None = None
-) -> Path:
+def write_index_html(results: Sequence[IndexResult], path: Path, resources_section: str = "") -> Path:
     """Self-contained HTML page (figures embedded as base64 PNGs) with the leaderboard and tables.
 
     Args:
         results: One index result per system.
         path: Output file.
-        resources: ``{system: harbor_results.Resources}`` from Harbor job directories; adds the
-            performance-versus-cost figure, the resources table and the failed trials.
+        resources_section: HTML placed after the leaderboard: for Harbor job directories the
+            performance-versus-cost figure, the resources table and the failed trials
+            (``harbor_results.resources_section``).
     """
     from html import escape
 
@@ -338,15 +336,7 @@ def write_index_html(
         raise RleError("no results to show", code="index.input")
     board = leaderboard_figure(results)
     profile = profile_figure(results)
-    cost = ""
-    if resources:
-        from rle_tasks.core.harbor_results import cost_figure, resources_html
-
-        cost = (
-            "<h2>Performance versus cost</h2>"
-            f'<img alt="performance versus cost" src="data:image/png;base64,{cost_figure(results, resources)}">'
-            f"<h2>Resources</h2>{resources_html(resources)}"
-        )
+    cost = resources_section
     head = "".join(f"<th>{escape(r.name)}</th>" for r in results)
 
     def row(label: str, values: list[float]) -> str:
@@ -435,62 +425,3 @@ def _diagnostics_html(results: Sequence[IndexResult]) -> str:
             f"<table><tr><th>system</th><th>task</th>{head}</tr>{body}</table>"
         )
     return "".join(out)
-
-
-def _gather(
-    paths: Sequence[str | os.PathLike], name: str, allow_privileged: bool = False, allow_partial: bool = False
-) -> tuple[list[IndexResult], dict[str, Any]]:
-    """Index results per system from report files (system ``name``) and Harbor job directories."""
-    from rle_tasks.core.harbor_results import is_job_dir, read_job, systems
-
-    reports = [p for p in paths if not is_job_dir(Path(p))]
-    records = [r for p in paths if is_job_dir(Path(p)) for r in read_job(Path(p))]
-    results = (
-        [compute_index(reports, name=name, allow_privileged=allow_privileged, allow_partial=allow_partial)]
-        if reports or not records
-        else []
-    )
-    rows = {}
-    for system, (result, res) in systems(
-        records, allow_privileged=allow_privileged, allow_partial=allow_partial
-    ).items():
-        if system == name and reports:
-            raise RleError(f"system '{system}' is named by both reports and a job", code="index.duplicate")
-        results.append(result)
-        rows[system] = res
-    return results, rows
-
-
-def index_command(
-    paths: Sequence[str | os.PathLike],
-    html: str | os.PathLike | None = None,
-    name: str = "submission",
-    allow_privileged: bool = False,
-    allow_partial: bool = False,
-) -> int:
-    """``rle index REPORTS|JOB_DIRS... [--html OUT] [--name NAME]``: print the tables, optionally write
-    the page. A Harbor job directory contributes one result per system (agent and model) and the
-    resources table; report files form the system ``name``.
-
-    Returns:
-        0 on success; 2 (with the reason on stderr) when a report is missing, unreadable, unknown or
-        duplicated.
-    """
-    try:
-        results, rows = _gather(paths, name, allow_privileged, allow_partial)
-    except RleError as exc:
-        print(f"rle index: error [{exc.code}]: {exc}", file=sys.stderr)
-        return 2
-    print("\n\n".join(format_tables(r) for r in results))
-    if rows:
-        from rle_tasks.core.harbor_results import format_resources
-
-        print("\n" + format_resources(rows))
-    if html is not None:
-        try:
-            out = write_index_html(results, Path(html), rows)
-        except OSError as exc:
-            print(f"rle index: error [index.output]: cannot write {html}: {exc.strerror}", file=sys.stderr)
-            return 2
-        print(f"\nHTML written to {out}")
-    return 0

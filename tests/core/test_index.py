@@ -6,9 +6,10 @@ import json
 import pytest
 
 from rle_design.errors import RleError
-from rle_tasks.core.index import compute_index, format_tables, index_command
+from rle_tasks.core.index import compute_index, format_tables
 from rle_tasks.core.registry import all_tasks
 from rle_tasks.core.report import VerifierReport
+from rle_tasks.core.results import index_command
 from rle_tasks.core.task import WORKFLOW_ORDER
 
 

@@ -26,8 +26,8 @@ from datetime import UTC, datetime, timedelta
 import pytest
 
 from rle_tasks.core.harbor_results import read_job, systems
-from rle_tasks.core.index import index_command
 from rle_tasks.core.registry import all_tasks
+from rle_tasks.core.results import index_command
 
 T0 = datetime(2026, 11, 22, 8, 0, tzinfo=UTC)
 

@@ -3,6 +3,7 @@ command line never name a family, and a family's public modules import only the 
 
 import ast
 import re
+import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -85,3 +86,95 @@ def test_public_modules_import_only_the_toolkit():
         return mod == "rle_tasks" or mod.startswith("rle_tasks.") and ".public" not in mod
 
     assert _violations(files, bad) == []
+
+
+def _modules() -> dict[str, Path]:
+    out = {}
+    for folder in ("rle_design", "rle_tasks"):
+        for p in _py(folder):
+            parts = p.relative_to(ROOT).with_suffix("").parts
+            out[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = p
+    return out
+
+
+def import_cycles() -> set[frozenset[str]]:
+    """Strongly connected components (more than one module) of the import graph of the toolkit and the
+    tasks, function-level imports included: ``from a import b`` is an edge to ``a.b`` when that is a
+    module, else to ``a``."""
+    mods = _modules()
+    edges = {m: set() for m in mods}
+    for m, p in mods.items():
+        for _, name in _imports(p, ROOT):
+            target = name if name in mods else name.rsplit(".", 1)[0]
+            if target in mods and target != m:
+                edges[m].add(target)
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    found: set[frozenset[str]] = set()
+
+    def visit(v: str) -> None:  # Tarjan
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in edges[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while not comp or comp[-1] != v:
+                comp.append(stack.pop())
+            if len(comp) > 1:
+                found.add(frozenset(comp))
+
+    for v in sorted(edges):
+        if v not in index:
+            visit(v)
+    return found
+
+
+KNOWN_CYCLES = {
+    frozenset(c.split())
+    for c in (
+        "rle_design.mjcf.artifact_files rle_design.mjcf.contract rle_design.mjcf.loader rle_design.mjcf.mesh",
+        "rle_tasks.envs.kitchen.composite rle_tasks.envs.kitchen.composites rle_tasks.envs.kitchen.tasks",
+        "rle_tasks.f01_robocasa_speedrun.solutions rle_tasks.f01_robocasa_speedrun.solutions.oracle "
+        "rle_tasks.f01_robocasa_speedrun.task rle_tasks.f01_robocasa_speedrun.verifier",
+        "rle_tasks.audit.corpus rle_tasks.audit.f06_cases rle_tasks.audit.generated rle_tasks.audit.kitchen_cases "
+        "rle_tasks.audit.runner",
+        "rle_tasks.f02_harness_transfer.task rle_tasks.f02_harness_transfer.verifier",
+        "rle_tasks.f04_motion_tracking.evaluation rle_tasks.f04_motion_tracking.task "
+        "rle_tasks.f04_motion_tracking.verifier",
+        "rle_tasks.f03_physical_reasoning.hidden_com rle_tasks.f03_physical_reasoning.hidden_com_verifier",
+        "rle_tasks.f03_physical_reasoning.balance rle_tasks.f03_physical_reasoning.balance_verifier",
+        "rle_tasks.f03_physical_reasoning.cube.task rle_tasks.f03_physical_reasoning.cube.verifier",
+        "rle_tasks.f09_gello.solutions.attached rle_tasks.f09_gello.solutions.build",
+    )
+}
+"""The import cycles still to be removed (issue 40: zero cycles). A new cycle fails the test; a cycle
+removed must leave this list, so it only shrinks."""
+
+
+def test_no_new_import_cycles_and_the_known_ones_only_shrink():
+    cycles = import_cycles()
+    new = cycles - KNOWN_CYCLES
+    assert not new, "new import cycles:\n" + "\n".join(" <-> ".join(sorted(c)) for c in new)
+    gone = KNOWN_CYCLES - cycles
+    assert not gone, "removed cycles still listed in KNOWN_CYCLES:\n" + "\n".join(
+        " ".join(sorted(c)) for c in gone
+    )
+
+
+def test_the_cycle_finder_finds_a_cycle_hidden_in_a_function(tmp_path, monkeypatch):
+    pkg = tmp_path / "rle_tasks" / "f99_x"
+    pkg.mkdir(parents=True)
+    (tmp_path / "rle_design").mkdir()
+    (tmp_path / "rle_tasks" / "__init__.py").write_text("")
+    (pkg / "__init__.py").write_text("")
+    (pkg / "task.py").write_text("def spec():\n    from .verifier import verify\n")
+    (pkg / "verifier.py").write_text("from .task import spec\n")
+    (pkg / "scoring.py").write_text("from .task import spec\n")
+    monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)
+    assert import_cycles() == {frozenset({"rle_tasks.f99_x.task", "rle_tasks.f99_x.verifier"})}
