@@ -30,10 +30,10 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import Secret, current_secret
 from rle_tasks.core.task import ArtifactContract, Budget, ImageData, TaskSpec, VerifyContext
 
+from .constants import AGENT_STEPS, AGENT_WALL_S, TRIALS
 from .groups import GROUPS, Group
 from .scoring import fresh_rubric as rubric
 from .scoring import rubric as group_rubric
-from .task import AGENT_STEPS, AGENT_WALL_S, TRIALS, targets
 from .transfer import (
     _INSTRUCTION,
     HARNESS_DIR,
@@ -43,6 +43,7 @@ from .transfer import (
     _stages,
     copy_harness,
     stage_score,
+    targets,
 )
 
 FRESH_ID = re.compile(r"^(02-group-\d\d)-fresh-(\d)$")

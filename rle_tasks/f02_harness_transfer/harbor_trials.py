@@ -30,9 +30,9 @@ from pathlib import Path
 
 from rle_design.errors import RleError
 
+from .constants import TRIALS
 from .fresh import HARNESS_DIR, group_report, stage_task
 from .groups import GROUPS
-from .task import TRIALS
 from .transfer import FRESH_AGENT
 
 SOLVE_SH = """#!/usr/bin/env bash

@@ -13,13 +13,15 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from rle_tasks.core.secrets import Secret, derive_seed
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 from rle_tasks.envs.kitchen.composites import COMPOSITES
 from rle_tasks.envs.kitchen.env import GroupScenes
 from rle_tasks.envs.kitchen.workspace import lay_out_harness
 
+from .constants import AGENT_STEPS, AGENT_WALL_S, STEP_BUDGET, TRIALS
 from .groups import GROUPS, SKILLS, Group
+from .solutions import SOLUTIONS
+from .verifier import QUICK_TRIALS, verifier
 
 __all__ = [
     "AGENT_STEPS",
@@ -28,19 +30,10 @@ __all__ = [
     "CONTRACT",
     "STEP_BUDGET",
     "TRIALS",
-    "targets",
     "task_specs",
 ]
 
 HERE = Path(__file__).resolve().parent
-STEP_BUDGET = 75_000
-"""Charged development steps (card)."""
-TRIALS = 5
-"""Fresh agents (card)."""
-AGENT_STEPS = 5_000
-"""Steps of one fresh agent (card)."""
-AGENT_WALL_S = 3600.0
-"""Time of one fresh agent [s] (card)."""
 BUDGET = Budget(
     wall_time_s=8 * 3600.0,
     cpus=4,
@@ -56,17 +49,6 @@ CONTRACT = ArtifactContract(
     "directory reaches the fresh agents.",
     max_total_bytes=32 * 1024 * 1024,
 )
-
-
-def targets(secret: Secret, group: Group) -> tuple[tuple[int, int], ...]:
-    """(layout seed, episode seed) of each fresh agent's kitchen: HMAC(secret, task id, "agent/<k>/...")."""
-    return tuple(
-        (
-            derive_seed(secret, group.task_id, f"agent/{k}/layout"),
-            derive_seed(secret, group.task_id, f"agent/{k}/episode"),
-        )
-        for k in range(TRIALS)
-    )
 
 
 def dev_scenes(group: Group) -> GroupScenes:
@@ -98,9 +80,6 @@ def instruction(group: Group) -> str:
 
 
 def task_specs() -> list[TaskSpec]:
-    from .solutions import SOLUTIONS
-    from .verifier import QUICK_TRIALS, verifier
-
     specs = []
     for group in GROUPS:
 

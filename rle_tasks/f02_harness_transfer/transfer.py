@@ -38,8 +38,12 @@ from rle_design.control.replay import ReplayError, replay
 from rle_design.excerpt import EXCERPT_CHARS, excerpt
 from rle_design.ledger import LedgerServer, Limits, check_ledger
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
+from rle_tasks.core.secrets import Secret, derive_seed
 from rle_tasks.envs.kitchen.env import KitchenEnv
 from rle_tasks.envs.kitchen.scene import build_scene
+
+from .constants import TRIALS
+from .groups import Group
 
 __all__ = [
     "AGENT_ENV",
@@ -49,6 +53,7 @@ __all__ = [
     "copy_harness",
     "run_unit",
     "stage_score",
+    "targets",
 ]
 
 HARNESS_DIR = "agent_harness"
@@ -183,6 +188,17 @@ class TransferResult:
         return {
             k: (list(v) if isinstance(v, tuple) else v) for k, v in self.__dict__.items() if k != "elapsed_s"
         }
+
+
+def targets(secret: Secret, group: Group) -> tuple[tuple[int, int], ...]:
+    """(layout seed, episode seed) of each fresh agent's kitchen: HMAC(secret, task id, "agent/<k>/...")."""
+    return tuple(
+        (
+            derive_seed(secret, group.task_id, f"agent/{k}/layout"),
+            derive_seed(secret, group.task_id, f"agent/{k}/episode"),
+        )
+        for k in range(TRIALS)
+    )
 
 
 def stage_score(b: int, m: int, n: int, success: bool, recorded: bool) -> float:

@@ -22,10 +22,10 @@ from rle_tasks.core.runner import run_parallel
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
+from .constants import AGENT_STEPS, AGENT_WALL_S, TRIALS
 from .groups import Group
 from .scoring import rubric
-from .task import AGENT_STEPS, AGENT_WALL_S, TRIALS, targets
-from .transfer import AGENT_ENV, HARNESS_DIR, TransferUnit, run_unit
+from .transfer import AGENT_ENV, HARNESS_DIR, TransferUnit, run_unit, targets
 
 QUICK_TRIALS = 2
 """Fresh agents run in quick mode (tests, the demo's baselines); the report says ``partial``."""

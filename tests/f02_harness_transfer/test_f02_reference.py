@@ -15,8 +15,7 @@ from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import build
 from rle_tasks.f02_harness_transfer.groups import GROUPS
 from rle_tasks.f02_harness_transfer.solutions import _set
-from rle_tasks.f02_harness_transfer.task import targets
-from rle_tasks.f02_harness_transfer.transfer import TransferUnit, run_unit
+from rle_tasks.f02_harness_transfer.transfer import TransferUnit, run_unit, targets
 
 pytestmark = pytest.mark.physics
 

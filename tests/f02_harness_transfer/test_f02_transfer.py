@@ -13,8 +13,7 @@ from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f02_harness_transfer.groups import GROUPS
-from rle_tasks.f02_harness_transfer.task import targets
-from rle_tasks.f02_harness_transfer.transfer import TransferUnit, run_unit
+from rle_tasks.f02_harness_transfer.transfer import TransferUnit, run_unit, targets
 
 PUBLIC = Secret(PUBLIC_KEY, public=True)
 QUICK = VerifyContext(secret=PUBLIC, quick=True)
