@@ -97,17 +97,36 @@ out["environ_leaks"] = leaks
 out["ledger_dir_visible"] = os.path.exists("/rle-ledger")
 import sys
 sys.path.insert(0, "/workspace")
+{use}
+print(json.dumps(out))
+"""
+METERED_USE = """
 from client import connect
 with connect() as env:
     env.reset()
     env.step([0.0] * env.info()["action_size"])
-    out["steps_used"] = env.info()["steps_used"]
+    out["charged"] = env.info()["steps_used"]
     env.seal()
-print(json.dumps(out))
 """
+POSE_USE = """
+from pose_client import connect
+with connect() as dev:
+    assert dev.frames(0, n=1)  # labelled frames of a public seed: free
+    out["charged"] = dev.info()["evaluations_used"]
+    dev.seal()
+"""
+STANDIN_USE = """
+from standin_client import connect
+with connect() as dev:
+    out["charged"] = dev.info()["episodes_used"]  # evaluations are charged; none was asked for
+    dev.seal()
+"""
+USES = {"03-cantilever": (METERED_USE, 2), "01-open-fridge-l3": (METERED_USE, 2), "02-group-01": (METERED_USE, 2),
+        "06-pose-b-rgbd": (POSE_USE, 0), "05-robotwin-open": (STANDIN_USE, 0)}  # fmt: skip
+"""How the agent's user uses each task's development client in the check, and what it is charged."""
 
 
-@pytest.mark.parametrize("task_id", ["03-cantilever", "01-open-fridge-l3"])
+@pytest.mark.parametrize("task_id", sorted(USES))
 def test_the_agents_container_reaches_the_sidecar_and_not_its_secrets(tmp_path, task_id):
     """In the built environment: the agent's user connects, resets, steps and seals through the
     workspace's client; no RLE_ variable, no process environment and no /rle-ledger of the sidecar is
@@ -115,6 +134,11 @@ def test_the_agents_container_reaches_the_sidecar_and_not_its_secrets(tmp_path, 
     import json
     import os
 
+    from rle_tasks.core.harbor import not_exportable
+    from rle_tasks.core.registry import get_task
+
+    if why := not_exportable(get_task(task_id)):
+        pytest.skip(f"{task_id} is not exported here: {why}")
     (task,) = export_harbor(tmp_path, [task_id])
     env_dir = task / "environment"
     (env_dir / "base-compose.yaml").write_text(BASE_COMPOSE)
@@ -128,15 +152,26 @@ def test_the_agents_container_reaches_the_sidecar_and_not_its_secrets(tmp_path, 
         )
         assert up.returncode == 0, up.stderr[-3000:]
         agent = subprocess.run(
-            [*compose, "exec", "-T", "-u", "1000", "main", "python3", "-c", AGENT_CHECK],
+            [
+                *compose,
+                "exec",
+                "-T",
+                "-u",
+                "1000",
+                "main",
+                "python3",
+                "-c",
+                AGENT_CHECK.replace("{use}", USES[task_id][0]),
+            ],
             capture_output=True,
             text=True,
             env=env,
         )
         assert agent.returncode == 0, agent.stderr[-3000:]
         seen = json.loads(agent.stdout.strip().splitlines()[-1])
-        assert seen["uid"] == 1000 and seen["rle_env"] == [] and seen["environ_leaks"] == []
-        assert not seen["ledger_dir_visible"] and seen["steps_used"] == 2
+        public = sorted(d.env for d in get_task(task_id).harbor_data)  # where a built dataset lies
+        assert seen["uid"] == 1000 and seen["rle_env"] == public and seen["environ_leaks"] == []
+        assert not seen["ledger_dir_visible"] and seen["charged"] == USES[task_id][1]
         sealed = subprocess.run(
             [*compose, "exec", "-T", "dev", "python3", "-m", "rle_tasks.core.harbor_sidecar", "seal"],
             capture_output=True,
