@@ -6,11 +6,10 @@ from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
+from .balance_scene import BUDGET_STEPS, WALL_TIME_S
+
 HERE = Path(__file__).resolve().parent
 TASK_ID = "03-balance-coins"
-BUDGET_STEPS = 50_000
-WALL_TIME_S = 9 * 3600.0
-"""Wall time of the one continuous attempt [s] (card: 9 h)."""
 
 
 def instruction() -> str:

@@ -150,7 +150,7 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
-    from .balance import BUDGET_STEPS, WALL_TIME_S
+    from .balance_scene import BUDGET_STEPS, WALL_TIME_S
 
     findings = Findings()
     opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)

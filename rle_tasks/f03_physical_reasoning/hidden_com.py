@@ -6,14 +6,10 @@ from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
+from .hidden_com_scene import BUDGET_STEPS, WALL_TIME_S
+
 HERE = Path(__file__).resolve().parent
 TASK_ID = "03-hidden-com"
-BUDGET_STEPS = 36_000
-"""The card's 12,000 steps per box (``hidden_com_env.STEPS_PER_BOX``), for the three boxes of one
-session; the environment refuses an answer given more than 12,000 steps after the previous one."""
-WALL_TIME_S = 3600.0
-"""The card's "1 h total": the session refuses steps after it, and the verifier requires a session
-that was limited to it."""
 
 
 def instruction() -> str:

@@ -22,7 +22,6 @@ from rle_tasks.core.scoring import CheckpointSpec, Fraction, Outcome, Rubric
 from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
-from .hidden_com import WALL_TIME_S
 from .hidden_com_env import (
     INVALID,
     LATE,
@@ -33,6 +32,7 @@ from .hidden_com_env import (
     make_env,
     recorded_answers,
 )
+from .hidden_com_scene import BUDGET_STEPS, WALL_TIME_S
 from .session import LEDGER_FILE, open_ledger, replay_ledger, tabletop_limits
 
 RUBRIC = Rubric(
@@ -68,7 +68,6 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
-    from .hidden_com import BUDGET_STEPS
 
     findings = Findings()
     opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)

@@ -146,9 +146,6 @@ KNOWN_CYCLES = {
         "rle_tasks.audit.runner",
         "rle_tasks.f04_motion_tracking.evaluation rle_tasks.f04_motion_tracking.task "
         "rle_tasks.f04_motion_tracking.verifier",
-        "rle_tasks.f03_physical_reasoning.hidden_com rle_tasks.f03_physical_reasoning.hidden_com_verifier",
-        "rle_tasks.f03_physical_reasoning.balance rle_tasks.f03_physical_reasoning.balance_verifier",
-        "rle_tasks.f03_physical_reasoning.cube.task rle_tasks.f03_physical_reasoning.cube.verifier",
         "rle_tasks.f09_gello.solutions.attached rle_tasks.f09_gello.solutions.build",
     )
 }

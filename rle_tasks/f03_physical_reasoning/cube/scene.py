@@ -31,6 +31,11 @@ from rle_tasks.f03_physical_reasoning.cube.distance import optimal_turns
 from rle_tasks.f03_physical_reasoning.cube.lattice import SOLVED, LatticeState
 from rle_tasks.f03_physical_reasoning.cube.model import CubeConfig
 
+BUDGET_STEPS = 50_000
+WALL_TIME_S = 9 * 3600.0
+"""Wall time of the one continuous attempt [s] (card: 9 h)."""
+"""Charged steps of the one continuous attempt (card)."""
+
 __all__ = [
     "CUBE_NAME",
     "MIN_DEPTH",

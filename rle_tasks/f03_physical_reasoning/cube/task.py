@@ -6,13 +6,9 @@ import dataclasses
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
-from rle_tasks.f03_physical_reasoning.cube.scene import TASK_ID
+from rle_tasks.f03_physical_reasoning.cube.scene import BUDGET_STEPS, TASK_ID, WALL_TIME_S
 
 HERE = Path(__file__).resolve().parent
-BUDGET_STEPS = 50_000
-WALL_TIME_S = 9 * 3600.0
-"""Wall time of the one continuous attempt [s] (card: 9 h)."""
-"""Charged steps of the one continuous attempt (card)."""
 
 
 def instruction() -> str:

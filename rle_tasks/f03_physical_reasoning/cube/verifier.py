@@ -122,7 +122,7 @@ def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
     from ..session import note_privileged, open_ledger, tabletop_limits
-    from .task import BUDGET_STEPS, WALL_TIME_S
+    from .scene import BUDGET_STEPS, WALL_TIME_S
 
     findings = Findings()
     opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)

@@ -28,8 +28,8 @@ SHIPPED = ("reference", "five_weighings")
 
 def record(program: str, secret, dest: Path, **kwargs) -> Path:
     """Play ``program`` on the instance of ``secret``; write and return ``dest`` holding ``ledger.jsonl``."""
-    from ...balance import BUDGET_STEPS, WALL_TIME_S
     from ...balance_env import TASK_ID, make_env
+    from ...balance_scene import BUDGET_STEPS, WALL_TIME_S
     from ...balance_verifier import LEDGER_FILE, instance
     from .. import record_session
 

@@ -28,8 +28,8 @@ def record(program: str, secret, dest: Path, camera_every: int = 10, **kwargs) -
 
     ``camera_every`` > 10 renders fewer views (the reference reads only the view after its reset).
     """
-    from ...hidden_com import BUDGET_STEPS, WALL_TIME_S
     from ...hidden_com_env import TASK_ID, make_env
+    from ...hidden_com_scene import BUDGET_STEPS, WALL_TIME_S
     from ...hidden_com_verifier import LEDGER_FILE, instance
     from .. import record_session
 

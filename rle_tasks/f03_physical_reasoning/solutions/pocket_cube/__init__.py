@@ -42,8 +42,7 @@ def record(program: str, secret, dest: Path, camera_every: int = 100_000, inst=N
     positive path on a shallow scramble; such a ledger verifies only against that scramble).
     """
     from ...cube.env import make_env
-    from ...cube.scene import TASK_ID, instance
-    from ...cube.task import BUDGET_STEPS, WALL_TIME_S
+    from ...cube.scene import BUDGET_STEPS, TASK_ID, WALL_TIME_S, instance
     from ...cube.verifier import LEDGER_FILE
     from .. import record_session
 
