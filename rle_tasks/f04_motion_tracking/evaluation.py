@@ -11,6 +11,7 @@ from rle_design.errors import RleError
 from rle_tasks.core.onnx_policy import OnnxSignature, TensorSpec, _tensors, load_onnx_policy
 from rle_tasks.core.policy import PolicyFault
 
+from .clips import clip_path
 from .public.clip import Clip
 from .public.contract import MAX_PARAMS, ONNX, PolicyMeta, read_meta
 from .public.evaluate import PolicyError, rollout
@@ -64,7 +65,5 @@ def run_seed(item: tuple[str, str, int]) -> dict:
             return policy.run({"obs": x})["actions"][0]
         except PolicyFault as exc:
             raise PolicyError(exc.code) from None
-
-    from .task import clip_path
 
     return rollout(act, meta, Clip.load(clip_path(style)), seed)

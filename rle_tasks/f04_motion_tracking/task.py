@@ -8,21 +8,9 @@ from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
+from .clips import clip_path
+
 HERE = Path(__file__).resolve().parent
-SHIPPED_CLIPS = HERE / "assets" / "clips"
-CLIPS_ENV = "RLE_F04_CLIPS"
-"""Environment variable naming a directory of ``<style>.npz`` clips that replace the shipped ones (e.g.
-the card's LAFAN1 clips converted with ``rle import-motion``); used by the workspace and the verifier."""
-
-
-def clip_path(style: str) -> Path:
-    """The clip of a style: ``$RLE_F04_CLIPS/<style>.npz`` when that variable is set, else the shipped one."""
-    import os
-
-    root = os.environ.get(CLIPS_ENV)
-    return (Path(root) if root else SHIPPED_CLIPS) / f"{style}.npz"
-
-
 PUBLIC_PACKAGE = "motion_tracking"
 """Name of the public modules' package in the workspace."""
 STYLES = {

@@ -144,8 +144,6 @@ KNOWN_CYCLES = {
         "rle_tasks.f01_robocasa_speedrun.task rle_tasks.f01_robocasa_speedrun.verifier",
         "rle_tasks.audit.corpus rle_tasks.audit.f06_cases rle_tasks.audit.generated rle_tasks.audit.kitchen_cases "
         "rle_tasks.audit.runner",
-        "rle_tasks.f04_motion_tracking.evaluation rle_tasks.f04_motion_tracking.task "
-        "rle_tasks.f04_motion_tracking.verifier",
         "rle_tasks.f09_gello.solutions.attached rle_tasks.f09_gello.solutions.build",
     )
 }

@@ -1,0 +1,18 @@
+"""Where the clips of family 04 come from: the shipped ones, or a directory named by ``RLE_F04_CLIPS``."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+SHIPPED_CLIPS = HERE / "assets" / "clips"
+CLIPS_ENV = "RLE_F04_CLIPS"
+"""Environment variable naming a directory of ``<style>.npz`` clips that replace the shipped ones (e.g.
+the card's LAFAN1 clips converted with ``rle import-motion``); used by the workspace and the verifier."""
+
+
+def clip_path(style: str) -> Path:
+    """The clip of a style: ``$RLE_F04_CLIPS/<style>.npz`` when that variable is set, else the shipped one."""
+    root = os.environ.get(CLIPS_ENV)
+    return (Path(root) if root else SHIPPED_CLIPS) / f"{style}.npz"
