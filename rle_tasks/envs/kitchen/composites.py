@@ -29,8 +29,9 @@ from rle_tasks.envs.kitchen.composite import (
     OnBurner,
     OnCounter,
 )
+from rle_tasks.envs.kitchen.tasks import TASKS, KitchenTask
 
-__all__ = ["COMPOSITES"]
+__all__ = ["COMPOSITES", "kitchen_task"]
 
 FRUIT = ("apple", "orange", "lemon")
 FOOD = ("bread", "butter", "apple", "lemon")
@@ -151,3 +152,18 @@ COMPOSITES: dict[str, CompositeTask] = {t.name: t for t in _TASKS}
 """Every composite task by name."""
 if len(COMPOSITES) != len(_TASKS):
     raise RuntimeError("composite task names must be unique")
+
+
+def kitchen_task(name: str) -> KitchenTask:
+    """An atomic task (``tasks.TASKS``) or a composite one (``COMPOSITES``) by name.
+
+    Raises:
+        KeyError: Unknown name (the message lists the atomic tasks).
+    """
+    if name in TASKS:
+        return TASKS[name]
+    if name in COMPOSITES:
+        return COMPOSITES[name]
+    raise KeyError(
+        f"unknown kitchen task '{name}'. Atomic tasks: {', '.join(TASKS)}; composite: {', '.join(COMPOSITES)}"
+    )

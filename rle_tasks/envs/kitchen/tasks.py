@@ -29,7 +29,7 @@ from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.fixtures import BURNERS, Fixture
 from rle_tasks.envs.kitchen.objects import extent, graspable
 
-__all__ = ["TASKS", "Condition", "Episode", "KitchenTask", "Placement", "kitchen_task"]
+__all__ = ["TASKS", "Condition", "Episode", "KitchenTask", "Placement"]
 
 FLAT_KINDS = ("counter", "drawer_cabinet", "hinge_cabinet")
 """Kinds of fixture whose counter top objects stand on."""
@@ -378,20 +378,3 @@ TASKS: dict[str, KitchenTask] = {
     )
 }
 """The atomic tasks by name."""
-
-
-def kitchen_task(name: str) -> KitchenTask:
-    """An atomic task (``TASKS``) or a composite one (``rle_tasks.envs.kitchen.composites``) by name.
-
-    Raises:
-        KeyError: Unknown name (the message lists the atomic tasks).
-    """
-    if name in TASKS:
-        return TASKS[name]
-    from rle_tasks.envs.kitchen.composites import COMPOSITES
-
-    if name in COMPOSITES:
-        return COMPOSITES[name]
-    raise KeyError(
-        f"unknown kitchen task '{name}'. Atomic tasks: {', '.join(TASKS)}; composite: {', '.join(COMPOSITES)}"
-    )
