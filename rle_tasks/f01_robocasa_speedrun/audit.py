@@ -9,7 +9,7 @@ import numpy as np
 from rle_tasks.audit.ledger_limits import AUDIT_ATTEMPT, LimitCases, limit_cases
 from rle_tasks.audit.runner import Case
 
-from .task import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, KITCHEN_TASKS, STEP_BUDGET, TRIALS, scenes
+from .kitchens import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, KITCHEN_TASKS, STEP_BUDGET, TRIALS, scenes
 
 TASK = "01-turn-on-stove-l3"
 

@@ -9,18 +9,33 @@ levels are comparable. The artifact is the session's sealed ledger.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
-from rle_tasks.core.secrets import Secret, current_secret, derive_seed
-from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+from rle_tasks.core.secrets import current_secret
+from rle_tasks.core.task import ArtifactContract, TaskSpec
 from rle_tasks.envs.kitchen.env import KitchenScenes
 from rle_tasks.envs.kitchen.workspace import lay_out_harness
 
+from .kitchens import (
+    ACTIONS_PER_TRIAL,
+    BUDGET,
+    EVAL_WALL_S,
+    KITCHEN_TASKS,
+    LEVELS,
+    STEP_BUDGET,
+    TRIALS,
+    KitchenTaskId,
+    scenes,
+    targets,
+)
+
 __all__ = [
+    "ACTIONS_PER_TRIAL",
     "BUDGET",
     "CONTRACT",
+    "EVAL_WALL_S",
     "KITCHEN_TASKS",
+    "LEVELS",
     "STEP_BUDGET",
     "TRIALS",
     "KitchenTaskId",
@@ -30,15 +45,6 @@ __all__ = [
 ]
 
 HERE = Path(__file__).resolve().parent
-STEP_BUDGET = 50_000
-"""Charged development steps (card)."""
-TRIALS = 5
-"""Evaluation trials (card)."""
-ACTIONS_PER_TRIAL = 1000
-"""Actions one evaluation trial may take (card)."""
-EVAL_WALL_S = 3600.0
-"""Wall time of the evaluation phase [s] (card)."""
-BUDGET = Budget(wall_time_s=8 * 3600.0, cpus=4, gpus=1, steps=STEP_BUDGET, verifier_timeout_s=1800.0)
 CONTRACT = ArtifactContract(
     required=("ledger.jsonl",),
     optional=("*.py", "**/*.py", "*.md"),
@@ -48,62 +54,6 @@ CONTRACT = ArtifactContract(
     "nothing else is read.",
     max_total_bytes=256 * 1024 * 1024,
 )
-
-
-@dataclass(frozen=True)
-class KitchenTaskId:
-    """One of the five kitchen tasks of the card.
-
-    Attributes:
-        slug: Id word (``open-fridge`` ...).
-        task: Kitchen task name (``rle_tasks.envs.kitchen.tasks``).
-        summary: The card's one-line description.
-    """
-
-    slug: str
-    task: str
-    summary: str
-
-    def task_id(self, level: int) -> str:
-        return f"01-{self.slug}-l{level}"
-
-
-KITCHEN_TASKS = (
-    KitchenTaskId("open-fridge", "OpenFridge", "open the refrigerator door"),
-    KitchenTaskId("close-cabinet", "CloseCabinet", "close the cabinet door"),
-    KitchenTaskId("turn-on-stove", "TurnOnStove", "turn on the specified burner"),
-    KitchenTaskId("pnp-counter-to-drawer", "PickPlaceCounterToDrawer", "move the target into the drawer"),
-    KitchenTaskId(
-        "pnp-microwave-to-counter",
-        "PickPlaceMicrowaveToCounter",
-        "move the target to its counter destination",
-    ),
-)
-LEVELS = (1, 2, 3)
-
-
-def targets(secret: Secret, kitchen: KitchenTaskId) -> tuple[tuple[int, int], ...]:
-    """(layout seed, episode seed) of each evaluation trial: HMAC(secret, "01-<slug>", "target/<k>/...")."""
-    tid = f"01-{kitchen.slug}"
-    return tuple(
-        (derive_seed(secret, tid, f"target/{k}/layout"), derive_seed(secret, tid, f"target/{k}/episode"))
-        for k in range(TRIALS)
-    )
-
-
-def scenes(
-    kitchen: KitchenTaskId, level: int, secret: Secret, *, image_size: tuple[int, int] | None = (128, 128)
-) -> KitchenScenes:
-    """The session's scene set: pretrain kitchens for development, the secret's targets for evaluation."""
-    from rle_design.ledger import EvaluationPhase
-
-    return KitchenScenes(
-        kitchen.task,
-        level,
-        targets(secret, kitchen),
-        EvaluationPhase(TRIALS, ACTIONS_PER_TRIAL, EVAL_WALL_S),
-        image_size=image_size,
-    )
 
 
 def instruction(kitchen: KitchenTaskId, level: int) -> str:

@@ -32,8 +32,8 @@ from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
+from .kitchens import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, STEP_BUDGET, TRIALS, KitchenTaskId, scenes
 from .scoring import rubric
-from .task import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, STEP_BUDGET, TRIALS, KitchenTaskId, scenes
 
 LEDGER_FILE = "ledger.jsonl"
 

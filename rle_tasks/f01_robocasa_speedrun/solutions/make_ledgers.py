@@ -22,7 +22,7 @@ from rle_design.ledger import LedgerClient, LedgerError, LedgerServer
 from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 
-from ..task import BUDGET, KITCHEN_TASKS, LEVELS, STEP_BUDGET, KitchenTaskId, scenes
+from ..kitchens import BUDGET, KITCHEN_TASKS, LEVELS, STEP_BUDGET, KitchenTaskId, scenes
 from . import LEDGER, agents
 
 HERE = Path(__file__).resolve().parent

@@ -43,7 +43,7 @@ def harbor_oracle(spec, dest: Path) -> str | None:
     Raises:
         ValueError: a copied program still imports the verifier's package.
     """
-    from ..task import KITCHEN_TASKS, LEVELS
+    from ..kitchens import KITCHEN_TASKS, LEVELS
     from . import agents
 
     match = [(k, lv) for k in KITCHEN_TASKS for lv in LEVELS if k.task_id(lv) == spec.id]

@@ -1,0 +1,76 @@
+"""The card's numbers of family 01 and its kitchens: the five tasks, the three harness levels, the target
+kitchens each task's evaluation draws from the secret, and the session's scene set."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from rle_tasks.core.secrets import Secret, derive_seed
+from rle_tasks.core.task import Budget
+from rle_tasks.envs.kitchen.env import KitchenScenes
+
+STEP_BUDGET = 50_000
+"""Charged development steps (card)."""
+TRIALS = 5
+"""Evaluation trials (card)."""
+ACTIONS_PER_TRIAL = 1000
+"""Actions one evaluation trial may take (card)."""
+EVAL_WALL_S = 3600.0
+"""Wall time of the evaluation phase [s] (card)."""
+BUDGET = Budget(wall_time_s=8 * 3600.0, cpus=4, gpus=1, steps=STEP_BUDGET, verifier_timeout_s=1800.0)
+
+
+@dataclass(frozen=True)
+class KitchenTaskId:
+    """One of the five kitchen tasks of the card.
+
+    Attributes:
+        slug: Id word (``open-fridge`` ...).
+        task: Kitchen task name (``rle_tasks.envs.kitchen.tasks``).
+        summary: The card's one-line description.
+    """
+
+    slug: str
+    task: str
+    summary: str
+
+    def task_id(self, level: int) -> str:
+        return f"01-{self.slug}-l{level}"
+
+
+KITCHEN_TASKS = (
+    KitchenTaskId("open-fridge", "OpenFridge", "open the refrigerator door"),
+    KitchenTaskId("close-cabinet", "CloseCabinet", "close the cabinet door"),
+    KitchenTaskId("turn-on-stove", "TurnOnStove", "turn on the specified burner"),
+    KitchenTaskId("pnp-counter-to-drawer", "PickPlaceCounterToDrawer", "move the target into the drawer"),
+    KitchenTaskId(
+        "pnp-microwave-to-counter",
+        "PickPlaceMicrowaveToCounter",
+        "move the target to its counter destination",
+    ),
+)
+LEVELS = (1, 2, 3)
+
+
+def targets(secret: Secret, kitchen: KitchenTaskId) -> tuple[tuple[int, int], ...]:
+    """(layout seed, episode seed) of each evaluation trial: HMAC(secret, "01-<slug>", "target/<k>/...")."""
+    tid = f"01-{kitchen.slug}"
+    return tuple(
+        (derive_seed(secret, tid, f"target/{k}/layout"), derive_seed(secret, tid, f"target/{k}/episode"))
+        for k in range(TRIALS)
+    )
+
+
+def scenes(
+    kitchen: KitchenTaskId, level: int, secret: Secret, *, image_size: tuple[int, int] | None = (128, 128)
+) -> KitchenScenes:
+    """The session's scene set: pretrain kitchens for development, the secret's targets for evaluation."""
+    from rle_design.ledger import EvaluationPhase
+
+    return KitchenScenes(
+        kitchen.task,
+        level,
+        targets(secret, kitchen),
+        EvaluationPhase(TRIALS, ACTIONS_PER_TRIAL, EVAL_WALL_S),
+        image_size=image_size,
+    )
