@@ -22,7 +22,7 @@ from pathlib import Path
 
 from rle_design.ledger.records import LedgerWriter
 from rle_design.ledger.verify import verify_ledger
-from rle_tasks.audit.runner import Case
+from rle_tasks.audit.case import Case
 from rle_tasks.core.report import ErrorEntry, VerifierReport
 from rle_tasks.core.secrets import Secret
 from rle_tasks.core.solutions import materialise
@@ -177,7 +177,7 @@ def _ledger(
     """A clean 20-step sealed ledger written with the audit secret, then tampered."""
 
     def build(d: Path) -> Path:
-        from rle_tasks.audit.runner import AUDIT_SECRET
+        from rle_tasks.audit.case import AUDIT_SECRET
 
         path = d / "ledger.jsonl"
         w = LedgerWriter(path, key or _ledger_key(AUDIT_SECRET), task)

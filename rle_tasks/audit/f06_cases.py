@@ -19,7 +19,7 @@ import shutil
 import zipfile
 from pathlib import Path
 
-from rle_tasks.audit.runner import Case
+from rle_tasks.audit.case import Case
 from rle_tasks.core.solutions import materialise
 
 C_TASK, B_TASK = "06-pose-c-learned", "06-pose-b-rgbd"

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from rle_tasks.audit.runner import Case
+from rle_tasks.audit.case import Case
 
 JOINT_TYPES = ("hinge", "slide", "ball", "free")
 F08_BODIES = ("chassis", "wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr", "battery", "universal_adapter")

@@ -13,7 +13,7 @@ import shutil
 from pathlib import Path
 
 from rle_design.ledger.records import LedgerWriter
-from rle_tasks.audit.runner import Case
+from rle_tasks.audit.case import Case
 from rle_tasks.core.solutions import materialise
 
 F01, F02 = "01-turn-on-stove-l3", "02-group-01"
@@ -35,7 +35,7 @@ def _signed(task_id: str, budget: int):
     ``budget`` development steps, with one reset."""
 
     def build(d: Path) -> Path:
-        from rle_tasks.audit.runner import AUDIT_SECRET
+        from rle_tasks.audit.case import AUDIT_SECRET
         from rle_tasks.core.devenv import ledger_key
         from rle_tasks.f01_robocasa_speedrun.task import BUDGET, KITCHEN_TASKS, scenes
 

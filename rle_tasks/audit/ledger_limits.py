@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from rle_design.ledger.testing import forge_ledger
-from rle_tasks.audit.runner import Case
+from rle_tasks.audit.case import Case
 
 __all__ = ["AUDIT_ATTEMPT", "LimitCases", "limit_cases"]
 
@@ -61,7 +61,7 @@ def _hold(n: int, size: int) -> list[str]:
 
 
 def _key(task_id: str) -> bytes:
-    from rle_tasks.audit.runner import AUDIT_SECRET
+    from rle_tasks.audit.case import AUDIT_SECRET
     from rle_tasks.core.devenv import ledger_key
 
     return ledger_key(AUDIT_SECRET, task_id)

@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
+from rle_tasks.audit.case import Case
 from rle_tasks.audit.ledger_limits import AUDIT_ATTEMPT, LimitCases, limit_cases
-from rle_tasks.audit.runner import Case
 
 from .kitchens import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, KITCHEN_TASKS, STEP_BUDGET, TRIALS, scenes
 
@@ -15,7 +15,7 @@ TASK = "01-turn-on-stove-l3"
 
 
 def _scenes():
-    from rle_tasks.audit.runner import AUDIT_SECRET
+    from rle_tasks.audit.case import AUDIT_SECRET
 
     kitchen = next(k for k in KITCHEN_TASKS if k.task_id(3) == TASK)
     return scenes(kitchen, 3, AUDIT_SECRET.for_attempt(AUDIT_ATTEMPT), image_size=None)

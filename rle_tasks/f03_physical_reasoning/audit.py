@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from rle_tasks.audit.case import Case
 from rle_tasks.audit.ledger_limits import AUDIT_ATTEMPT, LimitCases, limit_cases
-from rle_tasks.audit.runner import Case
 
 from .scene import N_SUBSTEPS
 from .scoring import CANTILEVER_ID
@@ -16,7 +16,7 @@ from .task import BUDGET, STEP_BUDGET
 
 
 def _env():
-    from rle_tasks.audit.runner import AUDIT_SECRET
+    from rle_tasks.audit.case import AUDIT_SECRET
 
     from .cantilever import instance
     from .scene import make_env

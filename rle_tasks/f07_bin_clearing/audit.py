@@ -6,8 +6,8 @@ quick mode (the audit secret's first hidden pile, 30 s).
 
 from __future__ import annotations
 
+from rle_tasks.audit.case import EXFIL_MARK, Case
 from rle_tasks.audit.corpus import F07, _code
-from rle_tasks.audit.runner import EXFIL_MARK, Case
 
 THROWER = """
 _orig_act = act

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from rle_tasks.audit.runner import Case
+from rle_tasks.audit.case import Case
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f08_mobile_base.scoring import CAP
 

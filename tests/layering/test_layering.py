@@ -139,8 +139,6 @@ KNOWN_CYCLES = {
     frozenset(c.split())
     for c in (
         "rle_design.mjcf.artifact_files rle_design.mjcf.contract rle_design.mjcf.loader rle_design.mjcf.mesh",
-        "rle_tasks.audit.corpus rle_tasks.audit.f06_cases rle_tasks.audit.generated rle_tasks.audit.kitchen_cases "
-        "rle_tasks.audit.runner",
         "rle_tasks.f09_gello.solutions.attached rle_tasks.f09_gello.solutions.build",
     )
 }
