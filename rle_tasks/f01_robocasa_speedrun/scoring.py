@@ -45,3 +45,10 @@ def rubric(task_id: str) -> Rubric:
 
 RUBRIC = rubric("01-open-fridge-l1")
 """The family's rubric as the family-shape test reads it (every task's has the same table)."""
+
+
+def rubrics() -> dict[str, Rubric]:
+    """Task id -> rubric, for every task of the family."""
+    from .kitchens import KITCHEN_TASKS, LEVELS
+
+    return {k.task_id(level): rubric(k.task_id(level)) for k in KITCHEN_TASKS for level in LEVELS}

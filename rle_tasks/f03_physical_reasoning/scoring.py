@@ -46,3 +46,14 @@ CANTILEVER_RUBRIC = Rubric(
 RUBRICS = {TOWER_ID: TOWER_RUBRIC, CANTILEVER_ID: CANTILEVER_RUBRIC}
 RUBRIC = TOWER_RUBRIC
 """The family's first rubric (the family-shape test reads ``RUBRIC``)."""
+
+
+def rubrics() -> dict[str, Rubric]:
+    """Task id -> rubric, for every task of the family (three are declared beside their verifiers)."""
+    from . import balance_verifier, hidden_com_verifier
+    from .cube import verifier as cube_verifier
+
+    out = dict(RUBRICS)
+    for module in (balance_verifier, hidden_com_verifier, cube_verifier):
+        out[module.RUBRIC.task_id] = module.RUBRIC
+    return out

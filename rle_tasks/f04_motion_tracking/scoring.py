@@ -74,3 +74,8 @@ RUBRIC = Rubric(
 def rubric(task_id: str, n_seeds: int = N_SEEDS) -> Rubric:
     """The rubric of one task over its first ``n_seeds`` seeds."""
     return replace(RUBRIC, task_id=task_id, variants=RUBRIC.variants[:n_seeds])
+
+
+def rubrics() -> dict[str, Rubric]:
+    """Task id -> rubric, for every task of the family (the five clips share one)."""
+    return dict.fromkeys(TASK_IDS, RUBRIC)

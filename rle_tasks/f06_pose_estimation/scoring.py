@@ -139,3 +139,8 @@ RUBRICS = {tid: make_rubric(tid) for tid in TASK_IDS}
 """Rubric per task id."""
 RUBRIC = RUBRICS[TASK_IDS[0]]
 """The rubric of ``06-pose-a-rgb``; the four tasks share its checkpoints and table."""
+
+
+def rubrics() -> dict[str, Rubric]:
+    """Task id -> rubric, for every task of the family."""
+    return dict(RUBRICS)

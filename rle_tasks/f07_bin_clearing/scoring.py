@@ -135,3 +135,8 @@ __all__ = [
     "pile_terms",
     "rubric",
 ]
+
+
+def rubrics() -> dict[str, Rubric]:
+    """Task id -> rubric (the family's one task)."""
+    return {RUBRIC.task_id: RUBRIC}

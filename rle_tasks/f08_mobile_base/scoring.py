@@ -96,3 +96,8 @@ RUBRIC = Rubric(
 )
 CAP = RUBRIC.cap("structure").value
 WEIGHTS = {c.id: c.weight for c in RUBRIC.checkpoints}
+
+
+def rubrics() -> dict[str, Rubric]:
+    """Task id -> rubric (the family's one task)."""
+    return {RUBRIC.task_id: RUBRIC}

@@ -119,3 +119,8 @@ BY_ID = {c.id: c for c in CHECKPOINTS}
 def mean_score(curve_id: str, values) -> float:
     """Mean of the per-sample scores of a checkpoint (a sample per test pose); 0 when there are none."""
     return BY_ID[curve_id].mean_score(values)
+
+
+def rubrics() -> dict[str, Rubric]:
+    """Task id -> rubric (the family's one task)."""
+    return {RUBRIC.task_id: RUBRIC}
