@@ -63,7 +63,7 @@ def joint_overlaps(m: mujoco.MjModel, added: list[int], poses: np.ndarray) -> di
 
 
 def collision_fraction(
-    design: Design, added_bodies: list[str], poses: np.ndarray, across_joints: bool = True
+    design: Design, added_bodies: list[str], poses: np.ndarray
 ) -> tuple[float, list[str], list[Overlap]]:
     """Fraction of poses with an added part in collision, up to five example pairs, and the overlaps
     across a joint (one per pose at which one is the only failure; ``Overlap.pose`` indexes
@@ -73,8 +73,6 @@ def collision_fraction(
         design: Loaded submission.
         added_bodies: Names of the bodies that are not in the stock assembly.
         poses: Grid poses [rad], shape (N, n).
-        across_joints: Also test parts inside the next link across a joint (the verifier always
-            does; the reference's build ranks placements without it, ``solutions/attached.py``).
     """
     if len(poses) == 0:
         return 0.0, [], []
@@ -113,7 +111,7 @@ def collision_fraction(
         hits += bad
     # a part inside the next link across a joint (MuJoCo never collides the pair) fails a pose too;
     # tested exactly, only at the poses nothing else fails
-    found = joint_overlaps(m, sorted(added), poses[open_poses]) if open_poses and across_joints else {}
+    found = joint_overlaps(m, sorted(added), poses[open_poses]) if open_poses else {}
     overlaps = [replace(o, pose=open_poses[k]) for k, o in sorted(found.items())]
     for o in overlaps[: max(0, 5 - len(examples))]:
         examples.append(f"{o.geom1}/{o.geom2}")

@@ -3,14 +3,14 @@
 ``exact_design`` (``build.py``) places steel counterweights and a zero-length spring where they
 balance the arm exactly, but leaves them in mid-air. Here each element is fastened to its link:
 
-* a counterweight hangs on a printed PLA rod (cylinder, ``ARM_RADIUS``) from the nearest point of its
+* a counterweight hangs on an aluminium rod (cylinder, ``ARM_RADIUS``) from the nearest point of its
   link's material (``EMBED`` inside it) to the sphere's centre; the rod's mass is counted. Or it sits
-  on an L-bracket: a printed post rises from the link's tube ``BRACKET_REACH`` out along the link
-  (away from the joint, clear of the neighbouring link's tube end) parallel to the joint axis to the
-  sphere's axial height, and the rod runs from the post's top across the axis to the sphere, so
-  the rod sweeps a disc beside the neighbouring link instead of through it;
-* each spring end sits on the end face of a printed PLA post (``BRACKET_RADIUS``) from the nearest
-  point of its link's material (``EMBED`` inside) to the spring site;
+  on an L-bracket (``BRACKETS``): a post rises from the link's material nearest its top, which stands
+  out along the link or beside it at the sphere's axial height, and the rod runs from the post's top
+  to the sphere, so it sweeps a disc beside the neighbouring link instead of through it;
+* each spring end sits on the end face of an aluminium post (``BRACKET_RADIUS``) from the nearest
+  point of its link's material (``EMBED`` inside) to the spring site, or, for the anchor, on an
+  L-post that leaves link 1 below the shoulder and rises beside link 2's sweep (``SPRING_OPTIONS``);
 * the ideal spring becomes a catalog spring (``rle_design/catalogs/springs.yaml``): the entry whose
   rate is nearest the exact stiffness among those rated for ``FORCE_MARGIN`` times the largest
   tension over the grid;
@@ -35,15 +35,19 @@ from rle_design.kinematics import model_from_mujoco
 from rle_design.kinematics.codesign import CounterweightSlot, SpringSlot, optimise_balance
 from rle_tasks.f09_gello.device import ASSET_DIR, STEEL_DENSITY
 
-PLA_DENSITY = 1240.0
-"""Solid printed PLA [kg/m^3]."""
-ARM_RADIUS = 0.006
-"""Counterweight rod radius [m]: 12 mm PLA rods. The 10 mm rods of the first fastened reference let
-panda's 0.43 kg wrist weight sag 4.0 mm on its 168 mm rod, 2.4 % of the span, beyond the 2 % sag
-limit (``contract.flexible_part``, issue 45); a 12 mm rod is 2.07 times stiffer (I ~ r^4)."""
+ROD_DENSITY = 2700.0
+"""Rods and posts are aluminium 6063 bar [kg/m^3] (``materials.yaml``), threaded into the printed links:
+an 8 mm aluminium rod weighs what a 12 mm PLA rod does (0.136 against 0.140 kg/m) but is four times
+stiffer (E I) and four times as strong (97 against 25 MPa allowable), and thinner, so it clears the
+neighbouring links more often."""
+ARM_RADIUS = 0.004
+"""Counterweight rod and L-bracket post radius [m]: 8 mm aluminium. Panda's 0.43 kg wrist weight
+on its 168 mm rod: 28 MPa against 97 MPa allowable, 0.5 mm sag (2 % is 3.4 mm). (12 mm PLA rods
+before issue 45's routing; 10 mm PLA ones sagged 2.4 % of their span, ``contract.flexible_part``.)"""
 BRACKET_RADIUS = 0.006
-"""Spring post radius [m]: 60-68 N of spring tension 50 mm out stresses a 12 mm PLA post to ~21 MPa,
-within PLA's 25 MPa allowable (``contract.overstressed_part``: 50 MPa / 2)."""
+"""Spring post radius [m]: 12 mm aluminium. An anchor L-post's 28 mm foot carrying 98 N of spring
+(the heaviest exact design the build tries) 80 mm below the anchor bends to 64 MPa, within
+aluminium's 97 MPa allowable (``contract.overstressed_part``: 145 MPa / 1.5)."""
 EMBED = 0.002
 """Printed parts reach this far into the part they are fastened to [m]."""
 BOX = 0.015
@@ -56,9 +60,22 @@ ATTACH_BOX = 0.005
 catalog rate is within a few per cent of the exact stiffness, i.e. ~1.5 mm of the 50 mm arm."""
 FORCE_MARGIN = 1.25
 """A catalog spring is chosen only if rated for this multiple of the largest tension on the grid [1]."""
-BRACKET_REACH = 0.04
-"""Distance of an L-bracket's post from the joint axis, along the link [m]: beyond the ~20 mm
-radius of the neighbouring link's tube that ends at the joint."""
+BRACKETS = ((0.04, 0.0), (0.07, 0.0), (0.03, 0.05), (0.03, -0.05))
+"""Where an L-bracket's post stands, the greedy's options [m]: (along the link, towards its centre of
+mass and away from the weight; across, perpendicular to it and to the joint axis). Along the link the
+post rises from the link's tube beyond the ~20 mm radius of the neighbouring link's tube that ends at
+the joint, and the rod crosses the axis at the weight's height; beside it the rod passes 30-40 mm
+from the axis, clear of a neighbouring tube that runs along the axis (a roll joint)."""
+SPRING_OPTIONS = tuple(
+    (s * za, s * zb, drop)
+    for s in (1, -1)
+    for za, zb in ((0.03, 0.03), (0.045, 0.025), (0.055, 0.03), (0.055, 0.035), (0.07, 0.035))
+    for drop in (None, 0.0, 0.03)
+)
+"""Spring mounts the build chooses from: anchor and attachment offsets along joint 2's axis [m] (the
+balance does not depend on them, ``build.exact_design``) and the anchor post's route: None, a
+straight post from the nearest material of link 1; a drop d [m], an L-post that leaves link 1's tube
+at d below joint 2 and rises parallel to link 1, beside the shoulder servo rather than through it."""
 
 
 @dataclass(frozen=True)
@@ -70,11 +87,14 @@ class Fastened:
         spring: ``(link, anchor, post start, link, attachment, post start, stiffness [N/m])`` or None.
         posts: Per counterweight, its L-bracket post ``(start in the link, top)`` (the rod then
             starts at the top), or None for a straight rod.
+        anchor_elbow: The spring anchor post's bend (link 1 frame): the post runs from its start to
+            the elbow, then to the anchor; None for a straight post.
     """
 
     counterweights: tuple[tuple[str, np.ndarray, float, np.ndarray], ...]
     spring: tuple[str, np.ndarray, np.ndarray, str, np.ndarray, np.ndarray, float] | None
     posts: tuple[tuple[np.ndarray, np.ndarray] | None, ...] = ()
+    anchor_elbow: np.ndarray | None = None
 
 
 def _fmt(v) -> str:
@@ -138,8 +158,8 @@ def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterwei
             type="cylinder",
             fromto=_fmt(np.concatenate([start, end])),
             size=f"{radius:.9g}",
-            density=f"{PLA_DENSITY:.9g}",
-            rgba="0.95 0.55 0.1 1",
+            density=f"{ROD_DENSITY:.9g}",
+            rgba="0.75 0.77 0.8 1",
         )
 
     posts = design.posts or (None,) * len(design.counterweights)
@@ -148,7 +168,7 @@ def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterwei
         if post is not None:  # the L-bracket's post is structure of the link: written even without weights
             start, top = post
             holder = etree.SubElement(body(link), "body", name=f"counterweight{k}_post", pos=_fmt(top))
-            rod(holder, f"counterweight{k}_post_pla", np.asarray(start) - top, np.zeros(3), ARM_RADIUS)
+            rod(holder, f"counterweight{k}_post_al", np.asarray(start) - top, np.zeros(3), ARM_RADIUS)
             holders[k] = (holder, np.asarray(top))
     if with_counterweights:
         for k, (link, centre, mass, start) in enumerate(design.counterweights, 1):
@@ -172,7 +192,13 @@ def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterwei
         l1, p1, s1, l2, p2, s2, k = design.spring
         for name, link, site, start in (("anchor", l1, p1, s1), ("attach", l2, p2, s2)):
             post = etree.SubElement(body(link), "body", name=f"spring_{name}_post", pos=_fmt(site))
-            rod(post, f"spring_{name}_post_pla", np.asarray(start) - site, np.zeros(3), BRACKET_RADIUS)
+            elbow = design.anchor_elbow if name == "anchor" else None
+            if elbow is None:
+                rod(post, f"spring_{name}_post_al", np.asarray(start) - site, np.zeros(3), BRACKET_RADIUS)
+            else:
+                bend = np.asarray(elbow) - site
+                rod(post, f"spring_{name}_foot_al", np.asarray(start) - site, bend, BRACKET_RADIUS)
+                rod(post, f"spring_{name}_post_al", bend, np.zeros(3), BRACKET_RADIUS)
             etree.SubElement(post, "site", name=f"spring_{name}", pos="0 0 0", size="0.004")
         tendon = etree.SubElement(root, "tendon")
         sp = etree.SubElement(
@@ -193,35 +219,57 @@ def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterwei
 
 
 def fasten(
-    robot: str, exact, servo_mount: frozenset[str] = frozenset(), bracket: frozenset[str] = frozenset()
+    robot: str,
+    exact,
+    servo_mount: frozenset[str] = frozenset(),
+    bracket: dict[str, tuple[float, float]] | None = None,
+    anchor_drop: float | None = None,
 ) -> Fastened:
     """Mounts for an ``exact_design``: rods to each counterweight, posts under each spring end.
 
     A rod starts on its link's printed shell, or on any of the link's geoms (the servo housing) for
-    the links in ``servo_mount``; for the links in ``bracket`` it starts on the top of an L-bracket's
-    post (module docstring). The masses and stiffness are still the exact (mid-air) ones;
-    ``optimise`` re-balances them.
+    the links in ``servo_mount``; for the links in ``bracket`` (link -> ``BRACKETS`` entry) it
+    starts on the top of an L-bracket's post that rises from the link's nearest material. The
+    spring anchor's post is straight, or bent ``anchor_drop`` below joint 2 (``SPRING_OPTIONS``). The
+    masses and stiffness are still the exact (mid-air) ones; ``optimise`` re-balances them.
     """
     stock = ASSET_DIR / robot / "lead.xml"
+    bracket = bracket or {}
     cws, posts = [], []
     for link, pos, mass in exact.counterweights:
         centre = np.asarray(pos, float)
         if link in bracket:
             along = -centre[:2] / np.linalg.norm(centre[:2])  # towards the link's centre of mass
-            foot = np.array([*(BRACKET_REACH * along), 0.0])
-            top = np.array([foot[0], foot[1], centre[2]])
-            posts.append((nearest_on_body(stock, link, foot, shell_only=link not in servo_mount), top))
+            across = np.array([-along[1], along[0]])
+            reach, side = bracket[link]
+            top = np.array([*(reach * along + side * across), centre[2]])
+            # the post rises from the material nearest its top: along the joint axis from the side
+            # of a link that runs across the axis, so it stays out of the neighbouring link's sweep
+            posts.append((nearest_on_body(stock, link, top, shell_only=link not in servo_mount), top))
             cws.append((link, centre, float(mass), top))
         else:
             posts.append(None)
             start = nearest_on_body(stock, link, centre, shell_only=link not in servo_mount)
             cws.append((link, centre, float(mass), start))
-    spring = None
+    spring, elbow = None, None
     if exact.spring is not None:
         l1, p1, l2, p2, k = exact.spring
         p1, p2 = np.asarray(p1, float), np.asarray(p2, float)
-        spring = (l1, p1, nearest_on_body(stock, l1, p1), l2, p2, nearest_on_body(stock, l2, p2), float(k))
-    return Fastened(tuple(cws), spring, tuple(posts))
+        start1 = None
+        if anchor_drop is not None:
+            m = mujoco.MjModel.from_xml_path(str(stock))
+            b2 = m.body(l2)
+            axis = np.zeros(9)
+            mujoco.mju_quat2Mat(axis, b2.quat)
+            axis = axis.reshape(3, 3)[:, 2]
+            rel = p1 - b2.pos
+            up = rel - axis * (axis @ rel)  # the anchor's arm, across joint 2's axis
+            elbow = p1 - up - anchor_drop * up / np.linalg.norm(up)
+            start1 = nearest_on_body(stock, l1, elbow)
+        else:
+            start1 = nearest_on_body(stock, l1, p1)
+        spring = (l1, p1, start1, l2, p2, nearest_on_body(stock, l2, p2), float(k))
+    return Fastened(tuple(cws), spring, tuple(posts), elbow)
 
 
 def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple[Fastened, float]:
@@ -254,7 +302,7 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
         b = m.body(link).id
         return d.xmat[b].reshape(3, 3).T @ (world - d.xpos[b])
 
-    lam = PLA_DENSITY * np.pi * ARM_RADIUS**2
+    lam = ROD_DENSITY * np.pi * ARM_RADIUS**2
     cw_slots = []
     for i, (link, centre, mass, start) in enumerate(design.counterweights):
         jid, c = to_joint(link, centre)
@@ -286,7 +334,7 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
         l1, p1, s1, l2, _, s2, _ = design.spring
         _, b, rate = res.springs["spring"]
         spring = (l1, p1, s1, l2, to_link(l2, sp_slots[0].attach_joint, b), s2, rate)
-    return Fastened(tuple(cws), spring, design.posts), res.worst_residual
+    return Fastened(tuple(cws), spring, design.posts, design.anchor_elbow), res.worst_residual
 
 
 def catalog_spring(m: mujoco.MjModel, grid: np.ndarray, stiffness: float):
@@ -310,14 +358,14 @@ def _loss(collisions: float, worst_residual: float, effort: np.ndarray | None = 
     """Score lost to motion clearance, the passive residual and added inertia, as the rubric counts
     them [1].
 
-    Clearance: 0.10 x fraction / 0.05 up to its 5 % fail value, as the checkpoint counts it, then a
-    slope of 0.005 per 5 % beyond (the checkpoint gives nothing there, but fewer collisions still
-    break ties); residual: the passive-residual checkpoint (0.02 to 0.35 N m) plus the passive hold,
-    lost once the residual exceeds the ~0.013 N m servo friction; inertia: both submitted-arm
+    Clearance: 0.10 x fraction / 0.05, as the checkpoint counts it up to its 5 % fail value, and on
+    beyond it (the checkpoint gives nothing there, but a greedy that stopped counting there would
+    never bring the sum of several joints' collisions back under it); residual: the passive-residual
+    checkpoint (0.02 to 0.35 N m) plus the passive hold, lost once the residual exceeds the ~0.013 N m servo friction; inertia: both submitted-arm
     backdrive checkpoints (0.03 to 0.35 N m) on the servo friction plus ``effort`` (per pose, the
     worst joint's ``ACCEL_REF x`` added inertia [N m]).
     """
-    clear = 0.1 * min(collisions, 0.05) / 0.05 + 0.005 * max(collisions - 0.05, 0.0) / 0.05
+    clear = 0.1 * collisions / 0.05
     resid = 0.1 * float(np.clip((worst_residual - 0.02) / 0.33, 0.0, 1.0))
     hold = 0.1 * float(np.clip((worst_residual - 0.013) / 0.05, 0.0, 1.0))
     back = 0.0
@@ -326,15 +374,43 @@ def _loss(collisions: float, worst_residual: float, effort: np.ndarray | None = 
     return clear + resid + hold + back
 
 
-def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: bool = False) -> Fastened:
+def structure_faults(path: Path, stock: set[str], grid: np.ndarray) -> list[str]:
+    """The verifier's workshop findings that refuse a leader (seats, materials, inertials, strength),
+    with spring tensions over ``grid``; parts inside the next link across a joint are not among
+    them (they are scored as motion clearance)."""
+    from rle_design.mjcf.workshop import workshop_findings
+    from rle_tasks.f09_gello.public.gello_helpers import WORKSHOP
+
+    spec = mujoco.MjSpec.from_file(str(path))
+    m = spec.compile()
+    added = [b for b in range(1, m.nbody) if mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) not in stock]
+    others = [b for b in range(1, m.nbody) if b not in set(added)]
+    found = workshop_findings(
+        spec, m, added, WORKSHOP, poses=grid, baseline=others, fused=added, joint_poses=False
+    )
+    return [f"{f.code}: {f.message}" for f in found if f.code != "interpenetration.joint"]
+
+
+def clear_fastened(
+    robot: str, n_poses: int = 256, passes: int = 2, shortlist: int = 24, verbose: bool = False
+) -> Fastened:
     """The fastened, re-balanced reference of ``robot``, with placements chosen for clearance.
 
-    Greedy passes from the tip (joint n down to 3): each joint's placement (``build.PLACEMENTS``) and
-    mount (shell or servo housing, straight rod or L-bracket) is chosen with the others fixed, each
-    candidate scored with its rods and posts in place: the fraction of public-grid poses where an
-    added part collides with the arm, the base or the table, or the spring's path passes through a
-    part, and the backdrive credit the added inertia costs (``_loss``; ties: lighter device; devices
-    over ``build.MASS_CAP`` lose). The chosen placement is then re-balanced by ``optimise``.
+    Clearance is what the verifier counts (``clearance.collision_fraction``): MuJoCo's contacts of
+    added parts with the arm, the base or the table, spring paths through parts, and added parts
+    inside the next link across a joint (the exact test of ``rle_design.mjcf.interpenetration``,
+    which MuJoCo's contact filter skips), on ``n_poses`` public-grid poses.
+
+    1. Spring mount (``SPRING_OPTIONS``): the one whose posts, alone on the arm, clear the most
+       poses (ties: the first listed); chosen again before each pass and at the end, since the
+       attachment follows link 2's centre of mass and so the counterweights.
+    2. Greedy passes from the tip (joint n down to 3): each joint's placement (``build.PLACEMENTS``)
+       and mount (shell or servo housing; straight rod or an L-bracket, ``BRACKETS``) is chosen
+       with the others fixed: every candidate is ranked by ``_loss`` with the clearance of the
+       parts on the joints already placed and the candidate's own on every fourth pose, then the
+       best ``shortlist`` again on all ``n_poses`` (ties: lighter device; devices over
+       ``build.MASS_CAP`` or with a workshop finding, ``structure_faults``, lose).
+    3. The chosen design is re-balanced by ``optimise``.
     """
     import tempfile
 
@@ -349,61 +425,89 @@ def clear_fastened(robot: str, n_poses: int = 256, passes: int = 2, verbose: boo
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
     stock_leader = m
     grid = workspace_grid(m.jnt_range, n_poses)
-    placement: dict[int, tuple[float, float]] = {}
-    mount: dict[str, tuple[bool, bool]] = {}  # link -> (start on the servo housing, L-bracket)
+    placement: dict[int, tuple[float, float] | None] = {}
+    mount: dict[str, tuple[bool, tuple[float, float] | None]] = {}  # link -> (on the servo, L-bracket)
     stock = set(stock_names(robot)[0])
-    g = float(np.linalg.norm(m.opt.gravity))
-    unbalanced = {  # joint k -> gravity moment of its subtree without a counterweight [N m]
-        int(link[4:]): g * mass * float(np.linalg.norm(np.asarray(pos)[:2]))
-        for link, pos, mass in exact_design(robot).counterweights
-    }
+    spring = SPRING_OPTIONS[0]
 
-    def fastened(pl, mounts) -> Fastened:
+    def fastened(pl, mounts, sp=None) -> Fastened:
+        za, zb, drop = sp or spring
         servo = frozenset(link for link, (on_servo, _) in mounts.items() if on_servo)
-        bracket = frozenset(link for link, (_, on_bracket) in mounts.items() if on_bracket)
-        return fasten(robot, exact_design(robot, pl), servo, bracket)
+        bracket = {link: post for link, (_, post) in mounts.items() if post is not None}
+        return fasten(robot, exact_design(robot, pl, (za, zb)), servo, bracket, drop)
 
-    def cost(pl, mounts) -> tuple[float, float]:
+    def link_of(lm, b: int) -> str:
+        while (name := mujoco.mj_id2name(lm, mujoco.mjtObj.mjOBJ_BODY, b)) not in stock:
+            b = int(lm.body_parentid[b])
+        return name
+
+    def cost(pl, mounts, poses: np.ndarray) -> tuple[float, float]:
         design = fastened(pl, mounts)
         with tempfile.TemporaryDirectory() as tmp:
             path = write_leader(robot, design, Path(tmp) / robot)
             leader = load_design(path.parent, entry="lead.xml")
             lm = leader.compile()
-            names = [mujoco.mj_id2name(lm, mujoco.mjtObj.mjOBJ_BODY, b) for b in range(1, lm.nbody)]
-            names = [n for n in names if n not in stock]
-            # spring paths included; parts inside the next link across a joint not: the spring
-            # posts sit inside link2 at every pose (README), which would fail every candidate alike
-            # and leave the greedy nothing to rank placements by
-            frac = collision_fraction(leader, names, grid, across_joints=False)[0]
+            added = [
+                b
+                for b in range(1, lm.nbody)
+                if mujoco.mj_id2name(lm, mujoco.mjtObj.mjOBJ_BODY, b) not in stock
+            ]
+            names = [mujoco.mj_id2name(lm, mujoco.mjtObj.mjOBJ_BODY, b) for b in added]
+            # the parts of the joints not yet placed (default placements) are left out
+            placed = {f"link{k}" for k in pl} | {"link1", "link2"}
+            names = [n for n, b in zip(names, added, strict=True) if link_of(lm, b) in placed]
+            frac = collision_fraction(leader, names, poses)[0]
             mass = float(lm.body_mass[1:].sum())
             # the rods' own moments are re-balanced by ``optimise``; a joint left without a
-            # counterweight keeps its subtree's gravity moment
-            worst = max((unbalanced.get(k, 0.0) for k, v in pl.items() if v is None), default=0.0)
-            cuts = len(spring_cut_poses(lm, grid)) / len(grid)
+            # counterweight keeps its subtree's gravity moment, and so does every joint nearer the
+            # base, down to the shoulder spring (that subtree's centre of mass moves with the joint)
+            worst = sum(exact_design(robot, pl).unbalanced.values())
+            cuts = len(spring_cut_poses(lm, poses)) / len(poses)
             refused = mass > MASS_CAP or cuts > 0.8 * SPRING_CUT_MAX  # margin to the structure rule
+            refused = refused or bool(structure_faults(path, stock, grid))
             effort = ACCEL_REF * np.max(added_inertia(lm, stock_leader, grid[:64]), axis=1)
             return _loss(frac, worst, effort) + (1.0 if refused else 0.0), mass
 
-    kinds = [(on_servo, on_bracket) for on_bracket in (False, True) for on_servo in (False, True)]
+    def spring_clearance(sp) -> float:
+        design = fastened(placement, mount, sp)
+        bare = Fastened((), design.spring, (), design.anchor_elbow)
+        with tempfile.TemporaryDirectory() as tmp:
+            path = write_leader(robot, bare, Path(tmp) / robot)
+            leader = load_design(path.parent, entry="lead.xml")
+            frac = collision_fraction(leader, ["spring_anchor_post", "spring_attach_post"], grid)[0]
+            return frac + (1.0 if structure_faults(path, stock, grid) else 0.0)
+
+    def choose_spring() -> None:
+        nonlocal spring
+        spring = min(SPRING_OPTIONS, key=spring_clearance)
+        if verbose:
+            print(f"  {robot} spring {spring}: posts clear of all but {spring_clearance(spring):.3f}")
+
+    kinds = [(on_servo, post) for post in (None, *BRACKETS) for on_servo in (False, True)]
     for _ in range(passes):
+        choose_spring()
         for k in range(m.nv, 2, -1):
             link = f"link{k}"
-            options = [(opt, kind) for opt in PLACEMENTS for kind in kinds]
+            options = [(opt, kind) for opt in PLACEMENTS if opt is not None for kind in kinds]
+            options.append((None, (False, None)))
 
-            def score(o, k=k, link=link):
-                return cost({**placement, k: o[0]}, {**mount, link: o[1]})
+            def score(o, poses, k=k, link=link):
+                return cost({**placement, k: o[0]}, {**mount, link: o[1]}, poses)
 
-            best = min(options, key=score)
+            rough = sorted(options, key=lambda o: score(o, grid[::4]))
+            best = min(rough[:shortlist], key=lambda o: score(o, grid))
             placement[k] = best[0]
             mount[link] = best[1]
             if verbose:
                 what = (
                     "no counterweight"
                     if best[0] is None
-                    else f"r_c {best[0][0]:.2f} m, axial {best[0][1]:+.3f} m, "
-                    f"{'servo' if best[1][0] else 'shell'} mount{', L-bracket' if best[1][1] else ''}"
+                    else f"r_c {best[0][0]:.2f} m, axial {best[0][1] if best[0][1] is None else round(best[0][1], 3)} m, "
+                    f"{'servo' if best[1][0] else 'shell'} mount"
+                    + (f", L-bracket at {best[1][1]} m" if best[1][1] else "")
                 )
-                print(f"  {robot} joint {k}: {what} -> {cost(placement, mount)}", flush=True)
+                print(f"  {robot} joint {k}: {what} -> {cost(placement, mount, grid)}", flush=True)
+    choose_spring()
     with tempfile.TemporaryDirectory() as tmp:
         design, worst = optimise(robot, fastened(placement, mount), grid, Path(tmp))
     if verbose:

@@ -10,12 +10,13 @@ Reference (``solutions/reference/<robot>/lead.xml``), derivation (``exact_design
    zero-length spring (tendon ``springlength="0"``) from ``SPRING_ARM`` above joint 2 on link 1 to
    ``SPRING_ARM`` along the centre-of-mass direction on link 2 with k a b = M g |d| balances it
    exactly at every angle (residual ~1e-8 N m from the 9-digit XML numbers).
-3. Fastening (``attached.py``): each counterweight on a printed PLA rod from its link's shell (or
-   servo housing) and each spring end on a printed PLA post, placements chosen greedily for clearance
-   (collisions and spring paths through parts); the ideal spring becomes the catalog spring nearest
-   in rate (``rle_design/catalogs/springs.yaml``), then masses, centres and the spring's attachment
-   point re-optimised with the rods and posts counted (``rle_design.kinematics.codesign``,
-   CasADi/IPOPT).
+3. Fastening (``attached.py``): each counterweight on an aluminium rod from its link's shell (or
+   servo housing) or on an L-bracket, each spring end on an aluminium post, placements chosen
+   greedily for clearance as the verifier counts it (collisions, spring paths through parts, and
+   parts inside the next link across a joint, ``rle_design.mjcf.interpenetration``); the ideal
+   spring becomes the catalog spring nearest in rate (``rle_design/catalogs/springs.yaml``), then
+   masses, centres and the spring's attachment point re-optimised with the rods and posts counted
+   (``rle_design.kinematics.codesign``, CasADi/IPOPT).
 4. ``trim.py`` (shared by the three robots) fits the identifiable gravity parameters (QR base
    parameters of the Pinocchio regressor) to the 16 probes with a small ridge to the nominal values,
    after a greedy D-optimal probe plan over a candidate grid; hidden link-mass and payload changes
@@ -39,6 +40,7 @@ from rle_tasks.f09_gello.device import ASSET_DIR, STEEL_DENSITY
 from rle_tasks.f09_gello.leaders import ROBOTS
 
 PKG = Path(__file__).resolve().parents[1]
+AXIAL_MAX = 0.12
 CW_AXIAL = 0.055
 EXACT_RADIUS = 0.10
 MASS_CAP = 2.1
@@ -54,11 +56,14 @@ class Design:
         counterweights: ``(link body, position in its frame [m], mass [kg])`` per steel sphere.
         spring: ``(body, anchor [m], body, attachment [m], stiffness [N/m])`` of a zero-length spring.
         torsion: ``(joint, stiffness [N m/rad], rest angle [rad])`` per torsion spring.
+        unbalanced: Joint k -> gravity moment of its subtree [N m], for each joint k >= 3 left
+            without a counterweight (the servo carries it).
     """
 
     counterweights: tuple[tuple[str, tuple[float, float, float], float], ...]
     spring: tuple[str, tuple[float, ...], str, tuple[float, ...], float] | None
     torsion: tuple[tuple[str, float, float], ...]
+    unbalanced: dict[int, float] | None = None
 
 
 def _rot(quat: np.ndarray) -> np.ndarray:
@@ -67,7 +72,11 @@ def _rot(quat: np.ndarray) -> np.ndarray:
     return r.reshape(3, 3)
 
 
-def exact_design(robot: str, placement: dict[int, tuple[float, float] | None] | None = None) -> Design:
+def exact_design(
+    robot: str,
+    placement: dict[int, tuple[float, float] | None] | None = None,
+    spring_axial: tuple[float, float] = (SPRING_OFFSET, SPRING_OFFSET),
+) -> Design:
     """Exact static balance: counterweights tip-first on joints 3..n, zero-length spring on joint 2.
 
     Working from the handle towards the base, the subtree beyond joint k (its link, everything
@@ -83,7 +92,14 @@ def exact_design(robot: str, placement: dict[int, tuple[float, float] | None] | 
     Args:
         robot: Follower id.
         placement: Joint k -> (r_c [m], axial shift [m]) of its counterweight, or None for no
-            counterweight on joint k; default (``EXACT_RADIUS``, ``CW_AXIAL``).
+            counterweight on joint k; default (``EXACT_RADIUS``, ``CW_AXIAL``). An axial shift of
+            None puts the balanced subtree's centre of mass where axis k passes nearest axis k - 1
+            (on it where they cross, as at panda's wrist): joint k - 1 then carries only its own
+            link's moment and may do without a counterweight.
+        spring_axial: Offsets of the spring's anchor and attachment along joint 2's axis [m]: a
+            zero-length spring's torque about the axis does not depend on them (its energy
+            k |a - R b|^2 / 2 changes by a constant), so they only move the posts clear of the links
+            and of each other.
     """
     placement = placement or {}
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
@@ -91,6 +107,8 @@ def exact_design(robot: str, placement: dict[int, tuple[float, float] | None] | 
     child_m, child_s = 0.0, np.zeros(3)
     cws = []
     spring = None
+    unbalanced = {}
+    g = float(np.linalg.norm(m.opt.gravity))
     for k in range(n, 1, -1):
         b = m.body(f"link{k}").id
         mass = float(m.body_mass[b]) + child_m
@@ -104,18 +122,23 @@ def exact_design(robot: str, placement: dict[int, tuple[float, float] | None] | 
             u = np.array([d[0], d[1], 0.0]) / off
             radius, axial = placement.get(k, (EXACT_RADIUS, CW_AXIAL))
             mc = mass * off / radius
+            if axial is None:  # nearest point of axis k to axis k - 1, in link k's frame
+                o, e = m.body_pos[b], _rot(m.body_quat[b])[:, 2]
+                z = -float(o[:2] @ e[:2]) / max(float(e[:2] @ e[:2]), 1e-12)
+                axial = float(np.clip((z * (mass + mc) - first[2]) / mc, -AXIAL_MAX, AXIAL_MAX))
             pos = -radius * u + np.array([0.0, 0.0, axial])
             cws.append((f"link{k}", tuple(float(x) for x in pos), mc))
             first = first + mc * pos
             mass += mc
+        elif k >= 3:
+            unbalanced[k] = g * mass * off
         elif k == 2:
-            g = float(np.linalg.norm(m.opt.gravity))
             b1, b2 = m.body("link1").id, m.body("link2").id
             axis1 = _rot(m.body_quat[b2])[:, 2]
             up = np.array([0.0, 0.0, 1.0]) - axis1 * axis1[2]
             up /= np.linalg.norm(up)
-            anchor = m.body_pos[b2] + SPRING_ARM * up + SPRING_OFFSET * axis1
-            attach = SPRING_ARM * np.array([d[0], d[1], 0.0]) / off + np.array([0.0, 0.0, SPRING_OFFSET])
+            anchor = m.body_pos[b2] + SPRING_ARM * up + spring_axial[0] * axis1
+            attach = SPRING_ARM * np.array([d[0], d[1], 0.0]) / off + np.array([0.0, 0.0, spring_axial[1]])
             stiffness = mass * g * off / (SPRING_ARM * SPRING_ARM)
             spring = (
                 "link1",
@@ -126,7 +149,7 @@ def exact_design(robot: str, placement: dict[int, tuple[float, float] | None] | 
             )
             del b1
         child_m, child_s = mass, first
-    return Design(tuple(cws), spring, ())
+    return Design(tuple(cws), spring, (), unbalanced)
 
 
 def _fmt(v) -> str:
@@ -192,10 +215,12 @@ PLACEMENTS = (
         for s in (1, -1)
     )
     + ((0.035, 0.0), (0.04, 0.0), (0.04, 0.035), (0.04, -0.035), None)
+    + tuple((r, None) for r in (0.05, 0.08, 0.10, 0.12, 0.15))
 )
 """Counterweight options of the greedy placement: (radius from the joint axis, axial shift) [m], the
-compact 35-40 mm ones (heavier, but they stay inside the links' sweep), or None (no counterweight on
-that joint: its subtree's gravity moment stays with the servo)."""
+compact 35-40 mm ones (heavier, but they stay inside the links' sweep), an axial shift that unloads
+the joint before (None, ``exact_design``), or None (no counterweight on that joint: its subtree's
+gravity moment stays with the servo)."""
 
 
 def build_all(target: Path = PKG / "solutions" / "reference") -> None:
