@@ -8,7 +8,7 @@ For family 08 (the base) and family 09 (each leader) the generator adds, under e
 
 Each addition is either allowed by the contract and accounted for (family 09: a welded PLA part, its
 mass counted in the device mass) or refused with a named code (``EXPECTED``). ``additions`` lists them
-for the unit tests (tests/f08, tests/f09); ``generated_cases`` turns the refusals into corpus cases.
+for the unit tests (tests/f08_mobile_base, tests/f09_gello); ``generated_cases`` turns the refusals into corpus cases.
 """
 
 from __future__ import annotations

@@ -24,12 +24,12 @@ FULL = os.environ.get("RLE_FULL_BATTERY") == "1"
 REDUCED_F08_CODE = {"code/08_raise_midway", "code/08_hang", "code/08_return_nan", "code/08_import_crash"}
 # Family-08 design cases each run the quick verification (~20-30 s) to reach the same validity cap; the
 # reduced form keeps the contract case and one build-ability case (each finding has a fast unit test
-# in tests/f08/test_f08_integrity.py).
+# in tests/f08_mobile_base/test_f08_integrity.py).
 REDUCED_F08_PHYSICS = {"physics/f08_gravcomp", "physics/f08_battery_in_mid_air"}
 # Family-07 code cases each play a pile (the smoke test); the reduced form keeps a hang, a bad action, a
 # leak attempt through /proc and an attempt to import the verifier.
 # Generated additions (rle_tasks/audit/generated.py): every one is checked at load time in
-# tests/f08/test_f08_generated.py and tests/f09/test_generated.py; the reduced form verifies one
+# tests/f08_mobile_base/test_f08_generated.py and tests/f09_gello/test_generated.py; the reduced form verifies one
 # family-08 case (~25 s each) and the family-09 additions under link3.
 REDUCED_GENERATED = {
     "generated/f08_body_under_chassis",

@@ -20,7 +20,7 @@ WITH_REFERENCE = [t for t in IMPLEMENTED if "reference" in t.solutions]
 FULL = os.environ.get("RLE_FULL_BATTERY") == "1"
 # Variants of a family share one verifier: the reduced form checks one task per family, the full form all.
 # Tasks scored over an episode set retrain a recipe for minutes on a dataset built outside CI; their
-# verifier's determinism is tested in their family's tests (tests/f05). Family 02's quick verification
+# verifier's determinism is tested in their family's tests (tests/f05_nanovla). Family 02's quick verification
 # runs two fresh agents' sessions (about 50 s): the reduced form runs one such unit twice instead
 # (tests/f02_harness_transfer/test_f02_reference.py), its rubric being a function of the units.
 _REPLAYABLE = [t for t in WITH_REFERENCE if not t.episode_scored]
