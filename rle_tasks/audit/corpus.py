@@ -753,11 +753,6 @@ def cases() -> list[Case]:
     out += code_cases(F08, "control", "a[3]", F08_CODE_CAP)
     out += f07_cases()
     out += ledger_cases()
-    from rle_tasks.audit.f06_cases import f06_cases
-    from rle_tasks.audit.kitchen_cases import kitchen_cases
-
-    out += f06_cases()
-    out += kitchen_cases()
     from rle_tasks.audit.generated import generated_cases
 
     out += generated_cases(F09, _edit_xml, F09_DESIGN_CAP) + generated_cases(F08, _edit_xml, 0.15)

@@ -1,13 +1,19 @@
-"""Audit cases of family 01: one session ledger per card limit, signed with the audit secret's key."""
+"""Audit cases of family 01: one session ledger per card limit, signed with the audit secret's key, and
+ledgers that are no session of this task under this secret (the public rehearsal ledger, one signed for
+another task or opened with another budget, a missing or linked ledger): each scores 0 with its code."""
 
 from __future__ import annotations
 
+import shutil
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from rle_design.ledger.records import LedgerWriter
 from rle_tasks.audit.case import Case
 from rle_tasks.audit.ledger_limits import AUDIT_ATTEMPT, LimitCases, limit_cases
+from rle_tasks.core.solutions import materialise
 
 from .kitchens import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, KITCHEN_TASKS, STEP_BUDGET, TRIALS, scenes
 
@@ -62,6 +68,60 @@ SPEC = LimitCases(
 )
 
 
+def _public_reference(d: Path) -> Path:
+    """The shipped reference ledger, recorded under the public key: no use under a private secret."""
+    shutil.copyfile(materialise(TASK, "reference") / "ledger.jsonl", d / "ledger.jsonl")
+    return d
+
+
+def _linked(d: Path) -> Path:
+    (d / "ledger.jsonl").symlink_to(materialise(TASK, "reference") / "ledger.jsonl")
+    return d
+
+
+def _signed(task_id: str, budget: int):
+    """A sealed ledger written with the audit secret's key of ``task_id``, opened as a session of
+    ``budget`` development steps, with one reset."""
+
+    def build(d: Path) -> Path:
+        from rle_tasks.audit.case import AUDIT_SECRET
+        from rle_tasks.core.devenv import ledger_key
+
+        kitchen = next(k for k in KITCHEN_TASKS if k.task == "TurnOnStove")
+        meta = {
+            "scene_set": scenes(kitchen, 3, AUDIT_SECRET, image_size=None).fingerprint(),
+            "evaluation": {"trials": 5, "actions_per_trial": 1000, "wall_time_s": 3600.0},
+            "budget": budget,
+            "wall_time_s": BUDGET.wall_time_s,
+        }
+        w = LedgerWriter(d / "ledger.jsonl", ledger_key(AUDIT_SECRET, task_id), task_id, meta)
+        w.append("reset", {"steps": 1, "time": 0.0, "scene": "pretrain/0/0", "phase": "development"})
+        w.seal(1)
+        return d
+
+    return build
+
+
 def cases() -> list[Case]:
-    """Family 01's ledger-limit cases (``rle audit-verifiers``)."""
-    return limit_cases(SPEC, "f01")
+    """Family 01's ledger cases (``rle audit-verifiers``)."""
+    return [
+        Case(
+            "ledger/f01_public_rehearsal_ledger",
+            TASK,
+            "ledger.forged_key",
+            _public_reference,
+            wall_cap_s=30.0,
+        ),
+        Case("ledger/f01_linked_ledger", TASK, "ledger.missing", _linked, wall_cap_s=30.0),
+        Case("ledger/f01_missing_ledger", TASK, "ledger.missing", lambda d: d, wall_cap_s=30.0),
+        Case(
+            "ledger/f01_other_task_key",
+            TASK,
+            "ledger.forged_key",
+            _signed("01-turn-on-stove-l2", 50_000),
+            wall_cap_s=30.0,
+        ),
+        Case(
+            "ledger/f01_other_budget", TASK, "ledger.wrong_limits", _signed(TASK, 10_000_000), wall_cap_s=30.0
+        ),
+    ] + limit_cases(SPEC, "f01")

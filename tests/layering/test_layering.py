@@ -86,8 +86,9 @@ def test_families_never_import_each_other():
     assert _violations(files, bad) == []
 
 
-def test_core_and_shared_environments_never_name_a_family():
-    files = _py("rle_tasks/core") + (_py("rle_tasks/envs") if (ROOT / "rle_tasks/envs").is_dir() else [])
+def test_core_shared_environments_and_the_audit_runner_never_import_a_family():
+    files = _py("rle_tasks/core") + _py("rle_tasks/audit")
+    files += _py("rle_tasks/envs") if (ROOT / "rle_tasks/envs").is_dir() else []
     assert _violations(files, lambda p, m: FAMILY.match(m) is not None) == []
 
 

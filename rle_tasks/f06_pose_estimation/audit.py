@@ -99,7 +99,8 @@ def update(obs):
 """
 
 
-def f06_cases() -> list[Case]:
+def cases() -> list[Case]:
+    """Family 06's hostile archives and estimators (``rle audit-verifiers``)."""
     return [
         Case("code/06_pickle_payload", C_TASK, "sandbox.import_error", _model_case(_payload), wall_cap_s=120),
         Case(
