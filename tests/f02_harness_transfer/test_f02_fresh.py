@@ -147,3 +147,28 @@ def test_transfer_trials_refuses_without_secret_group_or_manual(tmp_path, monkey
     assert "unknown group" in capsys.readouterr().err
     assert main(["transfer-trials", "02-group-01", str(tmp_path), "--agent", "oracle"]) == 2
     assert "error [f02.no_manual]" in capsys.readouterr().err
+
+
+def test_a_session_served_with_other_limits_fails_with_the_limit_named(harness, tmp_path, monkeypatch):
+    """Signed with the right key, but served with 50,000 steps instead of the card's 5,000 per agent."""
+    import dataclasses
+
+    from rle_tasks.core.task import Budget
+
+    monkeypatch.setenv(HARNESS_ENV, str(harness))
+    spec = get_task("02-group-01-fresh-1")
+    loose = dataclasses.replace(spec, budget=Budget(wall_time_s=3600.0, steps=50_000))
+    ws = layout_workspace(loose, tmp_path / "ws", secret=SECRET, attempt="trial-c", ledger_dir=tmp_path / "l")
+    try:
+        with _client(ws.workspace).connect() as env:
+            env.reset()
+            env.seal()
+        ws.server.wait(30)
+    finally:
+        ws.close()
+    art = tmp_path / "art"
+    art.mkdir()
+    (art / "ledger.jsonl").write_bytes(ws.ledger_path.read_bytes())
+    report = spec.verify(art, VerifyContext(secret=SECRET, attempt="trial-c"))
+    assert report.score == 0.0 and report.errors[0].code == "ledger.wrong_limits"
+    assert "5000" in report.errors[0].message.replace(",", "")
