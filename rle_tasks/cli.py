@@ -159,6 +159,7 @@ def _cmd_index(args: argparse.Namespace) -> int:
         name=args.name,
         allow_privileged=args.allow_privileged,
         allow_partial=args.allow_partial,
+        screenshot=args.screenshot,
     )
 
 
@@ -299,7 +300,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("index", help="RLE Index from reports and Harbor job directories")
     s.add_argument("reports", nargs="+", help="verifier report files and/or Harbor job directories")
-    s.add_argument("--html", default=None)
+    s.add_argument("--html", default=None, help="write the results page (one self-contained HTML file)")
+    s.add_argument(
+        "--screenshot",
+        default=None,
+        metavar="PNG",
+        help="also a full-page screenshot of the page (needs --html and a headless Chromium)",
+    )
     s.add_argument("--name", default="submission", help="system name shown on the leaderboard")
     s.add_argument(
         "--allow-privileged",

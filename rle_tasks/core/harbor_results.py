@@ -16,12 +16,13 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from datetime import datetime
 from fractions import Fraction
 from pathlib import Path
 
 from rle_design.errors import RleError
+from rle_tasks.core.diagnostics import mean_of
 from rle_tasks.core.index import IndexResult, compute_index
 from rle_tasks.core.task import WORKFLOWS, TaskSpec
 
@@ -61,6 +62,7 @@ class TrialRecord:
     exception: str = ""
     privileged: bool = False
     partial: bool = False
+    diagnostics: dict[str, float] = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:
@@ -149,7 +151,21 @@ def read_trial(path: Path) -> TrialRecord | None:
         exception=f"{exc.get('exception_type')}: {exc.get('exception_message')}" if exc else "",
         privileged=bool(rewards.get("privileged")),
         partial=bool(rewards.get("partial")),
+        diagnostics=_trial_diagnostics(path.parent / "verifier" / "report.json"),
     )
+
+
+def _trial_diagnostics(path: Path) -> dict[str, float]:
+    """The family diagnostics of the verifier's report a trial kept (``verifier/report.json``); none
+    when the trial has no readable report (a failed trial, an older export)."""
+    from rle_tasks.core.diagnostics import task_diagnostics
+    from rle_tasks.core.report import VerifierReport
+
+    try:
+        report = VerifierReport.from_dict(json.loads(path.read_text()))
+        return task_diagnostics(report)
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return {}
 
 
 def is_job_dir(path: Path) -> bool:
@@ -245,6 +261,11 @@ def systems(
         result = compute_index(
             reports, name=system, tasks=tasks, allow_privileged=allow_privileged, allow_partial=allow_partial
         )
+        measured: dict[str, list[dict[str, float]]] = {}
+        for r in trials:
+            if r.diagnostics:
+                measured.setdefault(r.task_id, []).append(r.diagnostics)
+        result = replace(result, diagnostics={tid: mean_of(rows) for tid, rows in measured.items()})
         out[system] = (result, resources(trials))
     return out
 
@@ -312,7 +333,7 @@ def cost_figure(results: Sequence[IndexResult], rows: dict[str, Resources]) -> s
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from rle_tasks.core.index import _png
+    from rle_tasks.core.results_page import png
 
     fig, ax = plt.subplots(figsize=(6, 4))
     for r in results:
@@ -325,4 +346,4 @@ def cost_figure(results: Sequence[IndexResult], rows: dict[str, Resources]) -> s
     ax.set_xlim(left=0)
     ax.set_title("Performance versus cost")
     ax.grid(alpha=0.3)
-    return _png(fig)
+    return png(fig)

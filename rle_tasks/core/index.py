@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from rle_design.errors import RleError
+from rle_tasks.core.diagnostics import native_scalars, task_diagnostics
 from rle_tasks.core.report import VerifierReport
 from rle_tasks.core.task import WORKFLOW_ORDER, WORKFLOWS, TaskSpec
 
@@ -36,8 +37,9 @@ class IndexResult:
         missing: Registered task ids without a report.
         sources: Where each reported task's score came from (file path or ``report #i``).
         partial: Reported task ids whose score comes from a reduced evaluation (``allow_partial``).
-        native: Each reported task's scalar native metrics (``native_scalars``), for the page's
-            per-family diagnostics.
+        native: Each reported task's scalar native metrics (``native_scalars``).
+        diagnostics: Each reported task's family diagnostics (``diagnostics.task_diagnostics``: labelled
+            numbers with units), for the page's family sections.
     """
 
     name: str
@@ -49,6 +51,7 @@ class IndexResult:
     sources: dict[str, str] = field(default_factory=dict)
     partial: tuple[str, ...] = ()
     native: dict[str, dict[str, Any]] = field(default_factory=dict)
+    diagnostics: dict[str, dict[str, float]] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (family keys as ``"F01"`` ...)."""
@@ -97,27 +100,6 @@ def _load(item: ReportLike, position: int) -> tuple[VerifierReport, str]:
         raise RleError(f"{label} is not a valid verifier report: {exc!r}", code="index.input") from None
 
 
-NATIVE_COLUMNS = 8
-"""Most native metrics shown per family on the page (the first ones the family's reports share)."""
-BOOKKEEPING = frozenset({"quick", "partial", "secret", "seed_digest", "attempt", "secret_private"})
-"""Native keys that say how a report was made, not what was measured: left off the diagnostics."""
-
-
-def native_scalars(metrics: dict[str, Any], limit: int = 24) -> dict[str, Any]:
-    """The top-level numbers, flags and short words of a report's native metrics (a family's own
-    diagnostics: clearance and parts/min, MPJPE and survival, per-arm results ...), in report order."""
-    out: dict[str, Any] = {}
-    for key, value in metrics.items():
-        if key in BOOKKEEPING:
-            continue
-        number = isinstance(value, int | float) and (isinstance(value, bool) or math.isfinite(value))
-        if number or (isinstance(value, str) and len(value) <= 24):
-            out[key] = value
-        if len(out) >= limit:
-            break
-    return out
-
-
 def _mean(values: Sequence[Fraction]) -> Fraction:
     return sum(values, Fraction(0)) / len(values) if values else Fraction(0)
 
@@ -160,6 +142,7 @@ def compute_index(
     sources: dict[str, str] = {}
     partial: list[str] = []
     native: dict[str, dict[str, Any]] = {}
+    diagnostics: dict[str, dict[str, float]] = {}
     for i, item in enumerate(reports):
         report, label = _load(item, i)
         tid = report.task_id
@@ -196,6 +179,7 @@ def compute_index(
         if report.partial:
             partial.append(tid)
         native[tid] = native_scalars(report.native_metrics)
+        diagnostics[tid] = task_diagnostics(report)
 
     by_family: dict[int, list[Fraction]] = {}
     for t in tasks:
@@ -213,6 +197,7 @@ def compute_index(
         sources=sources,
         partial=tuple(t.id for t in tasks if t.id in partial),
         native={t.id: native[t.id] for t in tasks if t.id in native},
+        diagnostics={t.id: diagnostics[t.id] for t in tasks if t.id in diagnostics},
     )
 
 
@@ -249,179 +234,3 @@ def format_tables(result: IndexResult, tasks: Sequence[TaskSpec] | None = None) 
     else:
         lines.append("missing: none")
     return "\n".join(lines)
-
-
-_LABELS = {
-    "interactive_control": "Interactive control",
-    "policy_learning": "Policy learning",
-    "perception_estimation": "Perception & estimation",
-    "mechanical_design": "Mechanical design",
-}
-
-
-def _png(fig: Any) -> str:
-    """A matplotlib figure as a base64 PNG string (the figure is closed)."""
-    import base64
-    import io
-
-    import matplotlib.pyplot as plt
-
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    return base64.b64encode(buf.getvalue()).decode("ascii")
-
-
-def leaderboard_figure(results: Sequence[IndexResult]) -> str:
-    """Grouped bars: RLE Index and the four workflow scores [%] per system, as a base64 PNG."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    ranked = sorted(results, key=lambda r: -r.index)
-    labels = ["RLE Index"] + [_LABELS[w].replace(" ", "\n", 1) for w in WORKFLOW_ORDER]
-    x = np.arange(len(labels))
-    width = 0.8 / len(ranked)
-    fig, ax = plt.subplots(figsize=(8.5, 3.8))
-    for i, r in enumerate(ranked):
-        vals = [100 * r.index] + [100 * r.workflow_scores[w] for w in WORKFLOW_ORDER]
-        bars = ax.bar(x + (i - (len(ranked) - 1) / 2) * width, vals, width, label=r.name)
-        ax.bar_label(bars, fmt="%.1f", fontsize=8)
-    ax.set_xticks(x, labels, fontsize=9)
-    ax.set_ylim(0, 105)
-    ax.set_ylabel("score [%]")
-    ax.set_title("RLE-Bench leaderboard")
-    ax.legend(fontsize=8, loc="upper right")
-    ax.grid(axis="y", alpha=0.3)
-    return _png(fig)
-
-
-def profile_figure(results: Sequence[IndexResult]) -> str:
-    """Radar chart of the per-workflow capability profile of each system, as a base64 PNG."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    angles = np.linspace(0, 2 * np.pi, len(WORKFLOW_ORDER), endpoint=False)
-    closed = np.concatenate([angles, angles[:1]])
-    fig, ax = plt.subplots(figsize=(5, 5), subplot_kw={"polar": True})
-    for r in results:
-        vals = [100 * r.workflow_scores[w] for w in WORKFLOW_ORDER]
-        ax.plot(closed, vals + vals[:1], marker="o", label=r.name)
-        ax.fill(closed, vals + vals[:1], alpha=0.15)
-    ax.set_xticks(angles, [_LABELS[w].replace(" ", "\n", 1) for w in WORKFLOW_ORDER], fontsize=9)
-    ax.set_ylim(0, 100)
-    ax.set_title("Capability profile (workflow scores, %)", pad=20)
-    ax.legend(fontsize=8, loc="lower right", bbox_to_anchor=(1.25, -0.1))
-    return _png(fig)
-
-
-def write_index_html(results: Sequence[IndexResult], path: Path, resources_section: str = "") -> Path:
-    """Self-contained HTML page (figures embedded as base64 PNGs) with the leaderboard and tables.
-
-    Args:
-        results: One index result per system.
-        path: Output file.
-        resources_section: HTML placed after the leaderboard: for Harbor job directories the
-            performance-versus-cost figure, the resources table and the failed trials
-            (``harbor_results.resources_section``).
-    """
-    from html import escape
-
-    if not results:
-        raise RleError("no results to show", code="index.input")
-    board = leaderboard_figure(results)
-    profile = profile_figure(results)
-    cost = resources_section
-    head = "".join(f"<th>{escape(r.name)}</th>" for r in results)
-
-    def row(label: str, values: list[float]) -> str:
-        return f"<tr><td>{escape(label)}</td>" + "".join(f"<td>{100 * v:.1f}</td>" for v in values) + "</tr>"
-
-    rows = [row("RLE Index" + (" (includes partial scores)" if any(r.partial for r in results) else ""),
-                [r.index for r in results])]  # fmt: skip
-    rows += [row(_LABELS[w], [r.workflow_scores[w] for r in results]) for w in WORKFLOW_ORDER]
-    fam_rows = [
-        row(f"F{f:02d} ({_LABELS[WORKFLOWS[f]]})", [r.family_scores[f] for r in results])
-        for f in results[0].family_scores
-    ]
-    missing = "".join(
-        f"<h3>{escape(r.name)}: {len(r.missing)} missing tasks (scored 0)</h3><p>"
-        + (escape(", ".join(r.missing)) or "none")
-        + "</p>"
-        for r in results
-    )
-    diagnostics = _diagnostics_html(results)
-    partial = "".join(
-        f"<h3>{escape(r.name)}: {len(r.partial)} partial scores</h3><p>"
-        + escape(", ".join(r.partial))
-        + "</p><p>These tasks were verified on a reduced evaluation (quick mode or an episode subset); "
-        "their scores are not a full verification's, and the index above includes them.</p>"
-        for r in results
-        if r.partial
-    )
-    page = f"""<!DOCTYPE html>
-<html><head><meta charset="utf-8"><title>RLE Index</title>
-<style>body{{font-family:sans-serif;margin:2em;max-width:1100px}}table{{border-collapse:collapse;margin:1em 0}}
-td,th{{border:1px solid #ccc;padding:4px 10px;font-size:14px;text-align:right}}td:first-child{{text-align:left}}
-</style></head><body>
-<h1>RLE Index</h1>
-<p>Task scores are averaged within each family (missing reports count 0), family scores within each
-workflow, and the RLE Index is the mean of the four workflow scores (paper eq. 1). Scores in percent.</p>
-<h2>Leaderboard</h2>
-<img alt="leaderboard" src="data:image/png;base64,{board}">
-<table><tr><th>score [%]</th>{head}</tr>{"".join(rows)}</table>
-<h2>Capability profile (per workflow)</h2>
-<img alt="capability profile" src="data:image/png;base64,{profile}">
-{cost}
-<h2>Families</h2>
-<table><tr><th>family</th>{head}</tr>{"".join(fam_rows)}</table>
-{diagnostics}
-<h2>Missing reports</h2>{missing}
-{"<h2>Partial scores</h2>" + partial if partial else ""}
-</body></html>
-"""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(page)
-    return path
-
-
-def _diagnostics_html(results: Sequence[IndexResult]) -> str:
-    """One table per family: each reported task's scalar native metrics (the family's diagnostics)."""
-    from html import escape
-
-    rows: dict[int, list[tuple[str, str, dict[str, Any]]]] = {}
-    for r in results:
-        for tid, metrics in r.native.items():
-            if metrics:
-                rows.setdefault(int(tid.split("-")[0]), []).append((r.name, tid, metrics))
-    if not rows:
-        return ""
-
-    def cell(v: Any) -> str:
-        return escape(f"{v:.4g}" if isinstance(v, float) else str(v))
-
-    out = [
-        "<h2>Family diagnostics</h2><p>Each family's own measurements, from the reports' native metrics.</p>"
-    ]
-    for fam in sorted(rows):
-        keys: list[str] = []
-        for _, _, m in rows[fam]:
-            keys += [k for k in m if k not in keys]
-        keys = keys[:NATIVE_COLUMNS]
-        head = "".join(f"<th>{escape(k)}</th>" for k in keys)
-        body = "".join(
-            f"<tr><td>{escape(name)}</td><td>{escape(tid)}</td>"
-            + "".join(f"<td>{cell(m[k]) if k in m else ''}</td>" for k in keys)
-            + "</tr>"
-            for name, tid, m in rows[fam]
-        )
-        out.append(
-            f"<h3>F{fam:02d} ({escape(_LABELS[WORKFLOWS[fam]])})</h3>"
-            f"<table><tr><th>system</th><th>task</th>{head}</tr>{body}</table>"
-        )
-    return "".join(out)

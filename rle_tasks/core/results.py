@@ -14,7 +14,8 @@ from typing import Any
 
 from rle_design.errors import RleError
 from rle_tasks.core.harbor_results import format_resources, is_job_dir, read_job, resources_section, systems
-from rle_tasks.core.index import IndexResult, compute_index, format_tables, write_index_html
+from rle_tasks.core.index import IndexResult, compute_index, format_tables
+from rle_tasks.core.results_page import write_index_html
 
 
 def _gather(
@@ -45,15 +46,19 @@ def index_command(
     name: str = "submission",
     allow_privileged: bool = False,
     allow_partial: bool = False,
+    screenshot: str | os.PathLike | None = None,
 ) -> int:
-    """``rle index REPORTS|JOB_DIRS... [--html OUT] [--name NAME]``: print the tables, optionally write
-    the page. A Harbor job directory contributes one result per system (agent and model) and the
+    """``rle index REPORTS|JOB_DIRS... [--html OUT [--screenshot PNG]] [--name NAME]``: print the
+    tables, optionally write the page and a full-page screenshot of it (headless Chromium). A Harbor job directory contributes one result per system (agent and model) and the
     resources table; report files form the system ``name``.
 
     Returns:
         0 on success; 2 (with the reason on stderr) when a report is missing, unreadable, unknown or
         duplicated.
     """
+    if screenshot is not None and html is None:
+        print("rle index: error [index.input]: --screenshot needs --html", file=sys.stderr)
+        return 2
     try:
         results, rows = _gather(paths, name, allow_privileged, allow_partial)
     except RleError as exc:
@@ -69,4 +74,12 @@ def index_command(
             print(f"rle index: error [index.output]: cannot write {html}: {exc.strerror}", file=sys.stderr)
             return 2
         print(f"\nHTML written to {out}")
+    if screenshot is not None:
+        from rle_tasks.core.browser import screenshot as take
+
+        try:
+            print(f"screenshot written to {take(out, Path(screenshot))}")
+        except RleError as exc:
+            print(f"rle index: error [{exc.code}]: {exc}", file=sys.stderr)
+            return 2
     return 0

@@ -52,3 +52,17 @@ def rubrics() -> dict[str, Rubric]:
     from .kitchens import KITCHEN_TASKS, LEVELS
 
     return {k.task_id(level): rubric(k.task_id(level)) for k in KITCHEN_TASKS for level in LEVELS}
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page): success over the five target kitchens, actions per trial and
+    the development steps the session spent."""
+    m = report.native_metrics
+    trials = m.get("trials") or []
+    out = {}
+    if trials:
+        out["success [%]"] = 100.0 * sum(bool(t.get("success")) for t in trials) / len(trials)
+        out["actions per trial"] = sum(t.get("actions", 0) for t in trials) / len(trials)
+    if "development_steps" in m:
+        out["development steps"] = m["development_steps"]
+    return out

@@ -64,3 +64,11 @@ def rubrics() -> dict[str, Rubric]:
     from .groups import GROUPS
 
     return {g.task_id: rubric(g.task_id) for g in GROUPS}
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page): the fresh agents' success on the held-out task [%] and their
+    successes."""
+    m = report.native_metrics
+    names = (("success_rate", "fresh-agent success [%]", 100.0), ("successes", "fresh-agent successes", 1.0))
+    return {label: scale * m[key] for key, label, scale in names if key in m}

@@ -57,3 +57,18 @@ def rubrics() -> dict[str, Rubric]:
     for module in (balance_verifier, hidden_com_verifier, cube_verifier):
         out[module.RUBRIC.task_id] = module.RUBRIC
     return out
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page): interaction steps, and each task's own count (weighings,
+    turns against the optimum, answers right, the cantilever's block length)."""
+    m = report.native_metrics
+    names = {
+        "steps": "steps",
+        "weighings": "weighings",
+        "turns": "cube turns",
+        "optimal": "optimal turns",
+        "correct": "answers right",
+        "block_length_m": "block length [m]",
+    }
+    return {label: m[key] for key, label in names.items() if key in m}

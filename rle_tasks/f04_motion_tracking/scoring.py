@@ -79,3 +79,14 @@ def rubric(task_id: str, n_seeds: int = N_SEEDS) -> Rubric:
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric, for every task of the family (the five clips share one)."""
     return dict.fromkeys(TASK_IDS, RUBRIC)
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page, the paper's native table): MPJPE [mm] and survival [%] of the
+    clip, averaged over its seeds; the family row is their mean over the clips."""
+    m = report.native_metrics
+    return {
+        label: m[key]
+        for key, label in (("mpjpe_mm", "MPJPE [mm]"), ("survival_pct", "survival [%]"))
+        if key in m
+    }

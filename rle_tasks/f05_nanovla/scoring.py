@@ -80,3 +80,15 @@ RUBRIC = rubric(TASK_ID, EPISODE_SET)
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric of its full episode set, for every task of the family."""
     return {tid: rubric(tid, n) for tid, n in EPISODE_SETS.items()}
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page): success over the evaluated episodes, their number, mean
+    episode length and the recipe's training time on the verifier."""
+    m = report.native_metrics
+    out = {}
+    if "success_rate" in m:
+        out["success [%]"] = 100.0 * m["success_rate"]
+    names = (("episodes_requested", "episodes"), ("mean_steps", "mean steps"), ("train_s", "training [s]"))
+    out |= {label: m[key] for key, label in names if key in m}
+    return out

@@ -144,3 +144,22 @@ RUBRIC = RUBRICS[TASK_IDS[0]]
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric, for every task of the family."""
     return dict(RUBRICS)
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page): the frame rate, the worst-five errors averaged over the frame
+    groups and trajectories, and median errors on static against occluded frames (the paper's
+    static-versus-occluded comparison)."""
+    m = report.native_metrics
+    out = {}
+    if "fps" in m:
+        out["fps [1/s]"] = m["fps"]
+    sets = [s for s in (m.get("groups") or []) + (m.get("trajectories") or []) if isinstance(s, dict)]
+    if sets:
+        out["worst-5 xy [mm]"] = 1e3 * sum(s["worst5_xy_m"] for s in sets) / len(sets)
+        out["worst-5 theta [deg]"] = math.degrees(sum(s["worst5_theta_rad"] for s in sets) / len(sets))
+    split = m.get("static_vs_occluded") or {}
+    for kind in ("static", "occluded"):
+        if split.get(kind, {}).get("frames"):
+            out[f"{kind} median xy [mm]"] = 1e3 * split[kind]["median_xy_m"]
+    return out

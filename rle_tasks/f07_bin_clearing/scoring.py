@@ -140,3 +140,19 @@ __all__ = [
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric (the family's one task)."""
     return {RUBRIC.task_id: RUBRIC}
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page, the paper's native table): clearance [%] and parts/min over the
+    piles, and the parts damaged or dropped."""
+    m = report.native_metrics
+    out = {
+        label: m[key]
+        for key, label in (("clearance_pct", "clearance [%]"), ("parts_per_min", "parts/min"))
+        if key in m
+    }
+    piles = [p.get("events") or {} for p in (m.get("piles") or {}).values() if isinstance(p, dict)]
+    if piles:
+        out["damaged"] = sum(e.get("N_damage", 0) for e in piles)
+        out["on the floor"] = sum(e.get("N_floor", 0) for e in piles)
+    return out

@@ -101,3 +101,24 @@ WEIGHTS = {c.id: c.weight for c in RUBRIC.checkpoints}
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric (the family's one task)."""
     return {RUBRIC.task_id: RUBRIC}
+
+
+STAGES = {
+    "validity [%]": ("validity",),
+    "resources [%]": ("design_resources",),
+    "static [%]": ("static_stability",),
+    "dynamic [%]": ("dynamic_stability",),
+    "integration [%]": ("shelf_1kg", "shelf_2kg"),
+}
+"""The paper's design diagnostics: stage credit over stage weight (0.15, 0.35, 0.15, 0.20, 0.15)."""
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page): each stage's credit over its weight [%], before the gate cap,
+    and the base's mass and footprint."""
+    from rle_tasks.core.diagnostics import credit_over_weight
+
+    out = credit_over_weight(report, STAGES)
+    design = report.native_metrics.get("design") or {}
+    names = (("base_mass_kg", "base mass [kg]"), ("footprint_m2", "footprint [m2]"))
+    return out | {label: design[key] for key, label in names if key in design}

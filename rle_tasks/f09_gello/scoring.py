@@ -124,3 +124,19 @@ def mean_score(curve_id: str, values) -> float:
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric (the family's one task)."""
     return {RUBRIC.task_id: RUBRIC}
+
+
+def diagnostics(report) -> dict[str, float]:
+    """Native diagnostics (results page, the paper's design table): each arm's reward [%] (their mean is
+    the task's reward) and the devices' mean mass."""
+    m = report.native_metrics
+    arms = m.get("variant_score") or {}
+    out = {f"{arm} [%]": 100.0 * v for arm, v in arms.items()}
+    masses = [
+        m[arm]["device_mass_kg"]
+        for arm in arms
+        if isinstance(m.get(arm), dict) and "device_mass_kg" in m[arm]
+    ]
+    if masses:
+        out["device mass [kg]"] = sum(masses) / len(masses)
+    return out

@@ -4,8 +4,9 @@ in its report, and the RLE Index takes it only on purpose, saying so."""
 import pytest
 
 from rle_design.errors import RleError
-from rle_tasks.core.index import compute_index, format_tables, write_index_html
+from rle_tasks.core.index import compute_index, format_tables
 from rle_tasks.core.registry import get_task
+from rle_tasks.core.results_page import write_index_html
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
@@ -65,5 +66,6 @@ def test_the_page_shows_each_familys_native_diagnostics(tmp_path):
     assert result.native["07-bin-clearing"] == {"clearance_pct": 98.3, "parts_per_min": 7.466}
     assert result.native["08-mobile-base"] == {"clearance_pct": 98.33}  # no nested tables, no bookkeeping
     page = write_index_html([result], tmp_path / "index.html").read_text()
-    assert "<h2>Family diagnostics</h2>" in page and "<h3>F07 (" in page and "<td>7.466</td>" in page
-    assert page.index("<h3>F07 (") < page.index("<h3>F08 (")
+    assert "<h2>Family results</h2>" in page and "id='f07'" in page and "<td>7.466</td>" in page
+    assert result.diagnostics["07-bin-clearing"] == {"clearance [%]": 98.3, "parts/min": 7.466}
+    assert page.index("id='f07'") < page.index("id='f08'")
