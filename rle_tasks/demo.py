@@ -3,7 +3,8 @@ RLE Index of the reference solutions, renders the canonical arms, and writes ``o
 
 ``rle demo`` (``make demo``) verifies every solution in quick mode (each task's reduction is its
 ``quick_note``, printed on the page), and family 05 evaluates the checkpoint an earlier training of the
-same recipe on the same data left in this machine's cache instead of training again
+same recipe on the same data left in this machine's cache, or the reference's shipped checkpoint pinned
+to that recipe and data (``f05_nanovla.training``), instead of training again
 (``VerifyContext.reuse_training``); its RLE Index marks the partial scores. ``rle demo --full``
 (``make demo-full``) is the complete run: references in full, baselines quick unless ``full_baselines``,
 every recipe retrained (the report says whether the checkpoint reproduced the cached one), and the
@@ -180,8 +181,9 @@ def write_html(
     differs = differs or {}
     for task_id, name, path, rep in results:
         mode = "quick" if modes.get((task_id, name)) else "full"
-        if rep.native_metrics.get("training") == "reused":
-            mode += ", cached training"
+        training = rep.native_metrics.get("training")
+        if training in ("reused", "shipped"):
+            mode += ", cached training" if training == "reused" else ", shipped checkpoint"
         golden = differs.get((task_id, name))
         note = "" if golden is None else f" <span style='color:#b00'>(golden {golden:.3f})</span>"
         reasons = "; ".join(f"{e.code}" for e in rep.errors[:4])
@@ -233,7 +235,9 @@ def write_html(
         else "Every solution runs in quick mode: the scores are partial (what each task's quick run covers is "
         "listed below; tasks not listed verify the same in both modes). Family 05 evaluates the checkpoint "
         "that an earlier training of the same recipe on the same data left in this machine's cache "
-        "(marked <i>cached training</i>), else trains it. <code>make demo-full</code> runs references in "
+        "(marked <i>cached training</i>), or the reference's shipped checkpoint pinned to that recipe and "
+        "data by sha256 (<i>shipped checkpoint</i>), else trains it. <code>make demo-full</code> runs "
+        "references in "
         "full, retrains every recipe and runs the solutions that exist to run out a long limit."
     )
     quick_table = (

@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-import json
 import os
 import shutil
 import tempfile
@@ -49,6 +48,7 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError
+from rle_tasks.f05_nanovla import training
 from rle_tasks.f05_nanovla.scoring import TASK_ID, required_complete, rubric
 
 SUITE = "libero_10"
@@ -302,11 +302,10 @@ def verify(
         )
     demos = dataset_dir(task_id)
     native["dataset_sha256"] = _dataset(demos, task_id)
-    cache = training_cache(path.read_bytes(), native["dataset_sha256"])
-    earlier = _cached(cache)
+    recipe = path.read_bytes()
+    earlier = training.earlier(recipe, native["dataset_sha256"])
     if ctx.reuse_training and earlier is not None:
-        ckpt, meta, native["train_s"] = earlier
-        native["training"] = "reused"  # the checkpoint of an earlier training of these bytes here
+        ckpt, meta, native["train_s"], native["training"] = earlier  # "reused" or "shipped"
     else:
         trained = Path(tempfile.mkdtemp(prefix="rle-f05c-"))
         try:
@@ -324,7 +323,7 @@ def verify(
         native["training"] = "trained"
         if earlier is not None:  # a deterministic recipe writes the same checkpoint every time
             native["ckpt_reproduced"] = earlier[0] == ckpt
-        _store(cache, ckpt, meta, native["train_s"])
+        training.store(recipe, native["dataset_sha256"], ckpt, meta, native["train_s"])
     native["ckpt_bytes"] = len(ckpt)
     native["ckpt_sha256"] = hashlib.sha256(ckpt).hexdigest()
     episodes = episode_order(task_id, ctx)[:n]
@@ -332,61 +331,6 @@ def verify(
     results = run_parallel(run_unit, items, jobs=ctx.jobs, executor=ctx.executor, ray_address=ctx.ray_address)
     runs = [r for unit in results for r in unit]
     return _report(rub, runs, n, native)
-
-
-TRAINING_CACHE_VERSION = 1
-
-
-def training_cache(solution: bytes, dataset_sha256: str) -> Path:
-    """This machine's cache entry of a training of ``solution`` on the dataset of that digest: keyed by
-    both, the training limits and the installed torch, under ``cache_root()/f05-training``."""
-    from importlib.metadata import version
-
-    from rle_tasks.core.solutions import cache_root
-    from rle_tasks.envs.libero import replay
-
-    key = hashlib.sha256()
-    for part in (
-        f"v{TRAINING_CACHE_VERSION}".encode(),
-        hashlib.sha256(solution).digest(),
-        dataset_sha256.encode(),
-        repr(replay.TRAIN_BUDGET_S).encode(),
-        version("torch").encode(),
-    ):
-        key.update(len(part).to_bytes(4, "big") + part)
-    return cache_root() / "f05-training" / key.hexdigest()[:32]
-
-
-def _cached(entry: Path) -> tuple[bytes, bytes | None, float] | None:
-    """(checkpoint, meta, training seconds) of a complete cache entry, else None."""
-    try:
-        info = json.loads((entry / "training.json").read_text())
-        ckpt = (entry / "ckpt.pt").read_bytes()
-        meta = (entry / "meta.json").read_bytes() if (entry / "meta.json").is_file() else None
-    except (OSError, ValueError):
-        return None
-    if hashlib.sha256(ckpt).hexdigest() != info.get("ckpt_sha256"):
-        return None
-    return ckpt, meta, float(info.get("train_s", 0.0))
-
-
-def _store(entry: Path, ckpt: bytes, meta: bytes | None, train_s: float) -> None:
-    """Write a cache entry atomically (a temporary directory renamed into place); a failure is ignored:
-    the cache only saves time."""
-    tmp = None
-    try:
-        entry.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=".tmp-", dir=entry.parent))
-        (tmp / "ckpt.pt").write_bytes(ckpt)
-        if meta is not None:
-            (tmp / "meta.json").write_bytes(meta)
-        info = {"ckpt_sha256": hashlib.sha256(ckpt).hexdigest(), "train_s": train_s}
-        (tmp / "training.json").write_text(json.dumps(info) + "\n")
-        shutil.rmtree(entry, ignore_errors=True)
-        tmp.rename(entry)
-    except OSError:
-        if tmp is not None:
-            shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _report(rub, runs: list[dict], n: int, native: dict) -> VerifierReport:

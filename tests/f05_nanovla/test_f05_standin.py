@@ -17,7 +17,7 @@ from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify
 from rle_tasks.envs.libero.replay import train
-from rle_tasks.f05_nanovla import verifier
+from rle_tasks.f05_nanovla import training, verifier
 from rle_tasks.f05_nanovla.scoring import required_complete, rubric
 
 OPEN, ROBUST = verifier.STANDIN_OPEN_ID, verifier.STANDIN_ROBUST_ID
@@ -253,7 +253,7 @@ def test_a_cached_training_is_reused_only_when_asked_and_a_retraining_is_compare
     sub = materialise(TASK, "baseline/mean_action")
     first = verifier.verify(sub, _ctx(episodes=1), task_id=OPEN, max_steps=6).native_metrics
     assert first["training"] == "trained" and "ckpt_reproduced" not in first
-    entry = verifier.training_cache((sub / "solution.py").read_bytes(), first["dataset_sha256"])
+    entry = training.cache_entry((sub / "solution.py").read_bytes(), first["dataset_sha256"])
     assert (entry / "ckpt.pt").is_file() and entry.is_relative_to(tmp_path / "cache")
     reused = verifier.verify(sub, _ctx(episodes=1, reuse_training=True), task_id=OPEN, max_steps=6)
     assert reused.native_metrics["training"] == "reused"
@@ -261,7 +261,7 @@ def test_a_cached_training_is_reused_only_when_asked_and_a_retraining_is_compare
     again = verifier.verify(sub, _ctx(episodes=1), task_id=OPEN, max_steps=6).native_metrics
     assert again["training"] == "trained" and again["ckpt_reproduced"] is True
     # another recipe (or other data) has another entry; a damaged entry is not used
-    assert verifier.training_cache(b"other", first["dataset_sha256"]) != entry
+    assert training.cache_entry(b"other", first["dataset_sha256"]) != entry
     (entry / "ckpt.pt").write_bytes(b"damaged")
     assert (
         verifier.verify(sub, _ctx(episodes=1, reuse_training=True), task_id=OPEN, max_steps=6).native_metrics[
@@ -269,3 +269,42 @@ def test_a_cached_training_is_reused_only_when_asked_and_a_retraining_is_compare
         ]
         == "trained"
     )
+
+
+def test_a_shipped_checkpoint_is_used_only_when_its_pins_match(demos, tmp_path, monkeypatch):
+    """A shipped checkpoint stands in for a training when its recipe, dataset, torch and limit pins
+    match and its own sha256 does; with the cache empty, a changed recipe or a damaged file trains."""
+    import hashlib
+    import json
+    from importlib.metadata import version
+
+    from rle_tasks.core.solutions import CACHE_ENV
+
+    monkeypatch.setenv(CACHE_ENV, str(tmp_path / "cache"))
+    sub = materialise(TASK, "baseline/mean_action")
+    recipe = (sub / "solution.py").read_bytes()
+    first = verifier.verify(sub, _ctx(episodes=1), task_id=OPEN, max_steps=6).native_metrics
+    ckpt = (training.cache_entry(recipe, first["dataset_sha256"]) / "ckpt.pt").read_bytes()
+    ship = tmp_path / "shipped"
+    ship.mkdir()
+    (ship / "x.pt").write_bytes(ckpt)
+    pins = {
+        "solution_sha256": hashlib.sha256(recipe).hexdigest(),
+        "dataset_sha256": first["dataset_sha256"],
+        "torch": version("torch"),
+        "train_limit_s": training._limit(),
+        "ckpt_sha256": hashlib.sha256(ckpt).hexdigest(),
+        "meta_sha256": None,
+        "train_s": 1.0,
+    }
+    (ship / "manifest.json").write_text(json.dumps({"x": pins}))
+    monkeypatch.setattr(training, "SHIPPED", ship)
+    monkeypatch.setenv(CACHE_ENV, str(tmp_path / "empty-cache"))
+    got = verifier.verify(
+        sub, _ctx(episodes=1, reuse_training=True), task_id=OPEN, max_steps=6
+    ).native_metrics
+    assert got["training"] == "shipped" and got["ckpt_sha256"] == first["ckpt_sha256"]
+    assert training.shipped(recipe + b"\n", first["dataset_sha256"]) is None  # another recipe
+    assert training.shipped(recipe, "0" * 64) is None  # other data
+    (ship / "x.pt").write_bytes(ckpt + b"x")  # damaged: not used
+    assert training.shipped(recipe, first["dataset_sha256"]) is None
