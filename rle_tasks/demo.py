@@ -287,10 +287,18 @@ def run_demo(
     index_html = None
     refs = [str(p) for _, name, p, _ in results if name == "reference"]
     if refs:
+        from rle_tasks.core.browser import find_browser
         from rle_tasks.core.results import index_command
 
         index_html = out / "rle_index.html"
-        index_command(refs, html=str(index_html), name="reference solutions" + subset, allow_partial=True)
+        shot = out / "rle_index.png" if find_browser() else None  # a picture of the page, where a browser is
+        index_command(
+            refs,
+            html=str(index_html),
+            name="reference solutions" + subset,
+            allow_partial=True,
+            screenshot=shot,
+        )
     print("rendering the canonical arms ...")
     arm_pngs = render_arms(out)
     differs = golden_differences(results, modes)
