@@ -266,6 +266,12 @@ def main(argv: list[str] | None = None) -> int:
     if a.view_every < 1:
         p.error("--view-every must be at least 1")
     out = Path(a.out) if a.out else default_dir(a.suite, a.seed, a.per_task, a.views, a.noise, a.view_every)
+    if not (out / "manifest.sha256").is_file():
+        print(
+            f"first use: building the LIBERO demonstrations into {out} (the full dataset took 60 min with two "
+            "jobs on the 2-core machine); an interrupted build resumes, later runs reuse it",
+            flush=True,
+        )
     manifest = build_demos(
         out,
         suite=a.suite,
