@@ -169,7 +169,7 @@ class Estimate:
         scale = self.scale_num / self.scale_den if self.scale_den > 0 else 1.0
         fam = scale * sum(v for k, v in self.expected.items() if self.family[k] == family)
         total = scale * sum(self.expected.values())
-        return f"F{family:02d} ~{fam / 60:.0f} min left, all ~{total / 60:.0f} min"
+        return f"F{family:02d} ~{fam / 60:.1f} min left, all ~{total / 60:.1f} min"
 
     def write(self, path: Path) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)

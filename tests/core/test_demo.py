@@ -155,3 +155,21 @@ def test_the_quick_demo_says_what_it_shortened_and_the_full_demo_trains(tmp_path
     assert seen == {"05-robotwin-open": {(True, False)}, "09-gello": {(False, False), (True, False)}}
     page = (tmp_path / "f" / "index.html").read_text()
     assert "References run the full batteries" in page and "What quick mode runs" not in page
+
+
+def test_progress_estimates_the_time_left_per_family_from_the_measured_times(tmp_path, monkeypatch):
+    """Times 60 s (08 reference) and 120 s (09 reference), 30 s for an unlisted artifact (the mean of
+    the listed ones would be 90 s; with none listed 30 s). After the 08 reference took 120 s (twice
+    its time), what is left is scaled by 2: F09 2 x (120 + 90) s = 7 min."""
+    times = tmp_path / "times.json"
+    times.write_text('{"quick:08-mobile-base:reference": 60, "quick:09-gello:reference": 120}')
+    monkeypatch.setattr(demo, "DEMO_TIMES", times)
+    t08, t09 = get_task("08-mobile-base"), get_task("09-gello")
+    clock = demo.Estimate([(t08, "reference"), (t09, "reference"), (t09, "baseline/x")], full=False)
+    assert clock.left(9) == "F09 ~3.5 min left, all ~4.5 min"  # 120 + 90 s of F09; 270 s in all
+    clock.done(t08, "reference", 120.0)
+    assert clock.left(9) == "F09 ~7.0 min left, all ~7.0 min"  # (120 + 90) x 2
+    clock.write(tmp_path / "out.json")
+    assert (
+        (tmp_path / "out.json").read_text().strip().startswith('{\n "quick:08-mobile-base:reference": 120.0')
+    )
