@@ -28,6 +28,8 @@ __all__ = [
     "MotionPlan",
     "Stance",
     "balance",
+    "centroidal_momentum",
+    "centroidal_zmp",
     "generate",
     "min_jerk",
     "plan_com",
@@ -74,6 +76,13 @@ class MotionPlan:
     balanced: bool = False
     """Move the pelvis horizontally so that the zero-moment point stays on the support (``balance``);
     for plans whose only contacts are the feet and that never leave the ground (dance, fight, fall-getup)."""
+    matched_swing: bool = False
+    """Swing legs leave and reach their stance solutions with the stance joints' velocities and accelerations
+    (quintic Hermite in joint space, flexion bump (4u(1-u))^3) instead of at rest: the foot's world velocity
+    and acceleration are continuous at lift-off and touchdown."""
+    centroidal: bool = False
+    """``balance`` aims the whole-body zero-moment point (``centroidal_zmp``: vertical COM acceleration and
+    the centroidal angular momentum's rate included) at the support, not the cart-table one."""
 
 
 def min_jerk(s: float) -> float:
@@ -193,13 +202,52 @@ def _kinematic(
             land = [s for s in plan.stances if s.foot == leg and s.t0 >= (a + 1) / fps - 1e-9][0]
             apex = plan.swing_height if land.apex is None else land.apex
             bump = _swing_offset(apex, land.via[0])
+            m = b - a
+            if plan.matched_swing:
+                end = _quintic_ends(qpos[:, cols], a, b)
             for k in range(a + 1, b):
-                u = (k - a) / (b - a)
-                qpos[k, cols] = (1 - min_jerk(u)) * qpos[a, cols] + min_jerk(u) * qpos[b, cols]
-                qpos[k, cols] += (4 * u * (1 - u)) ** 1.5 * bump
+                u = (k - a) / m
+                if plan.matched_swing:
+                    qpos[k, cols] = _quintic(u, m, *end) + (4 * u * (1 - u)) ** 3 * bump
+                else:
+                    qpos[k, cols] = (1 - min_jerk(u)) * qpos[a, cols] + min_jerk(u) * qpos[b, cols]
+                    qpos[k, cols] += (4 * u * (1 - u)) ** 1.5 * bump
             i = b
     qpos[:, 7:] = np.clip(qpos[:, 7:], ik.lo, ik.hi)
     return Clip.from_qpos(model, qpos, contacts, fps)
+
+
+def _quintic_ends(q: np.ndarray, a: int, b: int) -> tuple[np.ndarray, ...]:
+    """Positions, velocities and accelerations (per frame) of the stance solutions at lift-off frame ``a``
+    and touchdown frame ``b`` of ``q`` (T, k), by one-sided second-order differences (a stance of at least
+    three frames on each side; fewer frames: lower order)."""
+    n = len(q)
+    a1, a2 = max(a - 1, 0), max(a - 2, 0)
+    b1, b2 = min(b + 1, n - 1), min(b + 2, n - 1)
+    acc0 = q[a] - 2 * q[a1] + q[a2]
+    acc1 = q[b2] - 2 * q[b1] + q[b]
+    return q[a], q[a] - q[a1] + 0.5 * acc0, acc0, q[b], q[b1] - q[b] - 0.5 * acc1, acc1
+
+
+def _quintic(
+    u: float,
+    m: int,
+    p0: np.ndarray,
+    v0: np.ndarray,
+    a0: np.ndarray,
+    p1: np.ndarray,
+    v1: np.ndarray,
+    a1: np.ndarray,
+) -> np.ndarray:
+    """Quintic Hermite at ``u`` in [0, 1] over ``m`` frames meeting positions, per-frame velocities and
+    accelerations at both ends."""
+    u2, u3, u4, u5 = u * u, u**3, u**4, u**5
+    h0 = 1 - 10 * u3 + 15 * u4 - 6 * u5
+    h1 = u - 6 * u3 + 8 * u4 - 3 * u5
+    h2 = 0.5 * (u2 - 3 * u3 + 3 * u4 - u5)
+    h3 = 0.5 * (u3 - 2 * u4 + u5)
+    h4 = -4 * u3 + 7 * u4 - 3 * u5
+    return h0 * p0 + (1 - h0) * p1 + m * (h1 * v0 + h4 * v1) + m * m * (h2 * a0 + h3 * a1)
 
 
 def generate(
@@ -321,6 +369,40 @@ def zmp_path(model: mujoco.MjModel, clip: Clip) -> np.ndarray:
     return com[:, :2] - com[:, 2:3] / GRAVITY * acc
 
 
+def centroidal_momentum(model: mujoco.MjModel, clip: Clip) -> tuple[np.ndarray, np.ndarray]:
+    """(T, 3) whole-body COM [m] and (T, 3) angular momentum about it [kg m^2/s] (world; velocities by
+    central differences of the clip's ``qpos``)."""
+    from .clip import clip_qpos
+    from .feasibility import finite_differences
+
+    qpos = clip_qpos(clip)
+    qvel, _ = finite_differences(model, qpos, 1.0 / clip.fps)
+    data = mujoco.MjData(model)
+    root = model.body("pelvis").id
+    com, ang = np.zeros((clip.frames, 3)), np.zeros((clip.frames, 3))
+    for f in range(clip.frames):
+        data.qpos[:], data.qvel[:] = qpos[f], qvel[f]
+        mujoco.mj_forward(model, data)
+        mujoco.mj_subtreeVel(model, data)
+        com[f], ang[f] = data.subtree_com[root], data.subtree_angmom[root]
+    return com, ang
+
+
+def centroidal_zmp(model: mujoco.MjModel, clip: Clip) -> np.ndarray:
+    """(T, 2) zero-moment point on flat ground (z = 0) of the whole body [m]: the point about which the
+    ground reaction's horizontal moment vanishes, from the COM c, its acceleration and the angular
+    momentum L about it: p_x = c_x - (c_z c''_x + L'_y / m) / (g + c''_z), p_y = c_y - (c_z c''_y -
+    L'_x / m) / (g + c''_z) (second differences at the clip rate)."""
+    com, ang = centroidal_momentum(model, clip)
+    dt = 1.0 / clip.fps
+    acc = np.gradient(np.gradient(com, dt, axis=0), dt, axis=0)
+    dang = np.gradient(ang, dt, axis=0) / mujoco.mj_getTotalmass(model)
+    fz = GRAVITY + acc[:, 2]
+    px = com[:, 0] - (com[:, 2] * acc[:, 0] + dang[:, 1]) / fz
+    py = com[:, 1] - (com[:, 2] * acc[:, 1] - dang[:, 0]) / fz
+    return np.column_stack([px, py])
+
+
 def balance(
     model: mujoco.MjModel, plan: MotionPlan, clip: Clip, seconds: float = CLIP_SECONDS, fps: float = CLIP_FPS
 ) -> Clip:
@@ -335,9 +417,14 @@ def balance(
     com = com_path(model, clip)
     p = support_reference(plan, t, sole_centre(model))
     w = np.where(single, ZMP_WEIGHT_SINGLE, 1.0)
-    target = np.stack([plan_com(p[:, k], dt, float(com[:, 2].mean()), w) for k in (0, 1)], axis=1)
+    h = float(com[:, 2].mean())
+    target = np.stack([plan_com(p[:, k], dt, h, w) for k in (0, 1)], axis=1)
     shift = np.zeros((n, 2))
     for _ in range(BALANCE_ITERATIONS):
+        if plan.centroidal:  # aim the cart-table ZMP off the support by what it misses of the whole body's
+            cart = com[:, :2] - h / GRAVITY * np.gradient(np.gradient(com[:, :2], dt, axis=0), dt, axis=0)
+            miss = centroidal_zmp(model, clip) - cart
+            target = np.stack([plan_com(p[:, k] - miss[:, k], dt, h, w) for k in (0, 1)], axis=1)
         shift += target - com[:, :2]
         clip = _kinematic(model, replace(plan, root=_shifted(plan.root, shift, dt)), seconds, fps)
         com = com_path(model, clip)
