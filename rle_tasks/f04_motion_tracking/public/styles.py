@@ -165,18 +165,19 @@ def fall_getup() -> MotionPlan:
     ]
     stances = _stances([(0.0, y), (0.0, -y)], steps)
     shift = _shift_keys(stances, steps, 0.0, 0.55)
-    # (t, pelvis z, pelvis x offset, pitch): fast drops to a deep crouch, held, slow rises
+    # (t, pelvis z, pelvis x offset, pitch): fast drops to a deep crouch (0.8 s and 1.1 s: the waist pitch
+    # stops the torso within 0.84 of its effort limit), held, slow rises
     body = [
         (0.0, STAND_Z, 0.0, 0.0),
         (1.5, STAND_Z, 0.0, 0.0),
-        (2.1, 0.50, -0.06, 0.65),
+        (2.3, 0.50, -0.06, 0.65),
         (4.5, 0.48, -0.07, 0.7),
     ]
     body += [
         (6.2, STAND_Z - 0.01, 0.0, 0.0),
         (7.5, STAND_Z, 0.0, 0.0),
-        (8.0, 0.53, -0.05, 0.55),
-        (8.3, 0.47, -0.07, 0.75),
+        (8.1, 0.53, -0.05, 0.55),
+        (8.6, 0.47, -0.07, 0.75),
     ]
     body += [(10.5, 0.47, -0.07, 0.75), (12.5, STAND_Z, 0.0, 0.0), (20.0, STAND_Z, 0.0, 0.0)]
     keys = [(t, np.array([z, x, p])) for t, z, x, p in body]
@@ -198,7 +199,9 @@ def fall_getup() -> MotionPlan:
             "right_elbow": 0.6 - 0.5 * low,
         }
 
-    return MotionPlan(stances, root, upper, swing_height=0.07, balanced=True)
+    return MotionPlan(
+        stances, root, upper, swing_height=0.07, balanced=True, matched_swing=True, centroidal=True
+    )
 
 
 def _gait(

@@ -76,7 +76,7 @@ SOLUTIONS = {
     "04-fall-getup": _task(
         "fall-getup",
         sha256="d35b8a8da92b364560d504adb4f8bf5eddb6f5fb77a4a3e179dbccbbd8368228",
-        quick_score=0.07780024859471513,
+        quick_score=0.10931874098609837,
     ),
     "04-fight": _task(
         "fight",
