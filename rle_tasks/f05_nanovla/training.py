@@ -11,13 +11,12 @@ under the same training limit and torch version:
   ``ckpt_reproduced``: whether the retrained checkpoint is byte-identical to the earlier one.
 
 An agent's verification never reuses anything: ``VerifyContext.reuse_training`` is False there.
-``python -m rle_tasks.f05_nanovla.training pin TASK...`` copies this machine's cached trainings of the
+``python -m rle_tasks.f05_nanovla.pin TASK...`` copies this machine's cached trainings of the
 tasks' references into ``checkpoints/`` (after ``rle demo --full --task TASK`` trained them).
 """
 
 from __future__ import annotations
 
-import argparse
 import hashlib
 import json
 import shutil
@@ -30,13 +29,13 @@ SHIPPED = Path(__file__).with_name("checkpoints")
 """The shipped checkpoints and their ``manifest.json``."""
 
 
-def _limit() -> float:
+def train_limit() -> float:
     from rle_tasks.envs.libero import replay
 
     return replay.TRAIN_BUDGET_S
 
 
-def _sha(data: bytes) -> str:
+def digest(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
@@ -50,14 +49,14 @@ def cache_entry(solution: bytes, dataset_sha256: str) -> Path:
         f"v{TRAINING_CACHE_VERSION}".encode(),
         hashlib.sha256(solution).digest(),
         dataset_sha256.encode(),
-        repr(_limit()).encode(),
+        repr(train_limit()).encode(),
         version("torch").encode(),
     ):
         key.update(len(part).to_bytes(4, "big") + part)
     return cache_root() / "f05-training" / key.hexdigest()[:32]
 
 
-def _cached(entry: Path) -> tuple[bytes, bytes | None, float] | None:
+def cached_training(entry: Path) -> tuple[bytes, bytes | None, float] | None:
     """(checkpoint, meta, training seconds) of a complete cache entry, else None."""
     try:
         info = json.loads((entry / "training.json").read_text())
@@ -65,7 +64,7 @@ def _cached(entry: Path) -> tuple[bytes, bytes | None, float] | None:
         meta = (entry / "meta.json").read_bytes() if (entry / "meta.json").is_file() else None
     except (OSError, ValueError):
         return None
-    if _sha(ckpt) != info.get("ckpt_sha256"):
+    if digest(ckpt) != info.get("ckpt_sha256"):
         return None
     return ckpt, meta, float(info.get("train_s", 0.0))
 
@@ -83,10 +82,10 @@ def shipped(solution: bytes, dataset_sha256: str) -> tuple[bytes, bytes | None, 
     """The shipped checkpoint of a training of ``solution`` on that dataset under this limit and torch,
     checked against its pinned sha256; None when nothing shipped matches."""
     want = {
-        "solution_sha256": _sha(solution),
+        "solution_sha256": digest(solution),
         "dataset_sha256": dataset_sha256,
         "torch": version("torch"),
-        "train_limit_s": _limit(),
+        "train_limit_s": train_limit(),
     }
     for name, entry in manifest().items():
         if not isinstance(entry, dict) or any(entry.get(k) != v for k, v in want.items()):
@@ -96,8 +95,8 @@ def shipped(solution: bytes, dataset_sha256: str) -> tuple[bytes, bytes | None, 
             meta = (SHIPPED / f"{name}.meta.json").read_bytes() if entry.get("meta_sha256") else None
         except OSError:
             return None
-        if _sha(ckpt) != entry.get("ckpt_sha256") or (
-            meta is not None and _sha(meta) != entry["meta_sha256"]
+        if digest(ckpt) != entry.get("ckpt_sha256") or (
+            meta is not None and digest(meta) != entry["meta_sha256"]
         ):
             return None
         return ckpt, meta, float(entry.get("train_s", 0.0))
@@ -106,7 +105,7 @@ def shipped(solution: bytes, dataset_sha256: str) -> tuple[bytes, bytes | None, 
 
 def earlier(solution: bytes, dataset_sha256: str) -> tuple[bytes, bytes | None, float, str] | None:
     """(checkpoint, meta, training seconds, "reused" or "shipped") of an earlier training, else None."""
-    found = _cached(cache_entry(solution, dataset_sha256))
+    found = cached_training(cache_entry(solution, dataset_sha256))
     if found is not None:
         return (*found, "reused")
     found = shipped(solution, dataset_sha256)
@@ -124,65 +123,11 @@ def store(solution: bytes, dataset_sha256: str, ckpt: bytes, meta: bytes | None,
         (tmp / "ckpt.pt").write_bytes(ckpt)
         if meta is not None:
             (tmp / "meta.json").write_bytes(meta)
-        (tmp / "training.json").write_text(json.dumps({"ckpt_sha256": _sha(ckpt), "train_s": train_s}) + "\n")
+        (tmp / "training.json").write_text(
+            json.dumps({"ckpt_sha256": digest(ckpt), "train_s": train_s}) + "\n"
+        )
         shutil.rmtree(entry, ignore_errors=True)
         tmp.rename(entry)
     except OSError:
         if tmp is not None:
             shutil.rmtree(tmp, ignore_errors=True)
-
-
-def pin(task_ids: list[str]) -> list[str]:
-    """Copy this machine's cached training of each task's reference into ``checkpoints/`` and pin it in
-    the manifest; returns the names written.
-
-    Raises:
-        LookupError: A task's reference has no cached training here (train it first).
-    """
-    from rle_tasks.core.registry import get_task
-    from rle_tasks.core.solutions import materialise
-    from rle_tasks.f05_nanovla.verifier import _dataset, dataset_dir
-
-    entries = manifest()
-    written = []
-    for task_id in task_ids:
-        recipe = (materialise(get_task(task_id), "reference") / "solution.py").read_bytes()
-        dataset = _dataset(dataset_dir(task_id), task_id)
-        found = _cached(cache_entry(recipe, dataset))
-        if found is None:
-            raise LookupError(
-                f"{task_id}: no cached training of its reference (run `rle demo --full --task {task_id}`)"
-            )
-        ckpt, meta, train_s = found
-        name = f"{task_id}.reference"
-        SHIPPED.mkdir(exist_ok=True)
-        (SHIPPED / f"{name}.pt").write_bytes(ckpt)
-        if meta is not None:
-            (SHIPPED / f"{name}.meta.json").write_bytes(meta)
-        entries[name] = {
-            "solution_sha256": _sha(recipe),
-            "dataset_sha256": dataset,
-            "torch": version("torch"),
-            "train_limit_s": _limit(),
-            "ckpt_sha256": _sha(ckpt),
-            "meta_sha256": _sha(meta) if meta is not None else None,
-            "train_s": train_s,
-        }
-        written.append(name)
-    (SHIPPED / "manifest.json").write_text(json.dumps(dict(sorted(entries.items())), indent=2) + "\n")
-    return written
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m rle_tasks.f05_nanovla.training")
-    sub = parser.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("pin", help="ship this machine's cached trainings of the tasks' references")
-    p.add_argument("tasks", nargs="+")
-    args = parser.parse_args(argv)
-    for name in pin(args.tasks):
-        print(f"pinned {SHIPPED / name}.pt")
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
