@@ -81,8 +81,8 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="55914a50e2f69c55a7c3629c2750be19ab73aa0103ccdcdbdbdd381ec7b40005",
-            quick_score=0.788251254539,
+            sha256="4926603767f4f4bc20330a8911a897bd1cd1065244e3ab1574dd31a3f275c21a",
+            quick_score=0.841716903387,
             files=_per_robot("lead.xml", "solutions/reference/{robot}/lead.xml")
             + _per_robot("meshes", "assets/{robot}/meshes")
             + _per_robot("trim.py", "assets/trim_templates/regressor_trim.py"),
@@ -105,15 +105,15 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/over_mass",
-            sha256="53fa9aeb22d1c05d4a792ffa2e2244071ade0f1487d5bdf7598486479c024429",
+            sha256="d26ba6c902107dc49302e7b701f214ff7ef42237184e414ff72094c8d766d1ce",
             quick_score=0.0,
             base="reference",
             transforms=(steel_ballast,),
         ),
         Solution(
             "baseline/hanging_trim",
-            sha256="7344685bcde100dce8d148d8138273042e9e0ebbe3697c2e668a44f3d17e7d64",
-            quick_score=0.34771510088,
+            sha256="f8346334e10e57886f7dafcf287015ef9113a66e2873e2b5e382b4da15f40c37",
+            quick_score=0.4008945401,
             base="reference",
             files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
         ),

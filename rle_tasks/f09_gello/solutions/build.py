@@ -74,7 +74,7 @@ def _rot(quat: np.ndarray) -> np.ndarray:
 
 def exact_design(
     robot: str,
-    placement: dict[int, tuple[float, float] | None] | None = None,
+    placement: dict[int, tuple | None] | None = None,
     spring_axial: tuple[float, float] = (SPRING_OFFSET, SPRING_OFFSET),
 ) -> Design:
     """Exact static balance: counterweights tip-first on joints 3..n, zero-length spring on joint 2.
@@ -95,7 +95,10 @@ def exact_design(
             counterweight on joint k; default (``EXACT_RADIUS``, ``CW_AXIAL``). An axial shift of
             None puts the balanced subtree's centre of mass where axis k passes nearest axis k - 1
             (on it where they cross, as at panda's wrist): joint k - 1 then carries only its own
-            link's moment and may do without a counterweight.
+            link's moment and may do without a counterweight. A third number s splits the weight
+            into a pair, each half the mass, at the axial shift +- s [m]: the same first moment, so
+            the same balance, but astride the plane in which a single weight would swing through
+            the link beyond joint k - 1 (a yoke).
         spring_axial: Offsets of the spring's anchor and attachment along joint 2's axis [m]: a
             zero-length spring's torque about the axis does not depend on them (its energy
             k |a - R b|^2 / 2 changes by a constant), so they only move the posts clear of the links
@@ -120,14 +123,16 @@ def exact_design(
         off = float(np.linalg.norm(d))
         if k >= 3 and off > 1e-9 and placement.get(k, ()) is not None:
             u = np.array([d[0], d[1], 0.0]) / off
-            radius, axial = placement.get(k, (EXACT_RADIUS, CW_AXIAL))
+            radius, axial, *spread = placement.get(k, (EXACT_RADIUS, CW_AXIAL))
             mc = mass * off / radius
             if axial is None:  # nearest point of axis k to axis k - 1, in link k's frame
                 o, e = m.body_pos[b], _rot(m.body_quat[b])[:, 2]
                 z = -float(o[:2] @ e[:2]) / max(float(e[:2] @ e[:2]), 1e-12)
                 axial = float(np.clip((z * (mass + mc) - first[2]) / mc, -AXIAL_MAX, AXIAL_MAX))
             pos = -radius * u + np.array([0.0, 0.0, axial])
-            cws.append((f"link{k}", tuple(float(x) for x in pos), mc))
+            for dz in (spread[0], -spread[0]) if spread else (0.0,):
+                part = pos + np.array([0.0, 0.0, dz])
+                cws.append((f"link{k}", tuple(float(x) for x in part), mc / (2 if spread else 1)))
             first = first + mc * pos
             mass += mc
         elif k >= 3:
@@ -216,10 +221,12 @@ PLACEMENTS = (
     )
     + ((0.035, 0.0), (0.04, 0.0), (0.04, 0.035), (0.04, -0.035), None)
     + tuple((r, None) for r in (0.05, 0.08, 0.10, 0.12, 0.15))
+    + tuple((r, None, s) for r in (0.05, 0.08, 0.10, 0.12) for s in (0.035, 0.055))
 )
 """Counterweight options of the greedy placement: (radius from the joint axis, axial shift) [m], the
 compact 35-40 mm ones (heavier, but they stay inside the links' sweep), an axial shift that unloads
-the joint before (None, ``exact_design``), or None (no counterweight on that joint: its subtree's
+the joint before (None, ``exact_design``), alone or as a pair astride that height (a third number,
+the pair's axial spread), or None (no counterweight on that joint: its subtree's
 gravity moment stays with the servo)."""
 
 
