@@ -16,7 +16,7 @@ from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.audit import thin_strut as _thin_strut
 from rle_tasks.f09_gello.clearance import collision_fraction, joint_overlaps
-from rle_tasks.f09_gello.device import load_submission, stock_model
+from rle_tasks.f09_gello.device import ASSET_DIR, load_submission, stock_model
 from rle_tasks.f09_gello.leaders import ROBOTS
 from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workshop_check, workspace_grid
 
@@ -156,8 +156,9 @@ def test_a_part_inside_the_next_link_fails_clearance_pose_by_pose(reference, tmp
     assert first.message.startswith("part 'block_pla' of body 'block' is sunk ")
     frac, examples, overlaps = collision_fraction(bad.design, ["block"], grid)
     assert frac >= len(sunk) / len(grid) and any(o.geom1 == "block_pla" for o in overlaps)
-    # a block resting on link3's own tube meets no link across a joint
-    good = _edited(reference, tmp_path / "good", ON_LINK3)
+    # a block resting on link3's own tube meets no link across a joint (on the stock leader: the
+    # reference's joint-4 weight swings past link3's tube)
+    good = _edited(ASSET_DIR, tmp_path / "good", ON_LINK3)
     assert good.usable and joint_overlaps(good.model, [int(good.model.body("block").id)], grid) == {}
 
 
