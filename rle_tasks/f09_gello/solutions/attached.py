@@ -45,8 +45,9 @@ an 8 mm aluminium rod weighs what a 12 mm PLA rod does (0.136 against 0.140 kg/m
 stiffer (E I) and four times as strong (97 against 25 MPa allowable), and thinner, so it clears the
 neighbouring links more often."""
 ARM_RADIUS = 0.004
-"""Counterweight rod and L-bracket post radius [m]: 8 mm aluminium. Panda's 0.43 kg wrist weight
-on its 168 mm rod: 28 MPa against 97 MPa allowable, 0.5 mm sag (2 % is 3.4 mm). (12 mm PLA rods
+"""Counterweight rod and L-bracket post radius [m]: 8 mm aluminium. The routed build's panda wrist weight
+(0.43 kg on a 168 mm rod): 28 MPa against 97 MPa allowable, 0.5 mm sag (2 % is 3.4 mm); the build
+refuses any placement with a strength finding (``structure_faults``). (12 mm PLA rods
 before issue 45's routing; 10 mm PLA ones sagged 2.4 % of their span, ``contract.flexible_part``.)"""
 BRACKET_RADIUS = 0.006
 """Spring post radius [m]: 12 mm aluminium. An anchor L-post's 28 mm foot carrying 98 N of spring
