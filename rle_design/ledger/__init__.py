@@ -21,6 +21,7 @@ every card limit recounted from the records.
 
 from rle_design.ledger.client import LedgerClient
 from rle_design.ledger.gate import GATE_CODES, GateResult, Limits, TrialCount, check_ledger
+from rle_design.ledger.record import record_session
 from rle_design.ledger.records import LedgerError, LedgerWriter
 from rle_design.ledger.scenes import (
     EvaluationPhase,
@@ -52,6 +53,7 @@ __all__ = [
     "LedgerServer",
     "LedgerVerdict",
     "LedgerWriter",
+    "record_session",
     "MeteredEnv",
     "MeteredSession",
     "serve",

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_design.ledger import LedgerServer, MeteredEnv, SceneSet
+from rle_design.ledger import LedgerServer, MeteredEnv, SceneSet, record_session
 from rle_tasks.core.devservice import ADDRESS_FUNCTION
 from rle_tasks.core.secrets import Secret, load_secret, using_secret
 from rle_tasks.core.task import TaskSpec, privileged_dev
@@ -109,6 +109,30 @@ class DevWorkspace:
 def ledger_key(secret: Secret, task_id: str) -> bytes:
     """Ledger HMAC key of ``task_id``: HMAC-SHA256(secret, label | task_id) [32 bytes]."""
     return hmac.digest(secret.key, LEDGER_LABEL + b"|" + task_id.encode(), hashlib.sha256)
+
+
+def record_solution(
+    env,
+    play: Callable,
+    ledger: Path,
+    secret: Secret,
+    task_id: str,
+    budget: int | None,
+    wall_time_s: float | None = None,
+) -> Path:
+    """A shipped solution's session: ``play(client)`` on ``env`` served under ``task_id``'s ledger key of
+    ``secret``, in its attempt, with the card's ``budget`` and ``wall_time_s`` [s]; returns the sealed
+    ``ledger`` (``rle_design.ledger.record_session``)."""
+    return record_session(
+        env,
+        play,
+        ledger,
+        key=ledger_key(secret, task_id),
+        task_id=task_id,
+        budget=budget,
+        wall_time_s=wall_time_s,
+        attempt=secret.attempt,
+    )
 
 
 def _socket_path(workspace: Path) -> Path:

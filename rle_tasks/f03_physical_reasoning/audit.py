@@ -10,16 +10,13 @@ import numpy as np
 from rle_tasks.audit.case import Case
 from rle_tasks.audit.ledger_limits import AUDIT_ATTEMPT, LimitCases, limit_cases
 
-from .scene import N_SUBSTEPS
-from .scoring import CANTILEVER_ID
-from .task import BUDGET, STEP_BUDGET
+from .cantilever.verifier import instance
+from .constants import CANTILEVER_ID, STEP_BUDGET, WALL_TIME_S
+from .scene import N_SUBSTEPS, make_env
 
 
 def _env():
     from rle_tasks.audit.case import AUDIT_SECRET
-
-    from .cantilever import instance
-    from .scene import make_env
 
     return make_env(instance(AUDIT_SECRET.for_attempt(AUDIT_ATTEMPT)).pieces, images=False)
 
@@ -27,7 +24,7 @@ def _env():
 def _open_meta() -> dict[str, Any]:
     return {
         "budget": STEP_BUDGET,
-        "wall_time_s": BUDGET.wall_time_s,
+        "wall_time_s": WALL_TIME_S,
         "model_sha256": _env().fingerprint(),
         "n_substeps": N_SUBSTEPS,
         "timestep": 0.002,
@@ -45,7 +42,7 @@ SPEC = LimitCases(
     open_meta=_open_meta,
     action_size=12,
     budget=STEP_BUDGET,
-    wall_time_s=BUDGET.wall_time_s,
+    wall_time_s=WALL_TIME_S,
     dev_reset={},
     out_of_range=_out_of_range,
 )

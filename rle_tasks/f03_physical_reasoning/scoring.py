@@ -1,62 +1,31 @@
-"""Rubrics of the family-03 tasks built in this package (tower, cantilever); each one checkpoint.
+"""Rubrics of the family's tasks, by task id: each task subpackage declares its own (``<task>/scoring.py``).
 
-A missing, unsealed or altered ledger (or one that does not replay) makes the report invalid with
-score 0 and the ledger's reason; otherwise the score is the card's ratio clipped to [0, 1].
+A missing, unsealed or altered ledger (or one that does not replay) makes a report invalid with score 0
+and the ledger's reason (``session.invalid_report``); otherwise each task scores by its card.
 """
 
 from __future__ import annotations
 
-import math
+from rle_tasks.core.scoring import Rubric
 
-from rle_tasks.core.scoring import CheckpointSpec, Fraction, Rubric
+from .balance import scoring as balance
+from .cantilever import scoring as cantilever
+from .cube import scoring as cube
+from .hidden_com import scoring as hidden_com
+from .tower import scoring as tower
 
-TOWER_ID = "03-tower"
-CANTILEVER_ID = "03-cantilever"
-PZ4 = (15.0 - 4.0 * math.sqrt(2.0)) / 8.0
-"""Paterson-Zwick optimal overhang of four blocks, in block lengths (1.16789)."""
-
-TOWER_RUBRIC = Rubric(
-    task_id=TOWER_ID,
-    family="03",
-    workflow="interactive_control",
-    variants=("scene",),
-    checkpoints=(
-        CheckpointSpec(
-            "height",
-            1.0,
-            "settled height of the robot-free tower above the table / H* [1]",
-            Fraction("height / H*, clipped to [0, 1]"),
-        ),
-    ),
-)
-CANTILEVER_RUBRIC = Rubric(
-    task_id=CANTILEVER_ID,
-    family="03",
-    workflow="interactive_control",
-    variants=("scene",),
-    checkpoints=(
-        CheckpointSpec(
-            "overhang",
-            1.0,
-            "settled overhang beyond the table edge along its normal / ((15 - 4 sqrt 2)/8 L) [1]",
-            Fraction("overhang / (1.16789 L), clipped to [0, 1]"),
-        ),
-    ),
-)
-RUBRICS = {TOWER_ID: TOWER_RUBRIC, CANTILEVER_ID: CANTILEVER_RUBRIC}
-RUBRIC = TOWER_RUBRIC
-"""The family's first rubric (the family-shape test reads ``RUBRIC``)."""
+RUBRICS: dict[str, Rubric] = {
+    **tower.RUBRICS,
+    **cantilever.RUBRICS,
+    **balance.RUBRICS,
+    **cube.RUBRICS,
+    **hidden_com.RUBRICS,
+}
 
 
 def rubrics() -> dict[str, Rubric]:
-    """Task id -> rubric, for every task of the family (three are declared beside their verifiers)."""
-    from . import balance_verifier, hidden_com_verifier
-    from .cube import verifier as cube_verifier
-
-    out = dict(RUBRICS)
-    for module in (balance_verifier, hidden_com_verifier, cube_verifier):
-        out[module.RUBRIC.task_id] = module.RUBRIC
-    return out
+    """Task id -> rubric, for every task of the family."""
+    return dict(RUBRICS)
 
 
 def diagnostics(report) -> dict[str, float]:

@@ -24,6 +24,8 @@ import numpy as np
 from rle_design.control import ReplayError, TabletopEnv, replay
 from rle_design.ledger import GateResult, Limits, check_ledger
 from rle_tasks.core.devenv import ledger_key
+from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.scoring import Outcome, Rubric
 from rle_tasks.core.secrets import Secret
 
 from .scene import Piece, piece_poses, piece_velocities
@@ -33,6 +35,7 @@ __all__ = [
     "LedgerOutcome",
     "OpenedLedger",
     "final_poses",
+    "invalid_report",
     "open_ledger",
     "replay_ledger",
     "tabletop_limits",
@@ -113,6 +116,17 @@ def open_ledger(
     if gate.code == "ledger.wrong_limits":
         message += "; record it in the task's metered environment (rle dev)"
     return OpenedLedger(gate.ok, gate.code, message, path, gate, secret.for_attempt(gate.attempt))
+
+
+def invalid_report(rubric: Rubric, code: str, message: str, findings: Findings) -> VerifierReport:
+    """The report of a session that did not pass the gate or the replay: ``code`` as an error on the
+    ledger, every checkpoint's variants 0, invalid."""
+    findings.add_error(code, message, LEDGER_FILE)
+    outcomes = {
+        c.id: Outcome(dict.fromkeys(rubric.variants, 0.0), f"no valid session: {message}")
+        for c in rubric.checkpoints
+    }
+    return rubric.report(outcomes, valid=False, errors=findings.errors, native_metrics={"ledger": code})
 
 
 def refused(opened: OpenedLedger) -> LedgerOutcome:

@@ -11,7 +11,7 @@ from rle_tasks.core import families as families_mod
 from rle_tasks.core import registry
 from rle_tasks.core.report import artifact_sha256
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
-from rle_tasks.core.solutions import declaration, materialise
+from rle_tasks.core.solutions import build, declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import run_verify
 
@@ -85,3 +85,98 @@ def test_the_example_verifier_fails_a_tall_box_for_its_named_reason(example, tmp
     missing.mkdir()
     report, _ = run_verify(task, missing, VerifyContext(secret=Secret(PUBLIC_KEY, public=True)))
     assert report.score == 0.0 and not report.valid and report.errors[0].path == "box.xml"
+
+
+# Worked example 2: family 11, two tasks over one metered environment.
+BLOCK11 = re.compile(r"`(f11_slider/[^`]+)`.*?\n```[a-z]*\n(.*?)```", re.DOTALL)
+PUBLIC = Secret(PUBLIC_KEY, public=True)
+
+
+@pytest.fixture
+def example11(tmp_path, monkeypatch):
+    """Family 11 written to ``tmp_path``, registered, its ledgers recorded and pinned as the page says."""
+    text = DOC.read_text()
+    section = text[text.index("## Worked example 2") :]
+    files = BLOCK11.findall(section)
+    assert [f for f, _ in files] == [
+        f"f11_slider/{rel}"
+        for rel in (
+            "__init__.py",
+            "constants.py",
+            "env.py",
+            "session.py",
+            "task.py",
+            "scoring.py",
+            "verifier.py",
+            *(
+                f"{t}/{f}"
+                for t in ("reach", "hold")
+                for f in ("__init__.py", "task.py", "instruction.md", "scoring.py", "verifier.py")
+            ),
+            "solutions/__init__.py",
+            "solutions/record.py",
+            "solutions/reach.py",
+            "solutions/hold.py",
+        )
+    ]
+    for rel, body in files:
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text(body)
+    (tmp_path / "f11_slider" / "assets").mkdir()
+    line = yaml.safe_load(re.search(r"```yaml\n(.*?)```", section, re.DOTALL).group(1))[0]
+    info = families_mod.FamilyInfo(line["number"], line["slug"], line["workflow"], line["title"])
+    known = families_mod.families()
+    monkeypatch.setattr(families_mod, "families", lambda: (*known, info))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("RLE_CACHE_DIR", str(tmp_path / "cache"))
+    packages = registry.family_packages([str(tmp_path)], prefix="")
+    assert packages == {11: "f11_slider"}
+    tasks = {t.id: t for t in registry.collect(packages)}
+    assert len(tasks) == 53 and tasks["11-reach"].implemented and tasks["11-hold"].implemented
+    # python -m f11_slider.solutions.record, then pin what python -m rle_tasks.core.solutions prints
+    from f11_slider.solutions import record
+
+    for task_id, name in (("11-reach", "reach"), ("11-hold", "hold")):
+        record.record(task_id, tmp_path / "f11_slider" / "solutions" / "reference" / name)
+        module = tmp_path / "f11_slider" / "solutions" / f"{name}.py"
+        sset = declaration(tasks[task_id])
+        for sol in sset.solutions:
+            build(sset, sol.name, tmp_path / "pins" / task_id / sol.name)
+            got = artifact_sha256(tmp_path / "pins" / task_id / sol.name)
+            module.write_text(module.read_text().replace('"<pin>"', f'"{got}"', 1))
+        del sys.modules[f"f11_slider.solutions.{name}"]
+    yield tasks
+    for name in [m for m in sys.modules if m.startswith("f11_slider")]:
+        del sys.modules[name]
+
+
+def test_the_metered_example_family_serves_its_session_and_scores_its_references(example11):
+    reach, hold = example11["11-reach"], example11["11-hold"]
+    assert reach.budget.steps == 200 and "| `reach` | 1.00 |" in reach.instruction
+    assert "| `near` | 0.50 |" in hold.instruction and "| `still` | 0.50 |" in hold.instruction
+    # the development environment is the metered one of the attempt's secret; a 5 N push of one action
+    # (10 semi-implicit Euler steps of dt = 0.01 s on 1 kg) moves the block a dt^2 n (n + 1) / 2
+    import mujoco
+
+    env = reach.make_dev_env(Path("."))
+    model = env.build()
+    data = mujoco.MjData(model)
+    env.reset(model, data)
+    data.ctrl[0] = 5.0
+    mujoco.mj_step(model, data, nstep=env.n_substeps)
+    assert data.qpos[0] == pytest.approx(5.0 * 0.01**2 * 10 * 11 / 2, rel=1e-9)
+    for task in (reach, hold):
+        ref = declaration(task).get("reference")
+        report, internal = run_verify(
+            task, materialise(task, "reference"), VerifyContext(secret=PUBLIC, quick=True)
+        )
+        assert not internal and report.valid and report.score == pytest.approx(ref.quick_score, abs=1e-6)
+        unsealed, _ = run_verify(task, materialise(task, "baseline/unsealed"), VerifyContext(secret=PUBLIC))
+        assert unsealed.score == 0.0 and not unsealed.valid and unsealed.errors[0].code == "ledger.unsealed"
+    # reach's score is its Linear curve of the miss: 1 - miss / 0.05 m
+    report, _ = run_verify(reach, materialise(reach, "reference"), VerifyContext(secret=PUBLIC))
+    miss = report.checkpoint("reach").measured["miss"]
+    assert miss < 1e-3 and report.score == pytest.approx(1 - miss / 0.05)
+    # a ledger of 11-reach is not one of 11-hold: the gate refuses it by name
+    wrong, _ = run_verify(hold, materialise(reach, "reference"), VerifyContext(secret=PUBLIC))
+    assert wrong.score == 0.0 and wrong.errors[0].code.startswith("ledger.")

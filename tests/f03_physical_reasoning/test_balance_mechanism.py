@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from rle_tasks.f03_physical_reasoning import balance_scene as bs
+from rle_tasks.f03_physical_reasoning.balance import scene as bs
 
 PARAMS = bs.BalanceParams()
 

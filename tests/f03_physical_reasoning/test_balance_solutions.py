@@ -14,7 +14,7 @@ from rle_tasks.core.registry import get_task
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f03_physical_reasoning import balance_verifier as bv
+from rle_tasks.f03_physical_reasoning.balance import verifier as bv
 from rle_tasks.f03_physical_reasoning.solutions.balance_coins import PROGRAMS, record
 
 PUBLIC = Secret(PUBLIC_KEY, public=True)

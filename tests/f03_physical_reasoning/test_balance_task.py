@@ -11,10 +11,10 @@ from rle_design.ledger import MeteredSession
 from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f03_physical_reasoning import balance_env as be
-from rle_tasks.f03_physical_reasoning import balance_scene as bs
-from rle_tasks.f03_physical_reasoning import balance_verifier as bv
-from rle_tasks.f03_physical_reasoning.balance import BUDGET_STEPS, WALL_TIME_S
+from rle_tasks.f03_physical_reasoning.balance import env as be
+from rle_tasks.f03_physical_reasoning.balance import scene as bs
+from rle_tasks.f03_physical_reasoning.balance import verifier as bv
+from rle_tasks.f03_physical_reasoning.constants import BALANCE_ID, STEP_BUDGET, WALL_TIME_S
 
 PUBLIC = Secret(PUBLIC_KEY, public=True)
 INSTANCE = bv.instance(PUBLIC)
@@ -116,9 +116,9 @@ def _session_ledger(env, tmp: Path, n_actions: int = 4, secret: Secret = PUBLIC)
     sub.mkdir()
     session = MeteredSession(
         env,
-        task_id=be.TASK_ID,
-        budget=BUDGET_STEPS,  # the card's limits: the gate refuses a session served with others
-        key=ledger_key(secret, be.TASK_ID),
+        task_id=BALANCE_ID,
+        budget=STEP_BUDGET,  # the card's limits: the gate refuses a session served with others
+        key=ledger_key(secret, BALANCE_ID),
         ledger_path=sub / "ledger.jsonl",
         wall_time_s=WALL_TIME_S,
     )

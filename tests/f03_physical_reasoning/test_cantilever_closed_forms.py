@@ -11,9 +11,9 @@ import pytest
 from scipy.optimize import linprog
 
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
-from rle_tasks.f03_physical_reasoning.cantilever import HEIGHT, instance, measure
+from rle_tasks.f03_physical_reasoning.cantilever.scoring import PZ4
+from rle_tasks.f03_physical_reasoning.cantilever.verifier import HEIGHT, instance, measure
 from rle_tasks.f03_physical_reasoning.scene import CONFIG
-from rle_tasks.f03_physical_reasoning.scoring import PZ4
 
 INST = instance(Secret(PUBLIC_KEY, public=True))
 L = INST.length

@@ -3,7 +3,7 @@
 import pytest
 
 from rle_tasks.f03_physical_reasoning.cube.lattice import SOLVED, LatticeState
-from rle_tasks.f03_physical_reasoning.cube.score import UNCLASSIFIED_CAP, cube_reward
+from rle_tasks.f03_physical_reasoning.cube.scoring import UNCLASSIFIED_CAP, cube_reward
 from rle_tasks.f03_physical_reasoning.cube.turns import Transition, classify
 
 SCRAMBLE = ["R", "U", "F'", "U"]  # optimal 4 (checked below against the table)

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from rle_design.ledger.testing import cut_seal
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
@@ -113,9 +114,7 @@ def test_missing_ledger_scores_zero(tmp_path):
 
 @pytest.mark.physics
 def test_unsealed_altered_or_foreign_ledgers_score_zero(ledgers, tmp_path):
-    path = _copy(ledgers["idle"], tmp_path)
-    lines = path.read_bytes().splitlines(keepends=True)
-    path.write_bytes(b"".join(lines[:-1]))
+    cut_seal(_copy(ledgers["idle"], tmp_path))
     _expect_invalid(tmp_path, "ledger.unsealed")
 
     path = _copy(ledgers["idle"], tmp_path)

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
-from rle_tasks.f03_physical_reasoning import cantilever
+from rle_tasks.f03_physical_reasoning.cantilever import verifier as cantilever
 from rle_tasks.f03_physical_reasoning.scene import (
     CONFIG,
     REST_ANGLE,

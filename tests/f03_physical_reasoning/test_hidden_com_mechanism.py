@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from rle_design.errors import ConfigError
-from rle_tasks.f03_physical_reasoning.hidden_com_scene import QUADRANTS, BoxParams, add_box
+from rle_tasks.f03_physical_reasoning.hidden_com.scene import QUADRANTS, BoxParams, add_box
 
 G = 9.81
 

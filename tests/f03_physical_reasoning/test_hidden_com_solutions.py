@@ -14,7 +14,7 @@ from rle_tasks.core.registry import get_task
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f03_physical_reasoning import hidden_com_verifier as hv
+from rle_tasks.f03_physical_reasoning.hidden_com import verifier as hv
 from rle_tasks.f03_physical_reasoning.solutions.hidden_com import record
 from rle_tasks.f03_physical_reasoning.solutions.hidden_com.random_answers import guesses
 

@@ -11,10 +11,10 @@ from rle_design.ledger import MeteredSession
 from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f03_physical_reasoning import hidden_com as hc
-from rle_tasks.f03_physical_reasoning import hidden_com_env as he
-from rle_tasks.f03_physical_reasoning import hidden_com_verifier as hv
-from rle_tasks.f03_physical_reasoning.hidden_com_scene import QUADRANTS
+from rle_tasks.f03_physical_reasoning import constants as hc
+from rle_tasks.f03_physical_reasoning.hidden_com import env as he
+from rle_tasks.f03_physical_reasoning.hidden_com import verifier as hv
+from rle_tasks.f03_physical_reasoning.hidden_com.scene import QUADRANTS
 
 PUBLIC = Secret(PUBLIC_KEY, public=True)
 INSTANCE = hv.instance(PUBLIC)
@@ -90,15 +90,15 @@ def test_corner_patches_show_where_the_instruction_says():
 
 
 def _session(
-    env, tmp: Path, actions, secret: Secret = PUBLIC, wall_time_s: float | None = hc.WALL_TIME_S
+    env, tmp: Path, actions, secret: Secret = PUBLIC, wall_time_s: float | None = hc.HIDDEN_COM_WALL_TIME_S
 ) -> Path:
     sub = tmp / "submission"
     sub.mkdir(parents=True)
     s = MeteredSession(
         env,
-        task_id=he.TASK_ID,
-        budget=hc.BUDGET_STEPS,
-        key=ledger_key(secret, he.TASK_ID),
+        task_id=hc.HIDDEN_COM_ID,
+        budget=hc.HIDDEN_COM_STEPS,
+        key=ledger_key(secret, hc.HIDDEN_COM_ID),
         ledger_path=sub / "ledger.jsonl",
         wall_time_s=wall_time_s,
     )
@@ -161,7 +161,7 @@ def test_a_ledger_replayed_on_another_instance_is_refused(env, tmp_path):
 
 def test_an_answer_after_the_box_budget_is_refused_as_late():
     # steps_per_box shortened to 5 for speed; the task uses the card's 12,000 (pinned below)
-    assert he.STEPS_PER_BOX == 12_000 and hc.BUDGET_STEPS == 3 * he.STEPS_PER_BOX
+    assert he.STEPS_PER_BOX == 12_000 and hc.HIDDEN_COM_STEPS == 3 * he.STEPS_PER_BOX
     short = he.HiddenComEnv(xml=he.scene_xml(INSTANCE), image_size=None, steps_per_box=5)
     model = short.build()
     short.prepare(model)
@@ -182,7 +182,7 @@ def test_an_answer_after_the_box_budget_is_refused_as_late():
 
 def test_a_session_without_the_cards_hour_is_refused(env, tmp_path):
     actions = [he.answer_action(i, a) for i, a in enumerate(INSTANCE.quadrants)]
-    for limit in (None, 2 * hc.WALL_TIME_S):
+    for limit in (None, 2 * hc.HIDDEN_COM_WALL_TIME_S):
         sub = _session(env, tmp_path / str(limit), actions, wall_time_s=limit)
         report = hv.verify(sub, VerifyContext(secret=PUBLIC))
         assert report.score == 0.0 and report.errors[0].code == "ledger.wrong_limits"

@@ -8,10 +8,11 @@ from pathlib import Path
 
 import pytest
 
+from rle_design.ledger.testing import cut_seal
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f03_physical_reasoning.cantilever import verify
+from rle_tasks.f03_physical_reasoning.cantilever.verifier import verify
 from rle_tasks.f03_physical_reasoning.scene import make_env
 
 REFERENCE = Path(__file__).parents[2] / "rle_tasks/f03_physical_reasoning/solutions/reference/cantilever"
@@ -35,9 +36,7 @@ def test_missing_ledger(tmp_path: Path) -> None:
 
 
 def test_seal_cut_off(tmp_path: Path) -> None:
-    path = _copy(tmp_path)
-    lines = path.read_bytes().splitlines(keepends=True)
-    path.write_bytes(b"".join(lines[:-1]))
+    cut_seal(_copy(tmp_path))
     _expect_zero(tmp_path, "ledger.unsealed")
 
 
@@ -72,7 +71,7 @@ def test_ledger_of_another_secret_is_refused(tmp_path: Path) -> None:
 
 
 def test_ledger_of_another_task_is_refused(tmp_path: Path) -> None:
-    from rle_tasks.f03_physical_reasoning.tower import verify as verify_tower
+    from rle_tasks.f03_physical_reasoning.tower.verifier import verify as verify_tower
 
     _copy(tmp_path)
     report = verify_tower(tmp_path, CTX)
@@ -89,9 +88,10 @@ def test_garbage_never_crashes(tmp_path: Path, content: bytes) -> None:
 def test_a_session_is_bound_to_its_attempt(tmp_path):
     """The reference program in attempt "trial-A": its instance is the attempt's own (another block
     length than the unbound one), it verifies as trial-A and is refused as trial-B."""
-    from rle_tasks.f03_physical_reasoning import cantilever
+    from rle_tasks.core.devenv import record_solution
+    from rle_tasks.f03_physical_reasoning.cantilever import verifier as cantilever
     from rle_tasks.f03_physical_reasoning.scene import CONFIG
-    from rle_tasks.f03_physical_reasoning.solutions import agents, record_session
+    from rle_tasks.f03_physical_reasoning.solutions import agents
     from rle_tasks.f03_physical_reasoning.task import BUDGET
 
     public = Secret(PUBLIC_KEY, public=True)
@@ -105,7 +105,9 @@ def test_a_session_is_bound_to_its_attempt(tmp_path):
 
     env = make_env(inst.pieces, privileged=True, images=False)
     sub = tmp_path / "s"
-    record_session(env, bound, "03-cantilever", BUDGET.steps, sub / "ledger.jsonl", solve, BUDGET.wall_time_s)
+    record_solution(
+        env, solve, sub / "ledger.jsonl", bound, "03-cantilever", BUDGET.steps, BUDGET.wall_time_s
+    )
     task = get_task("03-cantilever")
     ok = task.verify(sub, VerifyContext(secret=public, attempt="trial-A"))
     assert ok.valid and ok.score > 0.75, ok.checkpoints[0].message

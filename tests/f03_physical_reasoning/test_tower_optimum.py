@@ -9,8 +9,8 @@ import pytest
 
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 from rle_tasks.f03_physical_reasoning.scene import CONFIG
-from rle_tasks.f03_physical_reasoning.tower import instance, measure
-from rle_tasks.f03_physical_reasoning.tower_optimum import Block, margins, optimal_tower
+from rle_tasks.f03_physical_reasoning.tower.optimum import Block, margins, optimal_tower
+from rle_tasks.f03_physical_reasoning.tower.verifier import instance, measure
 
 TAN5 = math.tan(math.radians(5.0))
 

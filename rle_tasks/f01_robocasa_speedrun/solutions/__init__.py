@@ -17,6 +17,7 @@ from __future__ import annotations
 import gzip
 from pathlib import Path
 
+from rle_design.ledger.testing import flip_last_action
 from rle_tasks.core.solutions import Solution, SolutionSet
 
 __all__ = ["LEDGER", "SOLUTIONS", "gunzip", "harbor_oracle", "ledger_dir", "tamper"]
@@ -34,14 +35,7 @@ def gunzip(directory: Path) -> None:
 
 def tamper(directory: Path) -> None:
     """Flip one hex digit of the last recorded action (the record's MAC no longer matches)."""
-    path = directory / LEDGER
-    lines = path.read_bytes().splitlines(keepends=True)
-    k = max(i for i, line in enumerate(lines) if b'"kind":"steps"' in line)
-    line = lines[k]
-    at = line.rindex(b'"]') - 1
-    digit = b"1" if line[at : at + 1] != b"1" else b"2"
-    lines[k] = line[:at] + digit + line[at + 1 :]
-    path.write_bytes(b"".join(lines))
+    flip_last_action(directory / LEDGER)
 
 
 def harbor_oracle(spec, dest: Path) -> str | None:

@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from rle_design.ledger import LedgerClient, LedgerError, LedgerServer
-from rle_tasks.core.devenv import ledger_key
+from rle_design.ledger import LedgerClient, LedgerError
+from rle_tasks.core.devenv import record_solution
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 
 from ..kitchens import BUDGET, KITCHEN_TASKS, LEVELS, STEP_BUDGET, KitchenTaskId, scenes
@@ -42,24 +42,10 @@ def record(
     ``dest/ledger.jsonl.gz``. ``images`` renders the cameras (programs that read them: levels 1-2)."""
     task_id = kitchen.task_id(level)
     with tempfile.TemporaryDirectory(prefix="rle-f01-") as tmp:
-        ledger = Path(tmp) / LEDGER
-        server = LedgerServer(
-            scenes(kitchen, level, PUBLIC, image_size=(128, 128) if images else None),
-            key=ledger_key(PUBLIC, task_id),
-            ledger_path=ledger,
-            socket_path=Path(tmp) / "ledger.sock",
-            task_id=task_id,
-            budget=STEP_BUDGET,
-            wall_time_s=BUDGET.wall_time_s,
+        env = scenes(kitchen, level, PUBLIC, image_size=(128, 128) if images else None)
+        ledger = record_solution(
+            env, program, Path(tmp) / LEDGER, PUBLIC, task_id, STEP_BUDGET, BUDGET.wall_time_s
         )
-        server.start()
-        try:
-            with LedgerClient(server.socket_path) as client:
-                program(client)
-                client.seal()
-            server.wait(60)
-        finally:
-            server.stop()
         dest.mkdir(parents=True, exist_ok=True)
         (dest / (LEDGER + ".gz")).write_bytes(gzip.compress(ledger.read_bytes(), mtime=0))
     return dest

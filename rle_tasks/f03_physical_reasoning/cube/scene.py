@@ -26,15 +26,11 @@ import numpy as np
 from rle_design.scene.camera import look_at_quat
 from rle_design.scene.tabletop import STIFF_SOLREF, TabletopConfig, build_tabletop, finish
 from rle_tasks.core.secrets import Secret, derive_rng
+from rle_tasks.f03_physical_reasoning.constants import CUBE_ID
 from rle_tasks.f03_physical_reasoning.cube.coords import N_STATES, decode
 from rle_tasks.f03_physical_reasoning.cube.distance import optimal_turns
 from rle_tasks.f03_physical_reasoning.cube.lattice import SOLVED, LatticeState
 from rle_tasks.f03_physical_reasoning.cube.model import CubeConfig
-
-BUDGET_STEPS = 50_000
-WALL_TIME_S = 9 * 3600.0
-"""Wall time of the one continuous attempt [s] (card: 9 h)."""
-"""Charged steps of the one continuous attempt (card)."""
 
 __all__ = [
     "CUBE_NAME",
@@ -43,14 +39,12 @@ __all__ = [
     "STAND_HALF",
     "STAND_TOP_Z",
     "TABLE",
-    "TASK_ID",
     "CubeInstance",
     "cube_config",
     "instance",
     "scene_xml",
 ]
 
-TASK_ID = "03-pocket-cube"
 TABLE = TabletopConfig.two_arms(cameras=("east", "south", "above"), look_at=(0.0, 0.0, 0.85))
 """The two-arm table; its three wide cameras are renamed so the cube camera can be ``front``."""
 CUBE_NAME = "cube"
@@ -111,7 +105,7 @@ def instance(secret: Secret) -> CubeInstance:
     """The scramble of a secret: the first public scramble without a secret, else drawn from it."""
     if secret.public:
         return CubeInstance.from_moves(PUBLIC_SCRAMBLES[0])
-    return CubeInstance.draw(derive_rng(secret, TASK_ID, "scramble"))
+    return CubeInstance.draw(derive_rng(secret, CUBE_ID, "scramble"))
 
 
 def cube_config(inst: CubeInstance) -> CubeConfig:

@@ -5,18 +5,20 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
-from rle_tasks.f03_physical_reasoning.cube.scene import BUDGET_STEPS, TASK_ID, WALL_TIME_S
+from rle_tasks.core.task import TaskSpec, serving_privileged
+
+from ..constants import CUBE_ID
+from ..task import current_secret, ledger_contract, ledger_task, task_instruction
+from .env import make_env
+from .scene import instance
+from .scoring import RUBRIC
+from .verifier import verify
 
 HERE = Path(__file__).resolve().parent
-
-
-def instruction() -> str:
-    """The agent instruction with the rubric's table appended."""
-    from .verifier import RUBRIC
-
-    text = (HERE.parent / "instructions" / "pocket_cube.md").read_text()
-    return text + "\n" + RUBRIC.markdown_table() + "\n"
+CONTRACT = ledger_contract(
+    "ledger.jsonl: the sealed ledger of the metered attempt (written by the ledger server outside the "
+    "workspace; copy it into the submission)."
+)
 
 
 def make_dev_env(workspace: Path):
@@ -25,12 +27,6 @@ def make_dev_env(workspace: Path):
     Serving an operator's oracle trial (``serving_privileged``), each observation also holds ``plan``:
     the reference's moves for this scramble (``solutions.pocket_cube.reference.plan``), which the
     exported oracle executes. Agents never get it; the ledger says the session was privileged."""
-    from rle_tasks.core.secrets import current_secret
-    from rle_tasks.core.task import serving_privileged
-
-    from .env import make_env
-    from .scene import instance
-
     inst = instance(current_secret())
     env = make_env(inst)
     if not serving_privileged():
@@ -52,23 +48,14 @@ class _Plan:
 
 
 def task_spec() -> TaskSpec:
-    from .verifier import verify
-
-    return TaskSpec(
-        quick_reduces=False,  # a recorded ledger: quick verifies the same
-        id=TASK_ID,
-        family=3,
-        title="Tabletop physical reasoning: solve a physical 2x2x2 cube with two arms",
-        instruction=instruction(),
-        budget=Budget(wall_time_s=WALL_TIME_S, cpus=4, gpus=1, steps=BUDGET_STEPS, verifier_timeout_s=1800.0),
-        contract=ArtifactContract(
-            required=("ledger.jsonl",),
-            description="ledger.jsonl: the sealed ledger of the metered attempt (written by the ledger server "
-            "outside the workspace; copy it into the submission).",
-        ),
-        make_dev_env=make_dev_env,
-        verify=verify,
-        solutions=(
+    return ledger_task(
+        CUBE_ID,
+        "Tabletop physical reasoning: solve a physical 2x2x2 cube with two arms",
+        task_instruction(HERE, RUBRIC.markdown_table()),
+        CONTRACT,
+        make_dev_env,
+        verify,
+        (
             "reference",
             "baseline/idle",
             "baseline/dropped",
@@ -76,6 +63,6 @@ def task_spec() -> TaskSpec:
             "baseline/forced_twist",
             "baseline/unsealed",
         ),
-        solutions_module="rle_tasks.f03_physical_reasoning.solutions.pocket_cube",
+        "rle_tasks.f03_physical_reasoning.solutions.pocket_cube",
         privileged_oracle=True,
     )

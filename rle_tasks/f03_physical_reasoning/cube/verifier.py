@@ -16,7 +16,7 @@ Protocol:
    the cube **held above its supports**: its lowest corner at least ``reading.LIFT_CLEARANCE`` above
    the stand's top (the highest surface it can rest on; a cube on its stand or on the table is not
    held).
-6. Reward (``score.cube_reward``): 0 when the session's turn counter (``cube_session.turns``, counted
+6. Reward (``scoring.cube_reward``): 0 when the session's turn counter (``cube_session.turns``, counted
    by the server after every action) differs from the recount of step 4 (invalid counters), 0 when not
    solved, else ``min(1, opt / turns)`` with ``opt`` the scramble's optimal quarter-turn count
    (distance table); capped at 0.5 when any transition is unclassified.
@@ -29,10 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rle_design.control import ReplayError, replay
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.scoring import Cap, CheckpointSpec, Fraction, Outcome, Rubric
+from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
+from rle_tasks.f03_physical_reasoning.constants import CUBE_ID, STEP_BUDGET, WALL_TIME_S
 from rle_tasks.f03_physical_reasoning.cube import env as ce
 from rle_tasks.f03_physical_reasoning.cube.reading import (
     ALIGNED_TOL,
@@ -44,36 +44,19 @@ from rle_tasks.f03_physical_reasoning.cube.reading import (
     poses_from_data,
     read,
 )
-from rle_tasks.f03_physical_reasoning.cube.scene import STAND_TOP_Z, TABLE, TASK_ID, instance
-from rle_tasks.f03_physical_reasoning.cube.score import UNCLASSIFIED_CAP, cube_reward
+from rle_tasks.f03_physical_reasoning.cube.scene import STAND_TOP_Z, TABLE, instance
+from rle_tasks.f03_physical_reasoning.cube.scoring import RUBRIC, cube_reward
 from rle_tasks.f03_physical_reasoning.cube.turns import transitions
-
-__all__ = ["LEDGER_FILE", "RUBRIC", "final_check", "verify"]
-
-LEDGER_FILE = "ledger.jsonl"
-
-RUBRIC = Rubric(
-    task_id=TASK_ID,
-    family="03",
-    workflow="interactive_control",
-    variants=("attempt",),
-    checkpoints=(
-        CheckpointSpec(
-            "solve",
-            1.0,
-            "solved cube held still above the table at the end of the one attempt; turns = quarter turns "
-            "recounted from the replay (a half turn counts 2), opt = the scramble's optimal quarter turns",
-            Fraction("0 unless solved with valid counters and no reset; then min(1, opt/turns)"),
-        ),
-    ),
-    caps=(
-        Cap(
-            "unclassified",
-            UNCLASSIFIED_CAP,
-            "a change between settled cube states is not one quarter or half turn of a single layer",
-        ),
-    ),
+from rle_tasks.f03_physical_reasoning.session import (
+    LEDGER_FILE,
+    invalid_report,
+    note_privileged,
+    open_ledger,
+    replay_ledger,
+    tabletop_limits,
 )
+
+__all__ = ["LEDGER_FILE", "final_check", "verify"]
 
 
 def final_check(poses: CubePoses) -> SolvedCheck:
@@ -109,32 +92,19 @@ def final_check(poses: CubePoses) -> SolvedCheck:
     return SolvedCheck(not failed, "; ".join(failed), measured)
 
 
-def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
-    findings.add_error(code, message, LEDGER_FILE)
-    return RUBRIC.report(
-        {"solve": Outcome({"attempt": 0.0}, f"no valid session: {message}")},
-        valid=False,
-        errors=findings.errors,
-        native_metrics={"ledger": code},
-    )
-
-
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
-    from ..session import note_privileged, open_ledger, tabletop_limits
-    from .scene import BUDGET_STEPS, WALL_TIME_S
-
     findings = Findings()
-    opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)
+    opened = open_ledger(root, ctx.secret, CUBE_ID, tabletop_limits(STEP_BUDGET, WALL_TIME_S), ctx.attempt)
     if not opened.ok:
-        return _invalid(opened.code, opened.message, findings)
+        return invalid_report(RUBRIC, opened.code, opened.message, findings)
     privileged = note_privileged(opened, findings)
     inst = instance(opened.secret)
     readings: list = []
-    try:
-        model, data, n_actions = replay(ce.make_env(inst, image_size=None, recorder=readings), opened.path)
-    except ReplayError as exc:
-        return _invalid(exc.code, exc.message, findings)
+    gate = replay_ledger(opened, ce.make_env(inst, image_size=None, recorder=readings))
+    if not gate.ok:
+        return invalid_report(RUBRIC, gate.code, gate.message, findings)
+    model, data, n_actions = gate.model, gate.data, gate.actions
     readings.append(ce.cube_reading(model, data))
     session = ce.counters(model, data)
     native = {

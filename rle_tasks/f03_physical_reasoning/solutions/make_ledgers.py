@@ -14,11 +14,12 @@ from pathlib import Path
 from typing import Any
 
 from rle_design.ledger import LedgerClient
+from rle_tasks.core.devenv import record_solution
 from rle_tasks.core.secrets import PUBLIC_KEY, Secret
 
+from ..constants import CANTILEVER_ID, STEP_BUDGET, TOWER_ID, WALL_TIME_S
 from ..scene import CONFIG, make_env
-from ..task import BUDGET, STEP_BUDGET
-from . import agents, record_session
+from . import agents
 
 HERE = Path(__file__).resolve().parent
 PUBLIC = Secret(PUBLIC_KEY, public=True)
@@ -35,12 +36,12 @@ def record(task_id: str, pieces: tuple, program: Program, dest: Path) -> int:
         steps.append(client.info()["steps_used"])
 
     env = make_env(pieces, privileged=True, images=False)
-    record_session(env, PUBLIC, task_id, STEP_BUDGET, dest, solve, BUDGET.wall_time_s)
+    record_solution(env, solve, dest, PUBLIC, task_id, STEP_BUDGET, WALL_TIME_S)
     return steps[0]
 
 
 def cantilever_ledgers() -> None:
-    from .. import cantilever
+    from ..cantilever import verifier as cantilever
 
     inst = cantilever.instance(PUBLIC)
     for name, scale in (("reference", 0.93), ("baseline/overreach", 1.15)):
@@ -48,14 +49,12 @@ def cantilever_ledgers() -> None:
         def program(step: Callable, obs: dict, scale: float = scale) -> object:
             return agents.harmonic_cantilever(step, obs, CONFIG.edge_x, CONFIG.top_z, scale=scale)
 
-        steps = record(
-            cantilever.CANTILEVER_ID, inst.pieces, program, HERE / name / "cantilever" / "ledger.jsonl"
-        )
+        steps = record(CANTILEVER_ID, inst.pieces, program, HERE / name / "cantilever" / "ledger.jsonl")
         print(f"03-cantilever {name}: {steps} steps")
 
 
 def tower_ledgers() -> None:
-    from .. import tower
+    from ..tower import verifier as tower
 
     inst = tower.instance(PUBLIC)
     plan = tower.reference_plan(inst)
@@ -64,7 +63,7 @@ def tower_ledgers() -> None:
         def program(step: Callable, obs: dict, knock: bool = knock) -> object:
             return agents.tower(step, obs, plan, tower.BUILD_SPOT, CONFIG.top_z, knock_over=knock)
 
-        steps = record(tower.TOWER_ID, inst.pieces, program, HERE / name / "tower" / "ledger.jsonl")
+        steps = record(TOWER_ID, inst.pieces, program, HERE / name / "tower" / "ledger.jsonl")
         print(f"03-tower {name}: {steps} steps")
 
 

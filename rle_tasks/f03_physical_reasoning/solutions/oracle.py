@@ -60,18 +60,18 @@ def harbor_oracle(spec, dest: Path) -> str | None:
     Raises:
         ValueError: the copied program imports the verifier's package.
     """
-    from .. import tower
-    from ..cantilever import CANTILEVER_ID
+    from ..constants import CANTILEVER_ID, TOWER_ID
     from ..scene import CONFIG
+    from ..tower import verifier as tower
 
     if spec.id == CANTILEVER_ID:
         imports = "from agents import harmonic_cantilever  # noqa: E402"
         body = _CANTILEVER.format(edge_x=float(CONFIG.edge_x), top_z=float(CONFIG.top_z), scale=SCALE)
         modules = ("agents.py",)
-    elif spec.id == tower.TOWER_ID:
+    elif spec.id == TOWER_ID:
         imports = "from agents import tower  # noqa: E402\nfrom tower_optimum import Block, optimal_tower  # noqa: E402"
         body = _TOWER.format(density=tower.DENSITY, spot=tuple(tower.BUILD_SPOT), top_z=float(CONFIG.top_z))
-        modules = ("agents.py", "../tower_optimum.py")
+        modules = ("agents.py", "../tower/optimum.py")
     else:
         return None
     oracle = _PROLOGUE.format(task=spec.id, imports=imports) + body + _EPILOGUE
@@ -80,7 +80,8 @@ def harbor_oracle(spec, dest: Path) -> str | None:
         text = (HERE / module).read_text()
         if "rle_tasks" in text:
             raise ValueError(f"{module} imports rle_tasks, which the agent's image does not hold")
-        (Path(dest) / Path(module).name).write_text(text)
+        name = "tower_optimum.py" if module.endswith("tower/optimum.py") else Path(module).name
+        (Path(dest) / name).write_text(text)
     (Path(dest) / "oracle.py").write_text(oracle)
     return PLAYING_SOLVE_SH
 

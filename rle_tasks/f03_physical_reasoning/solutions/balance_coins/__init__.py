@@ -28,17 +28,20 @@ SHIPPED = ("reference", "five_weighings")
 
 def record(program: str, secret, dest: Path, **kwargs) -> Path:
     """Play ``program`` on the instance of ``secret``; write and return ``dest`` holding ``ledger.jsonl``."""
-    from ...balance_env import TASK_ID, make_env
-    from ...balance_scene import BUDGET_STEPS, WALL_TIME_S
-    from ...balance_verifier import LEDGER_FILE, instance
-    from .. import record_session
+    from rle_tasks.core.devenv import record_solution
+
+    from ...balance.env import make_env
+    from ...balance.verifier import LEDGER_FILE, instance
+    from ...constants import BALANCE_ID, STEP_BUDGET, WALL_TIME_S
 
     if program not in PROGRAMS:
         raise ValueError(f"unknown program {program!r}. Programs: {', '.join(PROGRAMS)}")
     solve = importlib.import_module(f"{__name__}.{program}").solve
     dest = Path(dest)
     env = make_env(instance(secret), image_size=None)
-    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, WALL_TIME_S, **kwargs)
+    record_solution(
+        env, lambda c: solve(c, **kwargs), dest / LEDGER_FILE, secret, BALANCE_ID, STEP_BUDGET, WALL_TIME_S
+    )
     return dest
 
 

@@ -28,17 +28,21 @@ def record(program: str, secret, dest: Path, camera_every: int = 10, **kwargs) -
 
     ``camera_every`` > 10 renders fewer views (the reference reads only the view after its reset).
     """
-    from ...hidden_com_env import TASK_ID, make_env
-    from ...hidden_com_scene import BUDGET_STEPS, WALL_TIME_S
-    from ...hidden_com_verifier import LEDGER_FILE, instance
-    from .. import record_session
+    from rle_tasks.core.devenv import record_solution
+
+    from ...constants import HIDDEN_COM_ID, HIDDEN_COM_STEPS, HIDDEN_COM_WALL_TIME_S
+    from ...hidden_com.env import make_env
+    from ...hidden_com.verifier import LEDGER_FILE, instance
 
     if program not in PROGRAMS:
         raise ValueError(f"unknown program {program!r}. Programs: {', '.join(PROGRAMS)}")
     solve = importlib.import_module(f"{__name__}.{program}").solve
     dest = Path(dest)
     env = make_env(instance(secret), camera_every=camera_every)
-    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, WALL_TIME_S, **kwargs)
+    play = lambda c: solve(c, **kwargs)  # noqa: E731
+    record_solution(
+        env, play, dest / LEDGER_FILE, secret, HIDDEN_COM_ID, HIDDEN_COM_STEPS, HIDDEN_COM_WALL_TIME_S
+    )
     return dest
 
 

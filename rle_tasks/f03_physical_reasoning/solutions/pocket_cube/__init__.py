@@ -41,17 +41,21 @@ def record(program: str, secret, dest: Path, camera_every: int = 100_000, inst=N
     fingerprint do not change). ``inst`` replaces the secret's scramble (tests of the verifier's
     positive path on a shallow scramble; such a ledger verifies only against that scramble).
     """
+    from rle_tasks.core.devenv import record_solution
+
+    from ...constants import CUBE_ID, STEP_BUDGET, WALL_TIME_S
     from ...cube.env import make_env
-    from ...cube.scene import BUDGET_STEPS, TASK_ID, WALL_TIME_S, instance
+    from ...cube.scene import instance
     from ...cube.verifier import LEDGER_FILE
-    from .. import record_session
 
     if program not in PROGRAMS:
         raise ValueError(f"unknown program {program!r}. Programs: {', '.join(PROGRAMS)}")
     solve = importlib.import_module(f"{__name__}.{program}").solve
     dest = Path(dest)
     env = make_env(instance(secret) if inst is None else inst, camera_every=camera_every)
-    record_session(env, secret, TASK_ID, BUDGET_STEPS, dest / LEDGER_FILE, solve, WALL_TIME_S, **kwargs)
+    record_solution(
+        env, lambda c: solve(c, **kwargs), dest / LEDGER_FILE, secret, CUBE_ID, STEP_BUDGET, WALL_TIME_S
+    )
     return dest
 
 

@@ -1,4 +1,5 @@
-"""The pocket cube's reward: a pure function of the solve, the ledger's turn count and the transitions.
+"""Rubric of ``03-pocket-cube`` and its reward, a pure function of the solve, the ledger's turn count and
+the transitions.
 
     reward = 0                              if the ledger's turn count != the quarter turns of the
                                             classified transitions (invalid counters), or unsolved
@@ -17,9 +18,35 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from rle_tasks.core.scoring import Cap, CheckpointSpec, Fraction, Rubric
+from rle_tasks.f03_physical_reasoning.constants import CUBE_ID
 from rle_tasks.f03_physical_reasoning.cube.turns import Transition
 
 UNCLASSIFIED_CAP = 0.5
+
+RUBRIC = Rubric(
+    task_id=CUBE_ID,
+    family="03",
+    workflow="interactive_control",
+    variants=("attempt",),
+    checkpoints=(
+        CheckpointSpec(
+            "solve",
+            1.0,
+            "solved cube held still above the table at the end of the one attempt; turns = quarter turns "
+            "recounted from the replay (a half turn counts 2), opt = the scramble's optimal quarter turns",
+            Fraction("0 unless solved with valid counters and no reset; then min(1, opt/turns)"),
+        ),
+    ),
+    caps=(
+        Cap(
+            "unclassified",
+            UNCLASSIFIED_CAP,
+            "a change between settled cube states is not one quarter or half turn of a single layer",
+        ),
+    ),
+)
+RUBRICS = {CUBE_ID: RUBRIC}
 
 
 @dataclass(frozen=True)

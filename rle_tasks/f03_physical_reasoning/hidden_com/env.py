@@ -1,7 +1,7 @@
 """The ``03-hidden-com`` scene, its metered environment and the answer protocol.
 
 Scene: the tabletop of ``rle_design.scene.tabletop`` (one Panda at (-0.05, 0), table top at
-z = 0.75 m) and three sealed boxes (``hidden_com_scene``) resting with their centres at ``BOX_XY``;
+z = 0.75 m) and three sealed boxes (``scene``) resting with their centres at ``BOX_XY``;
 each box's heading is a multiple of 90 deg and its ballast quadrant one of A..D, both drawn from the
 secret (``HiddenComInstance.draw``). The observation is the tabletop's: the arm's state and three RGB
 views (``IMAGE_SIZE``), no object pose, force, contact or mass reading; plus ``answers``.
@@ -36,9 +36,9 @@ from rle_design.control import TabletopEnv
 from rle_design.control.layout import ACTION_SIZE, BASE, GRIPPER, MODE, TORSO
 from rle_design.scene.tabletop import TabletopConfig, build_tabletop, finish
 
-from .hidden_com_scene import N_BOXES, QUADRANTS, BoxParams, add_box, box_name
+from ..constants import N_BOXES, STEPS_PER_BOX
+from .scene import QUADRANTS, BoxParams, add_box, box_name
 
-TASK_ID = "03-hidden-com"
 TABLE = TabletopConfig()
 BOX_XY = ((0.30, -0.20), (0.36, 0.0), (0.30, 0.20))
 """Box centres on the table (x, y) [m] (published)."""
@@ -46,8 +46,6 @@ IMAGE_SIZE = (240, 320)
 """RGB size (H, W) [px]: a corner patch spans about 5 px in the top view."""
 BOX_CODES = (-1.0, 0.0, 1.0)
 QUADRANT_CODES = (-0.75, -0.25, 0.25, 0.75)
-STEPS_PER_BOX = 12_000
-"""Charged steps allowed between answers (the card's per-box budget)."""
 INVALID = N_BOXES
 """``MjData.userdata`` index of the ignored-answer counter (0..2 hold the answers)."""
 LATE = N_BOXES + 1

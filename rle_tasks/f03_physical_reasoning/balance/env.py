@@ -1,7 +1,7 @@
 """The ``03-balance-coins`` scene and its metered environment.
 
 Scene: the tabletop of ``rle_design.scene.tabletop`` (one Panda at (-0.05, 0), table top at
-z = 0.75 m), the balance of ``balance_scene`` at ``BALANCE_BASE`` with its beam along world y (the
+z = 0.75 m), the balance of ``scene`` at ``BALANCE_BASE`` with its beam along world y (the
 pan ``balance_pan_left`` at y = -0.15 m, ``balance_pan_right`` at y = +0.15 m), the nine cubes in a
 3 x 3 grid (``CUBE_GRID``) and the answer mat (``MAT_CENTRE``, half side ``MAT_HALF``).
 
@@ -34,9 +34,8 @@ from rle_design.control import TabletopEnv
 from rle_design.control.layout import MODE
 from rle_design.scene.tabletop import TabletopConfig, build_tabletop, finish
 
-from . import balance_scene as bs
+from . import scene as bs
 
-TASK_ID = "03-balance-coins"
 TABLE = TabletopConfig()
 BALANCE_BASE = (0.40, 0.0)
 """Stand foot on the table (x, y) [m]; the beam runs along world y."""

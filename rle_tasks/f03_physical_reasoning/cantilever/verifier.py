@@ -24,9 +24,10 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
-from .scene import CONFIG, Piece, make_env, settle
-from .scoring import CANTILEVER_ID, CANTILEVER_RUBRIC, PZ4
-from .session import LEDGER_FILE, final_poses, note_privileged, open_ledger, tabletop_limits
+from ..constants import CANTILEVER_ID, STEP_BUDGET, WALL_TIME_S
+from ..scene import CONFIG, Piece, make_env, settle
+from ..session import LEDGER_FILE, final_poses, note_privileged, open_ledger, tabletop_limits
+from .scoring import PZ4, RUBRIC
 
 __all__ = ["DENSITY", "Instance", "instance", "measure", "verify"]
 
@@ -111,43 +112,25 @@ def measure(
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Ledger gate, replay, robot-free settle, overhang / Paterson-Zwick optimum."""
-    from .task import BUDGET
-
     findings = Findings()
     opened = open_ledger(
-        root, ctx.secret, CANTILEVER_ID, tabletop_limits(BUDGET.steps, BUDGET.wall_time_s), ctx.attempt
+        root, ctx.secret, CANTILEVER_ID, tabletop_limits(STEP_BUDGET, WALL_TIME_S), ctx.attempt
     )
     inst = instance(opened.secret)
     gate = final_poses(opened, make_env(inst.pieces, images=False), inst.pieces)
     if not gate.ok:
         findings.add_error(gate.code, gate.message, LEDGER_FILE)
         outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
-        return CANTILEVER_RUBRIC.report({"overhang": outcome}, valid=False, errors=findings.errors)
+        return RUBRIC.report({"overhang": outcome}, valid=False, errors=findings.errors)
     privileged = note_privileged(opened, findings)
     m = measure(inst, gate.poses, gate.velocities)
     message = (
         f"overhang {1000 * m['overhang_m']:.1f} mm of the optimum {1000 * m['optimum_m']:.1f} mm "
         f"({m['blocks_on_table']} of 4 blocks on the table)"
     )
-    outcome = Outcome({"scene": CANTILEVER_RUBRIC.spec("overhang").score(m["ratio"])}, message, m)
-    return CANTILEVER_RUBRIC.report(
+    outcome = Outcome({"scene": RUBRIC.spec("overhang").score(m["ratio"])}, message, m)
+    return RUBRIC.report(
         {"overhang": outcome}, valid=True, errors=findings.errors,
         native_metrics={"steps": gate.steps, "block_length_m": inst.length, "attempt": gate.attempt,
                         "privileged_session": privileged},
     )  # fmt: skip
-
-
-def task_spec():
-    """TaskSpec of 03-cantilever."""
-    from .task import current_secret, tabletop_task
-
-    return tabletop_task(
-        CANTILEVER_ID,
-        "Tabletop physical reasoning: maximise the overhang of four blocks",
-        "cantilever.md",
-        CANTILEVER_RUBRIC.markdown_table(),
-        verify,
-        lambda: instance(current_secret()).pieces,
-        ("reference", "baseline/overreach", "baseline/unsealed"),
-        f"{__package__}.solutions.cantilever",
-    )

@@ -29,13 +29,6 @@ import numpy as np
 
 from rle_design.errors import ConfigError
 
-BUDGET_STEPS = 36_000
-"""The card's 12,000 steps per box (``hidden_com_env.STEPS_PER_BOX``), for the three boxes of one
-session; the environment refuses an answer given more than 12,000 steps after the previous one."""
-WALL_TIME_S = 3600.0
-"""The card's "1 h total": the session refuses steps after it, and the verifier requires a session
-that was limited to it."""
-
 QUADRANTS = ("A", "B", "C", "D")
 QUADRANT_SIGNS: dict[str, tuple[float, float]] = {"A": (1, 1), "B": (-1, 1), "C": (-1, -1), "D": (1, -1)}
 _PATCH_RGBA = {
@@ -44,7 +37,6 @@ _PATCH_RGBA = {
     "C": (0.15, 0.3, 0.95, 1),
     "D": (0.95, 0.85, 0.1, 1),
 }
-N_BOXES = 3
 
 
 def box_name(i: int) -> str:

@@ -8,7 +8,7 @@ Protocol:
 2. The instance is drawn from the secret (``BalanceInstance.draw``) and the ledger's resets and
    actions replayed on its environment (``rle_design.control.replay``); a ledger recorded on another
    scene or diverging in time scores 0 with the replay's code. The weighings are read from the
-   replayed state (``balance_env`` counts them while stepping, exactly as the server did).
+   replayed state (``env`` counts them while stepping, exactly as the server did).
 3. The final cube poses and velocities and the balance's angles and rates are copied into the
    robot-free scene, the beam locked, and the scene settled for ``SETTLE_S``: a cube held by the
    gripper falls, a cube still sliding at the end slides on.
@@ -27,58 +27,29 @@ import mujoco
 import numpy as np
 
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.scoring import CheckpointSpec, Fraction, Outcome, Rubric
+from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
-from . import balance_scene as bs
-from .balance_env import (
-    MAT_CENTRE,
-    MAT_HALF,
-    TABLE,
-    TASK_ID,
-    WEIGHINGS,
-    BalanceInstance,
-    make_env,
-    robotless_spec,
-)
-from .scene import REST_ANGLE, REST_DISP_M, REST_SAMPLE_S, REST_WINDOW_S, rest_motion
-from .session import LEDGER_FILE, open_ledger, replay_ledger, tabletop_limits
+from ..constants import BALANCE_ID, STEP_BUDGET, WALL_TIME_S
+from ..scene import REST_ANGLE, REST_DISP_M, REST_SAMPLE_S, REST_WINDOW_S, rest_motion
+from ..session import LEDGER_FILE, invalid_report, open_ledger, replay_ledger, tabletop_limits
+from . import scene as bs
+from .env import MAT_CENTRE, MAT_HALF, TABLE, WEIGHINGS, BalanceInstance, make_env, robotless_spec
+from .scoring import RUBRIC, weighing_score
+
+__all__ = ["LEDGER_FILE", "SETTLE_S", "FinalScene", "instance", "settle_final", "verify"]
 
 SETTLE_S = 3.0
 """Robot-free settling time [s]: a cube dropped from 5 cm lands within 0.1 s and stops well within
 1 s; the last ``scene.REST_WINDOW_S`` = 2 s of it judge rest (``scene.at_rest``)."""
 REST_TOL = 0.003
 """Tolerance on a resting cube's centre height [m] (contact penetration is < 1 mm)."""
-OPTIMAL_WEIGHINGS = 2
-"""ceil(log3 9): the fewest weighings that always find the heavy cube."""
-
-RUBRIC = Rubric(
-    task_id=TASK_ID,
-    family="03",
-    workflow="interactive_control",
-    variants=("scene",),
-    checkpoints=(
-        CheckpointSpec(
-            "identified",
-            1.0,
-            "only the heavy cube rests on the mat after robot-free settling; w = weighings in the ledger",
-            Fraction("0 unless only the heavy cube is on the mat; then 1 for w <= 2, else 2/w"),
-        ),
-    ),
-)
-
-
-def weighing_score(heavy_only: bool, weighings: int) -> float:
-    """The card's score: 0 unless only the heavy cube reached the mat; then 1 for w <= 2, else 2/w."""
-    if not heavy_only:
-        return 0.0
-    return 1.0 if weighings <= OPTIMAL_WEIGHINGS else OPTIMAL_WEIGHINGS / weighings
 
 
 def instance(secret: Secret) -> BalanceInstance:
     """The instance of a secret."""
-    return BalanceInstance.draw(derive_rng(secret, TASK_ID, "instance"))
+    return BalanceInstance.draw(derive_rng(secret, BALANCE_ID, "instance"))
 
 
 @dataclass(frozen=True)
@@ -138,26 +109,14 @@ def settle_final(inst: BalanceInstance, model: mujoco.MjModel, data: mujoco.MjDa
     return FinalScene(on, pos)
 
 
-def _invalid(code: str, message: str, findings: Findings) -> VerifierReport:
-    findings.add_error(code, message, LEDGER_FILE)
-    return RUBRIC.report(
-        {"identified": Outcome({"scene": 0.0}, f"no valid session: {message}")},
-        valid=False,
-        errors=findings.errors,
-        native_metrics={"ledger": code},
-    )
-
-
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Verify a submission directory holding the session's ``ledger.jsonl`` (module docstring)."""
-    from .balance_scene import BUDGET_STEPS, WALL_TIME_S
-
     findings = Findings()
-    opened = open_ledger(root, ctx.secret, TASK_ID, tabletop_limits(BUDGET_STEPS, WALL_TIME_S), ctx.attempt)
+    opened = open_ledger(root, ctx.secret, BALANCE_ID, tabletop_limits(STEP_BUDGET, WALL_TIME_S), ctx.attempt)
     inst = instance(opened.secret)
     gate = replay_ledger(opened, make_env(inst, image_size=None))
     if not gate.ok:
-        return _invalid(gate.code, gate.message, findings)
+        return invalid_report(RUBRIC, gate.code, gate.message, findings)
     model, data = gate.model, gate.data
     weighings = int(data.userdata[WEIGHINGS])
     final = settle_final(inst, model, data)

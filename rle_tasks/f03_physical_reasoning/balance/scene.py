@@ -28,10 +28,6 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-BUDGET_STEPS = 50_000
-WALL_TIME_S = 9 * 3600.0
-"""Wall time of the one continuous attempt [s] (card: 9 h)."""
-
 BEAM = "balance_beam"
 BEAM_HINGE = "balance_hinge"
 LOCK = "balance_lock"

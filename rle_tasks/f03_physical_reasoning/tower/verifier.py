@@ -7,7 +7,7 @@ x 0.04 m, ridge on top) that cannot support another piece. They spawn on twelve 
 of the table, shuffled by the secret.
 
 Allowed resting orientations: the face a piece spawns on, any heading (what a top-down grasp keeps).
-H* = ``tower_optimum.optimal_tower`` (5 deg tipping margin at every interface). The measurement takes
+H* = ``optimum.optimal_tower`` (5 deg tipping margin at every interface). The measurement takes
 the robot-free settled scene (``scene.settle``: the replayed velocities, ``SETTLE_S``, at rest = moved
 under ``REST_DISP_M`` / ``REST_ANGLE`` over the last ``REST_WINDOW_S``) and reports the highest point
 of any piece that is above the table top and at rest, minus the table top; score = height / H*,
@@ -27,10 +27,11 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
-from .scene import CONFIG, Piece, make_env, settle
-from .scoring import TOWER_ID, TOWER_RUBRIC
-from .session import LEDGER_FILE, final_poses, note_privileged, open_ledger, tabletop_limits
-from .tower_optimum import Block, TowerPlan, optimal_tower
+from ..constants import STEP_BUDGET, TOWER_ID, WALL_TIME_S
+from ..scene import CONFIG, Piece, make_env, settle
+from ..session import LEDGER_FILE, final_poses, note_privileged, open_ledger, tabletop_limits
+from .optimum import Block, TowerPlan, optimal_tower
+from .scoring import RUBRIC
 
 __all__ = ["BUILD_SPOT", "DENSITY", "Instance", "instance", "measure", "reference_plan", "verify"]
 
@@ -59,7 +60,7 @@ class Instance:
 
     @functools.cached_property
     def plan(self) -> TowerPlan:
-        """The optimal tower (``tower_optimum.optimal_tower``)."""
+        """The optimal tower (``optimum.optimal_tower``)."""
         return optimal_tower(self.blocks())
 
     @property
@@ -120,40 +121,20 @@ def measure(
 
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Ledger gate, replay, robot-free settle, tower height / H*."""
-    from .task import BUDGET
-
     findings = Findings()
-    opened = open_ledger(
-        root, ctx.secret, TOWER_ID, tabletop_limits(BUDGET.steps, BUDGET.wall_time_s), ctx.attempt
-    )
+    opened = open_ledger(root, ctx.secret, TOWER_ID, tabletop_limits(STEP_BUDGET, WALL_TIME_S), ctx.attempt)
     inst = instance(opened.secret)
     gate = final_poses(opened, make_env(inst.pieces, images=False), inst.pieces)
     if not gate.ok:
         findings.add_error(gate.code, gate.message, LEDGER_FILE)
         outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
-        return TOWER_RUBRIC.report({"height": outcome}, valid=False, errors=findings.errors)
+        return RUBRIC.report({"height": outcome}, valid=False, errors=findings.errors)
     privileged = note_privileged(opened, findings)
     m = measure(inst, gate.poses, gate.velocities)
     message = f"tower {1000 * m['height_m']:.1f} mm of H* = {1000 * m['optimum_m']:.1f} mm"
-    outcome = Outcome({"scene": TOWER_RUBRIC.spec("height").score(m["ratio"])}, message, m)
-    return TOWER_RUBRIC.report(
+    outcome = Outcome({"scene": RUBRIC.spec("height").score(m["ratio"])}, message, m)
+    return RUBRIC.report(
         {"height": outcome}, valid=True, errors=findings.errors,
         native_metrics={"steps": gate.steps, "optimal_order": list(inst.plan.order), "attempt": gate.attempt,
                         "privileged_session": privileged},
     )  # fmt: skip
-
-
-def task_spec():
-    """TaskSpec of 03-tower."""
-    from .task import current_secret, tabletop_task
-
-    return tabletop_task(
-        TOWER_ID,
-        "Tabletop physical reasoning: build a stable tower from 12 mixed pieces",
-        "tower.md",
-        TOWER_RUBRIC.markdown_table(),
-        verify,
-        lambda: instance(current_secret()).pieces,
-        ("reference", "baseline/knocked_over", "baseline/unsealed"),
-        f"{__package__}.solutions.tower",
-    )

@@ -1,0 +1,1 @@
+"""Task ``03-tower``: the tallest stable tower of twelve mixed pieces (README.md)."""
