@@ -22,6 +22,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from rle_design.errors import RleError
+from rle_tasks.core.development import Episode, Progress, development_episodes, progress
 from rle_tasks.core.diagnostics import mean_of
 from rle_tasks.core.index import IndexResult, compute_index
 from rle_tasks.core.task import WORKFLOWS, TaskSpec
@@ -47,6 +48,8 @@ class TrialRecord:
         exception: ``Type: message`` of the recorded exception, or "".
         privileged: The reward says the session was privileged (an operator's oracle trial).
         partial: The reward comes from the task's quick evaluation (``RLE_VERIFY_QUICK=1``).
+        diagnostics: The family diagnostics of the trial's verifier report.
+        development: The episodes its development sessions ran (``development.development_episodes``).
     """
 
     system: str
@@ -63,6 +66,7 @@ class TrialRecord:
     privileged: bool = False
     partial: bool = False
     diagnostics: dict[str, float] = field(default_factory=dict)
+    development: tuple[Episode, ...] = ()
 
     @property
     def failed(self) -> bool:
@@ -152,6 +156,7 @@ def read_trial(path: Path) -> TrialRecord | None:
         privileged=bool(rewards.get("privileged")),
         partial=bool(rewards.get("partial")),
         diagnostics=_trial_diagnostics(path.parent / "verifier" / "report.json"),
+        development=development_episodes(path.parent),
     )
 
 
@@ -265,7 +270,16 @@ def systems(
         for r in trials:
             if r.diagnostics:
                 measured.setdefault(r.task_id, []).append(r.diagnostics)
-        result = replace(result, diagnostics={tid: mean_of(rows) for tid, rows in measured.items()})
+        developed: dict[str, list[Progress]] = {}
+        for r in trials:
+            p = progress(r.trial, r.development, r.reward)
+            if p is not None:
+                developed.setdefault(r.task_id, []).append(p)
+        result = replace(
+            result,
+            diagnostics={tid: mean_of(rows) for tid, rows in measured.items()},
+            development={tid: tuple(ps) for tid, ps in developed.items()},
+        )
         out[system] = (result, resources(trials))
     return out
 

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from rle_design.errors import RleError
+from rle_tasks.core.development import Progress
 from rle_tasks.core.diagnostics import native_scalars, task_diagnostics
 from rle_tasks.core.report import VerifierReport
 from rle_tasks.core.task import WORKFLOW_ORDER, WORKFLOWS, TaskSpec
@@ -40,6 +41,8 @@ class IndexResult:
         native: Each reported task's scalar native metrics (``native_scalars``).
         diagnostics: Each reported task's family diagnostics (``diagnostics.task_diagnostics``: labelled
             numbers with units), for the page's family sections.
+        development: Each task's development progress per trial (Harbor jobs whose development sessions
+            ran episodes: ``rle_tasks.core.development``).
     """
 
     name: str
@@ -52,6 +55,7 @@ class IndexResult:
     partial: tuple[str, ...] = ()
     native: dict[str, dict[str, Any]] = field(default_factory=dict)
     diagnostics: dict[str, dict[str, float]] = field(default_factory=dict)
+    development: dict[str, tuple[Progress, ...]] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (family keys as ``"F01"`` ...)."""

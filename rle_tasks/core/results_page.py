@@ -262,6 +262,61 @@ def family_sections_html(results: Sequence[IndexResult], tasks: Sequence[TaskSpe
             f"<section class='family' id='f{fam:02d}'><h3>F{fam:02d} {escape(info.title)} "
             f"({escape(WORKFLOW_LABELS[WORKFLOWS[fam]])})</h3>"
             f"<img alt='F{fam:02d} task scores' src='data:image/png;base64,{family_figure(results, fam_tasks)}'>"
-            f"{table}</section>"
+            f"{table}{_development_html(results, fam, ids)}</section>"
         )
     return "".join(out)
+
+
+def _development_html(results: Sequence[IndexResult], fam: int, ids: Sequence[str]) -> str:
+    figure = development_figure(results, ids)
+    if figure is None:
+        return ""
+    return (
+        "<p>Development progress, from the ledgers of the trials' development sessions (each episode the "
+        "agent ran through the evaluation service).</p>"
+        f"<img alt='F{fam:02d} development progress' src='data:image/png;base64,{figure}'>"
+    )
+
+
+def development_figure(results: Sequence[IndexResult], task_ids: Sequence[str]) -> str | None:
+    """The paper's development-progress figure of a family (base64 PNG), or None when no trial of
+    ``task_ids`` kept a development session with episodes (``rle_tasks.core.development``).
+
+    Left: best development success so far against hours since the session opened, one line per trial,
+    its official score as a diamond at the end. Right: episodes requested against the official score.
+    """
+    lines = [
+        (f"{r.name} {tid}" + (f" #{i + 1}" if len(r.development[tid]) > 1 else ""), p)
+        for r in results
+        for tid in task_ids
+        for i, p in enumerate(r.development.get(tid, ()))
+    ]
+    if not lines:
+        return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 3.6))
+    for label, p in lines:
+        hours = [t / 3600.0 for t, _ in p.curve]
+        line = left.step(hours, [100 * b for _, b in p.curve], where="post", label=label)[0]
+        if p.official is not None:
+            left.plot([hours[-1]], [100 * p.official], marker="D", color=line.get_color())
+            right.scatter([p.episodes], [100 * p.official], color=line.get_color())
+            right.annotate(
+                label, (p.episodes, 100 * p.official), fontsize=7, xytext=(3, 3), textcoords="offset points"
+            )
+    left.set_xlabel("hours since the session opened")
+    left.set_ylabel("best development success so far [%]")
+    left.set_ylim(-2, 102)
+    left.legend(fontsize=7, loc="lower right")
+    left.set_title("development progress (diamond: official score)", fontsize=9)
+    right.set_xlabel("development episodes requested")
+    right.set_ylabel("official score [%]")
+    right.set_ylim(-2, 102)
+    right.set_xlim(0, 1.15 * max(p.episodes for _, p in lines))
+    right.set_title("episodes requested against official score", fontsize=9)
+    fig.tight_layout()
+    return png(fig)
