@@ -1,5 +1,5 @@
 """The fifteen activity groups of family 02: three development tasks whose atomic skills cover one
-held-out task (composite kitchen tasks of ``rle_tasks.envs.kitchen.composites``).
+held-out task (composite kitchen tasks of ``rle_tasks.envs.kitchen.composite_tasks``).
 
 Atomic skills: ``pick-place`` (grasp an object and put it somewhere), ``open-door`` / ``close-door``
 (hinged doors: cabinets, microwave, fridge), ``open-drawer`` / ``close-drawer``, ``turn-knob`` (burners
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from rle_tasks.envs.kitchen.composites import COMPOSITES
+from rle_tasks.envs.kitchen.composite_tasks import COMPOSITES
 
 __all__ = ["GROUPS", "Group", "SKILLS"]
 

@@ -14,7 +14,7 @@ import re
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
-from rle_tasks.envs.kitchen.composites import COMPOSITES
+from rle_tasks.envs.kitchen.composite_tasks import COMPOSITES
 from rle_tasks.envs.kitchen.env import GroupScenes
 from rle_tasks.envs.kitchen.workspace import lay_out_harness
 

@@ -4,7 +4,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from rle_tasks.envs.kitchen.composites import COMPOSITES
+from rle_tasks.envs.kitchen.composite_tasks import COMPOSITES
 from rle_tasks.envs.kitchen.env import KitchenEnv
 from rle_tasks.envs.kitchen.scene import build_scene
 from rle_tasks.f02_harness_transfer.groups import GROUPS, SKILLS

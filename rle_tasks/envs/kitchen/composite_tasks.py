@@ -8,7 +8,7 @@ opening and closing doors and drawers; turning knobs. Family 02 groups them into
 
 from __future__ import annotations
 
-from rle_tasks.envs.kitchen.composite import (
+from rle_tasks.envs.kitchen.composition import (
     Burner,
     BurnerOff,
     BurnerOn,
