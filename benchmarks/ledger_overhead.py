@@ -1,6 +1,6 @@
 """Cost of metering: ledger recording per executed action, and the IPC round trip (target: <= 5 %).
 
-Scene: the Panda arm (robosuite asset, ``load_arm_spec("panda")``) on a fixed base with a floor,
+Scene: the Panda arm (robosuite asset, ``load_robot("panda", keyframes=False)``) on a fixed base with a floor,
 timestep 2 ms, control period 20 ms = 10 physics steps, torque actions N(0, 5 N m) from a seeded RNG.
 
 What is compared, per executed action:
@@ -41,7 +41,7 @@ import mujoco
 import numpy as np
 
 from rle_design.ledger import LedgerClient, LedgerServer, MeteredEnv, MeteredSession
-from rle_design.mjcf.compose import load_arm_spec
+from rle_design.scene import load_robot
 
 KEY = b"benchmark-ledger-key-0123456789ab"
 TARGET = 0.05
@@ -51,7 +51,7 @@ Step = Callable[[np.ndarray], object]
 
 def panda_xml() -> str:
     """The Panda arm on a fixed base above a floor, 2 ms timestep, as a self-contained XML string."""
-    spec = load_arm_spec("panda")
+    spec = load_robot("panda", keyframes=False)
     spec.meshdir = spec.modelfiledir  # absolute mesh paths so the XML string compiles anywhere
     spec.option.timestep = 0.002
     spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[2, 2, 0.1])

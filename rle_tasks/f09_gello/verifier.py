@@ -358,13 +358,13 @@ def _submitted(robot, sub, trim, plan, home, grid, poses, push_dirs, size, ctx, 
 def _render(sub, home: np.ndarray, path: Path, res: VariantResult) -> None:
     """The submitted leader at its home pose on a floor, lit (the device model itself has neither)."""
     from rle_design.errors import RleError
-    from rle_design.mjcf.compose import add_floor
+    from rle_design.scene import Arena
     from rle_design.viz.render import render_png
 
     m = sub.model
     if sub.design is not None:
         spec = sub.design.fresh_spec()
-        add_floor(spec)
+        Arena(physics=None).edit_spec(spec)  # floor, sky and lights; the device's own physics
         try:
             m = spec.compile()
         except ValueError:

@@ -2,7 +2,7 @@ import pytest
 
 from rle_design.catalog import catalog_kinds, load_catalog, part_fragment_path
 from rle_design.errors import CatalogError
-from rle_design.mjcf.compose import arm_model_path
+from rle_design.scene import arm_model_path
 
 
 @pytest.mark.parametrize("kind", catalog_kinds())

@@ -174,7 +174,7 @@ def test_stl_error_names_the_submitted_path_not_the_memory_key(artifact):
 
 @pytest.mark.parametrize("arm", ["panda", "xarm7"])
 def test_canonical_arms_load_identically_through_memory(arm):
-    from rle_design.mjcf.compose import arm_model_path
+    from rle_design.scene import arm_model_path
 
     path = arm_model_path(arm)
     design = load_design(path.parent, path.name)
@@ -187,7 +187,7 @@ def test_canonical_arms_load_identically_through_memory(arm):
 
 
 def test_loaded_design_composes_with_an_arm(artifact):
-    from rle_design.mjcf.compose import compile_spec, compose
+    from rle_design.scene import compile_spec, compose
 
     xml = """<mujoco><worldbody><body name="base" pos="0 0 0.2"><freejoint/>
     <geom type="box" size=".25 .2 .1" mass="38"/><site name="arm_mount_site" pos="0 0 0.1"/></body></worldbody></mujoco>"""

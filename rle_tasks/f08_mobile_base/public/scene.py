@@ -10,14 +10,17 @@ import numpy as np
 
 from rle_design.catalog import load_catalog
 from rle_design.kinematics.ik import ArmChain, chain_from_mujoco
-from rle_design.mjcf.compose import TOOL_SITE, SceneOptions, add_floor, apply_options, compile_spec, compose
 from rle_design.scene import (
+    TOOL_SITE,
+    Arena,
     ComOffset,
     FrictionScale,
     Uniform,
     Variation,
     VariationSpace,
     arm_ids,
+    compile_spec,
+    compose,
     drop_visual_meshes,
     element_id,
     robot_constants,
@@ -169,8 +172,7 @@ def build_scene(
             (``rle_design.scene.drop_visual_meshes``), for scenes nobody looks at.
     """
     spec = fresh_spec()
-    apply_options(spec, SceneOptions())
-    add_floor(spec)
+    Arena().edit_spec(spec)  # physics options, floor, sky and lights before the wheels
     wheel_names = install_wheels(spec, WheelModel())
     payload = PAYLOADS[payload_kg]
     compose(spec, arm, payload, mount_site=MOUNT_SITE)

@@ -41,20 +41,20 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="b60defce0cbb2a4e0e290b304bda9c6d6511fe8f5e707ff4a43d4d124661df55",
+            sha256="ea645b60f38ad364579175e557e8420c935b80f6b52652996e5be2794e36779e",
             quick_score=0.811911939216,
             files=((".", "solutions/reference"),),
         ),
         Solution(
             "baseline/bad_mount",
-            sha256="e2cf5805fe9b85bf8c326d79985fc902127f29665f0661c6ae3dd4df1f4a7c55",
+            sha256="d9f740402a23c4c402a1a55a2cfac9418c17a3f43e8a9e67a643710e71ba3497",
             quick_score=0.15,
             base="reference",
             files=(("robot.xml", "solutions/baseline/bad_mount/robot.xml"),),
         ),
         Solution(
             "baseline/non_catalog_profile",
-            sha256="385eec11e56d97bc00f96a7666d3abf860d78e7ca4c1c35af29eba55febaa8c7",
+            sha256="0e094395f21de995c81f9a6051e5f47b84c0b81dd73f958ea7a14665d4e81d37",
             quick_score=0.15,
             base="reference",
             transforms=(non_catalog_rail,),
@@ -68,7 +68,7 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/tall_narrow",
-            sha256="ccff3e505ec0c96e540a139697216e54ebbd77fc9a5d7b7928250708bc3bd1da",
+            sha256="2c1fb82895539997a2dda3cb773b573bc1633b8d9efc5c92148a77a663e04b47",
             quick_score=0.15,
             base="reference",
             files=(("robot.xml", "solutions/baseline/tall_narrow/robot.xml"),),

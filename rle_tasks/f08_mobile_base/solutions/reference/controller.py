@@ -19,8 +19,7 @@ import pinocchio as pin
 from rle_design.catalog import load_catalog
 from rle_design.kinematics.ik import chain_from_mujoco, solve_ik
 from rle_design.mjcf import load_design
-from rle_design.mjcf.compose import compose
-from rle_design.scene import drop_visual_meshes
+from rle_design.scene import compose, drop_visual_meshes
 
 V_MAX, A_MAX, K_POS = 0.5, 0.8, 3.0
 T_ARM, T_ENTRY, T_ENTER = 1.0, 2.8, 1.2  # nominal phase times [s]; T_ARM grows with the arm motion
