@@ -81,7 +81,7 @@ def onnx_call_us(hidden: tuple[int, ...], calls: int) -> float:
 
 
 def verify_s() -> float:
-    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.runtime.secrets import load_secret
     from rle_tasks.core.task import VerifyContext
     from rle_tasks.f04_motion_tracking.solutions.baselines import open_loop
     from rle_tasks.f04_motion_tracking.verifier import verify_task

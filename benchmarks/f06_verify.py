@@ -41,7 +41,7 @@ def render_fps(n: int = 300) -> float:
 
 def verification(task_id: str, quick: bool) -> dict:
     from rle_tasks.core.registry import get_task
-    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.runtime.secrets import load_secret
     from rle_tasks.core.solutions import materialise
     from rle_tasks.core.task import VerifyContext
     from rle_tasks.f06_pose_estimation import verifier as V

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import mujoco
 
-from rle_tasks.core.runner import run_parallel
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f07_bin_clearing.public.env import make_env, render_cameras

@@ -32,7 +32,7 @@ import mujoco
 
 from rle_design.mjcf import load_design
 from rle_design.sandbox import wake_poll_total_s
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f08_mobile_base.public.scene import build_scene

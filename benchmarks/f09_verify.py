@@ -15,7 +15,7 @@ TARGET_S = 30.0
 
 def main() -> int:
     from rle_tasks.core.registry import get_task
-    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.runtime.secrets import load_secret
     from rle_tasks.core.solutions import materialise
     from rle_tasks.core.task import VerifyContext
     from rle_tasks.core.verify import run_verify

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_tasks.core.secrets import ATTEMPT_ENV
+from rle_tasks.core.runtime.secrets import ATTEMPT_ENV
 
 
 def _cmd_tasks(args: argparse.Namespace) -> int:
@@ -55,8 +55,8 @@ def _cmd_show(args: argparse.Namespace) -> int:
 
 def _cmd_verify(args: argparse.Namespace) -> int:
     from rle_tasks.core.registry import get_task
+    from rle_tasks.core.runtime.secrets import load_secret
     from rle_tasks.core.scorecard import print_scorecard
-    from rle_tasks.core.secrets import load_secret
     from rle_tasks.core.task import VerifyContext
     from rle_tasks.core.verify import run_verify
 
@@ -102,7 +102,7 @@ def _cmd_preview(args: argparse.Namespace) -> int:
 
 
 def _cmd_dev(args: argparse.Namespace) -> int:
-    from rle_tasks.core.devenv import make_workspace
+    from rle_tasks.core.runtime.devenv import make_workspace
 
     make_workspace(
         args.task,
@@ -118,8 +118,8 @@ def _cmd_ledger(args: argparse.Namespace) -> int:
 
     from rle_design.ledger import verify_ledger
     from rle_design.ledger.show import describe_ledger
-    from rle_tasks.core.devenv import ledger_key
-    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.runtime.devenv import ledger_key
+    from rle_tasks.core.runtime.secrets import load_secret
 
     path = Path(args.ledger)
     if not path.is_file():
@@ -137,7 +137,7 @@ def _cmd_ledger(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from rle_tasks.core.harbor import export_harbor, not_exportable
+    from rle_tasks.core.export.harbor.export import export_harbor, not_exportable
 
     written = export_harbor(Path(args.out), args.tasks or None)
     print(f"wrote {len(written)} Harbor task directories under {args.out}")

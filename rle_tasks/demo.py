@@ -27,7 +27,7 @@ from tqdm import tqdm
 from rle_design.errors import RleError
 from rle_tasks.core.registry import all_tasks
 from rle_tasks.core.report import VerifierReport
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import TaskSpec, VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify

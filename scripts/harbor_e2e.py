@@ -59,7 +59,7 @@ def expected(task_dir: Path, secret: str) -> tuple[float | None, str]:
     import tempfile
 
     from rle_tasks.core.registry import get_task
-    from rle_tasks.core.secrets import Secret
+    from rle_tasks.core.runtime.secrets import Secret
     from rle_tasks.core.solutions import declaration, materialise
     from rle_tasks.core.task import VerifyContext
 
@@ -108,7 +108,7 @@ def main(argv: list[str] | None = None) -> int:
     if not harbor.is_file():
         print("no Harbor side environment: run `make harbor-venv`", file=sys.stderr)
         return 2
-    from rle_tasks.core.harbor import export_harbor
+    from rle_tasks.core.export.harbor.export import export_harbor
 
     dirs = export_harbor(out / "tasks", args.tasks)
     env = {**os.environ, "LITELLM_LOCAL_MODEL_COST_MAP": "True"}

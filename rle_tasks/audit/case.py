@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rle_tasks.core.report import VerifierReport
-from rle_tasks.core.secrets import Secret
+from rle_tasks.core.runtime.secrets import Secret
 
 __all__ = ["AUDIT_SECRET", "EXFIL_MARK", "Case"]
 

@@ -24,7 +24,7 @@ from rle_design.ledger.records import LedgerWriter
 from rle_design.ledger.verify import verify_ledger
 from rle_tasks.audit.case import Case
 from rle_tasks.core.report import ErrorEntry, VerifierReport
-from rle_tasks.core.secrets import Secret
+from rle_tasks.core.runtime.secrets import Secret
 from rle_tasks.core.solutions import materialise
 
 F08, F09, F07 = "08-mobile-base", "09-gello", "07-bin-clearing"
@@ -166,7 +166,7 @@ LEDGER_TASK = "03-tower"
 
 
 def _ledger_key(secret: Secret) -> bytes:
-    from rle_tasks.core.devenv import ledger_key
+    from rle_tasks.core.runtime.devenv import ledger_key
 
     return ledger_key(secret, LEDGER_TASK)
 

@@ -62,7 +62,7 @@ def _hold(n: int, size: int) -> list[str]:
 
 def _key(task_id: str) -> bytes:
     from rle_tasks.audit.case import AUDIT_SECRET
-    from rle_tasks.core.devenv import ledger_key
+    from rle_tasks.core.runtime.devenv import ledger_key
 
     return ledger_key(AUDIT_SECRET, task_id)
 

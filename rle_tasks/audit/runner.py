@@ -20,7 +20,7 @@ from pathlib import Path
 
 from rle_design.excerpt import CLOSE, OPEN, WITHHELD
 from rle_tasks.audit.case import AUDIT_SECRET, EXFIL_MARK, Case
-from rle_tasks.core.secrets import Secret, derive_seed
+from rle_tasks.core.runtime.secrets import Secret, derive_seed
 from rle_tasks.core.task import VerifyContext
 
 HIDDEN_INDICES = 64  # seeds 0..63 of each task are searched for in reports and artifacts

@@ -1,7 +1,7 @@
 """``rle index``: verifier reports and Harbor job directories to the RLE Index's tables and page.
 
 Report files form one system; a Harbor job directory contributes one result per system (agent and
-model) and the resources table (``harbor_results``). The aggregation itself is ``index``.
+model) and the resources table (``harbor.results``). The aggregation itself is ``index``.
 """
 
 from __future__ import annotations
@@ -13,7 +13,13 @@ from pathlib import Path
 from typing import Any
 
 from rle_design.errors import RleError
-from rle_tasks.core.harbor_results import format_resources, is_job_dir, read_job, resources_section, systems
+from rle_tasks.core.export.harbor.results import (
+    format_resources,
+    is_job_dir,
+    read_job,
+    resources_section,
+    systems,
+)
 from rle_tasks.core.index import IndexResult, compute_index, format_tables
 from rle_tasks.core.results_page import write_index_html
 

@@ -92,7 +92,7 @@ def write_index_html(results: Sequence[IndexResult], path: Path, resources_secti
         path: Output file.
         resources_section: HTML placed after the leaderboard: for Harbor job directories the
             performance-versus-cost figure, the resources table and the failed trials
-            (``harbor_results.resources_section``).
+            (``harbor.results.resources_section``).
     """
     if not results:
         raise RleError("no results to show", code="index.input")

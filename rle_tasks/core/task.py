@@ -13,7 +13,7 @@ from rle_tasks.core.families import families, family, workflow_order
 
 if TYPE_CHECKING:
     from rle_tasks.core.report import VerifierReport
-    from rle_tasks.core.secrets import Secret
+    from rle_tasks.core.runtime.secrets import Secret
 
 WORKFLOW_ORDER: tuple[str, ...] = workflow_order()
 """The four workflows in the paper's order (from ``families.yaml``)."""
@@ -190,5 +190,5 @@ def privileged_dev(on: bool = True) -> Iterator[None]:
 
 def serving_privileged() -> bool:
     """Whether the development environment being laid out serves privileged observations: only for an
-    operator's oracle trial (``harbor_sidecar`` with ``RLE_ORACLE_PRIVILEGED=1``), never for an agent."""
+    operator's oracle trial (``harbor.sidecar`` with ``RLE_ORACLE_PRIVILEGED=1``), never for an agent."""
     return _PRIVILEGED.get()

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from rle_design.errors import RleError
 from rle_tasks.core.report import ErrorEntry, VerifierReport, artifact_sha256
-from rle_tasks.core.secrets import seed_digest
+from rle_tasks.core.runtime.secrets import seed_digest
 from rle_tasks.core.task import TaskSpec, VerifyContext
 
 

@@ -85,7 +85,7 @@ def _signed(task_id: str, budget: int):
 
     def build(d: Path) -> Path:
         from rle_tasks.audit.case import AUDIT_SECRET
-        from rle_tasks.core.devenv import ledger_key
+        from rle_tasks.core.runtime.devenv import ledger_key
 
         kitchen = next(k for k in KITCHEN_TASKS if k.task == "TurnOnStove")
         meta = {

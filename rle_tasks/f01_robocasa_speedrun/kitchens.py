@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from rle_tasks.core.secrets import Secret, derive_seed
+from rle_tasks.core.runtime.secrets import Secret, derive_seed
 from rle_tasks.core.task import Budget
 from rle_tasks.envs.kitchen.env import KitchenScenes
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rle_tasks.core.secrets import current_secret
+from rle_tasks.core.runtime.secrets import current_secret
 from rle_tasks.core.task import ArtifactContract, TaskSpec
 from rle_tasks.envs.kitchen.env import KitchenScenes
 from rle_tasks.envs.kitchen.workspace import lay_out_harness

@@ -27,8 +27,8 @@ from pathlib import Path
 
 from rle_design.control.replay import ReplayError
 from rle_design.ledger import Limits, check_ledger, replay_trials
-from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.devenv import ledger_key
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 

@@ -24,10 +24,10 @@ from pathlib import Path
 from rle_design.control.replay import ReplayError
 from rle_design.errors import RleError
 from rle_design.ledger import Limits, check_ledger
-from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.devenv import ledger_key
+from rle_tasks.core.runtime.secrets import Secret, current_secret
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import Secret, current_secret
 from rle_tasks.core.task import ArtifactContract, Budget, ImageData, TaskSpec, VerifyContext
 
 from .constants import AGENT_STEPS, AGENT_WALL_S, TRIALS

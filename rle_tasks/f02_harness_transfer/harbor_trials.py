@@ -65,7 +65,7 @@ def harness_of(submission: Path) -> Path:
 def export_fresh(group_id: str, harness: Path, out: Path, trials: int = TRIALS) -> list[Path]:
     """The fresh-agent task directories of ``group_id`` under ``out``, each with the scripted fresh
     agent as its oracle."""
-    from rle_tasks.core.harbor import export_harbor
+    from rle_tasks.core.export.harbor.export import export_harbor
 
     specs = [stage_task(f"{group_id}-fresh-{k}", harness=harness) for k in range(trials)]
     dirs = export_harbor(out, specs)
@@ -91,7 +91,7 @@ def run_trial(
     task_dir: Path, jobs: Path, harbor: str, agent: str, model: str | None, extra: list[str]
 ) -> float | None:
     """One Harbor trial of ``task_dir``; its reward (None when the trial produced none)."""
-    from rle_tasks.core.harbor_results import read_job
+    from rle_tasks.core.export.harbor.results import read_job
 
     before = set(jobs.glob("*")) if jobs.exists() else set()
     cmd = [harbor, "run", "-p", str(task_dir), "-a", agent, "-e", "docker", "-n", "1", "-y", "-o", str(jobs)]

@@ -38,7 +38,7 @@ from rle_design.control.replay import ReplayError, replay
 from rle_design.excerpt import EXCERPT_CHARS, excerpt
 from rle_design.ledger import LedgerServer, Limits, check_ledger
 from rle_design.sandbox import ParticipantFault, Sandbox, SandboxLimits
-from rle_tasks.core.secrets import Secret, derive_seed
+from rle_tasks.core.runtime.secrets import Secret, derive_seed
 from rle_tasks.envs.kitchen.env import KitchenEnv
 from rle_tasks.envs.kitchen.scene import build_scene
 

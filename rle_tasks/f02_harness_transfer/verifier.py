@@ -16,9 +16,9 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.runner import run_parallel
+from rle_tasks.core.runtime.devenv import ledger_key
+from rle_tasks.core.runtime.runner import run_parallel
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 

@@ -3,7 +3,7 @@
 A submission is the directory holding ``ledger.jsonl``, the sealed ledger the metered server wrote
 for the agent's session. ``open_ledger`` passes it through the shared gate
 (``rle_design.ledger.check_ledger``) under the task's ledger key (derived from the verifier secret,
-``rle_tasks.core.devenv.ledger_key``) with the card's ``Limits``: a missing, unsealed, truncated or
+``rle_tasks.core.runtime.devenv.ledger_key``) with the card's ``Limits``: a missing, unsealed, truncated or
 altered ledger, one of another attempt, one served with other limits (budget, wall time) or one that
 breaks them on its own records fails with the gate's code and message. The instance is then drawn
 from the secret bound to the ledger's attempt (``OpenedLedger.secret``), and ``replay_ledger``
@@ -23,10 +23,10 @@ import numpy as np
 
 from rle_design.control import ReplayError, TabletopEnv, replay
 from rle_design.ledger import GateResult, Limits, check_ledger
-from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.devenv import ledger_key
+from rle_tasks.core.runtime.secrets import Secret
 from rle_tasks.core.scoring import Outcome, Rubric
-from rle_tasks.core.secrets import Secret
 
 from .scene import Piece, piece_poses, piece_velocities
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from rle_tasks.core.secrets import current_secret as _current_secret
+from rle_tasks.core.runtime.secrets import current_secret as _current_secret
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec, serving_privileged
 
 from .constants import CPUS, GPUS, STEP_BUDGET, VERIFIER_TIMEOUT_S, WALL_TIME_S

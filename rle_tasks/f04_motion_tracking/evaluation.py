@@ -8,8 +8,8 @@ import math
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_tasks.core.onnx_policy import OnnxSignature, TensorSpec, _tensors, load_onnx_policy
-from rle_tasks.core.policy import PolicyFault
+from rle_tasks.core.runtime.onnx_policy import OnnxSignature, TensorSpec, _tensors, load_onnx_policy
+from rle_tasks.core.runtime.policy import PolicyFault
 
 from .clips import clip_path
 from .public.clip import Clip

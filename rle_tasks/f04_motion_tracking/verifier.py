@@ -16,11 +16,11 @@ from pathlib import Path
 import numpy as np
 
 from rle_design.errors import RleError
-from rle_tasks.core.policy import PolicyFault
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.runner import run_parallel
+from rle_tasks.core.runtime.policy import PolicyFault
+from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.secrets import derive_seed, seed_digest
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import derive_seed, seed_digest
 from rle_tasks.core.task import VerifyContext
 
 from .evaluation import SMOKE_STEPS, load_policy, run_seed

@@ -2,7 +2,7 @@
 ``standin_client.py`` on the RoboTwin stand-in tracks) and the served evaluation client.
 
 ``make_dev_env`` links the read-only demonstration dataset into the workspace (``demos/``), writes the
-client and returns a ``ServedSession`` (``rle_tasks.core.devservice``) that ``rle dev`` starts with the
+client and returns a ``ServedSession`` (``rle_tasks.core.runtime.devservice``) that ``rle dev`` starts with the
 ledger key. The session process holds LIBERO and the ledger key; the agent's client sends it
 ``evaluate`` requests naming a directory of the workspace (``solution.py`` and the ``ckpt.pt`` the
 agent trained there). The server serves that recipe in the project sandbox, runs the requested
@@ -16,7 +16,7 @@ from typing import Any
 
 from rle_design.errors import RleError
 from rle_design.ledger.records import LedgerError
-from rle_tasks.core.devservice import CLIENT_ADDRESS, ServedSession
+from rle_tasks.core.runtime.devservice import CLIENT_ADDRESS, ServedSession
 
 MAX_REQUEST_EPISODES = 500
 """Episodes one ``evaluate`` request may ask for (the size of the evaluation set)."""
@@ -79,7 +79,7 @@ STANDIN_SEED_LIMIT = 1_000_000
 
 
 class _Session:
-    """One development session: ``evaluate``, ``info``, ``seal`` (``rle_tasks.core.devservice``)."""
+    """One development session: ``evaluate``, ``info``, ``seal`` (``rle_tasks.core.runtime.devservice``)."""
 
     def __init__(self, workspace: Path, client, standin: bool = False) -> None:
         self.workspace = workspace.resolve()
@@ -142,7 +142,7 @@ class _Session:
 def open_session(
     *, key: bytes | None, ledger_path: Path | None, workspace: str, task_id: str, attempt: str = ""
 ) -> _Session:
-    """The session of one development server (``rle_tasks.core.devservice`` factory)."""
+    """The session of one development server (``rle_tasks.core.runtime.devservice`` factory)."""
     import tempfile
 
     from rle_tasks.envs.libero.dev import DevelopmentClient

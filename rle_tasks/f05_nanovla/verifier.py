@@ -43,9 +43,9 @@ import numpy as np
 
 from rle_design.policy_socket import ProtocolError
 from rle_tasks.core.report import ErrorEntry, VerifierReport
-from rle_tasks.core.runner import run_parallel
+from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError
 from rle_tasks.f05_nanovla import training

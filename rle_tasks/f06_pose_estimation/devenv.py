@@ -1,6 +1,6 @@
 """Development workspace of the ``06-pose-*`` tasks: the instruction, ``pose_client.py`` and the served renderer.
 
-``make_dev_env`` writes the client and returns a ``ServedSession`` (``rle_tasks.core.devservice``); ``rle dev`` starts it (core
+``make_dev_env`` writes the client and returns a ``ServedSession`` (``rle_tasks.core.runtime.devservice``); ``rle dev`` starts it (core
 ``layout_workspace``) with the ledger key and a ledger file outside the workspace, unless it runs with
 ``--no-serve``. The server process (``service.py``) holds the scene; the workspace never receives
 meshes, block dimensions or shape labels.
@@ -11,7 +11,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from rle_tasks.core.devservice import CLIENT_ADDRESS, ServedSession
+from rle_tasks.core.runtime.devservice import CLIENT_ADDRESS, ServedSession
 
 HERE = Path(__file__).resolve().parent
 

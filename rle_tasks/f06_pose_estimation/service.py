@@ -1,4 +1,4 @@
-"""The development session of the ``06-pose-*`` tasks, served by ``rle_tasks.core.devservice``.
+"""The development session of the ``06-pose-*`` tasks, served by ``rle_tasks.core.runtime.devservice``.
 
 The agent's ``pose_client.py`` talks to its process over a Unix socket, so meshes, the scene and the
 ledger key stay there. Operations:
@@ -118,7 +118,7 @@ class _Session:
 def open_session(
     *, key: bytes | None, ledger_path: Path | None, task_id: str, workspace: str, attempt: str = ""
 ) -> _Session:
-    """The session of one development server (``rle_tasks.core.devservice`` factory)."""
+    """The session of one development server (``rle_tasks.core.runtime.devservice`` factory)."""
     ledger = None
     if key is not None and ledger_path is not None:
         ledger = ServedLedger(

@@ -23,11 +23,11 @@ from pathlib import Path
 import numpy as np
 
 from rle_design.sandbox import ParticipantFault
-from rle_tasks.core.policy import PolicyRunner, distinct
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.runner import run_parallel
+from rle_tasks.core.runtime.policy import PolicyRunner, distinct
+from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
 from .contract import (

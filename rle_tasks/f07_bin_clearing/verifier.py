@@ -20,11 +20,11 @@ import numpy as np
 
 from rle_design.rollout.env import ActionError
 from rle_design.sandbox import ParticipantFault, SandboxLimits, excerpt
-from rle_tasks.core.policy import HANG_CODES, Budget, FunctionSpec, PolicyRunner, Protocol
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.runner import run_parallel
+from rle_tasks.core.runtime.policy import HANG_CODES, Budget, FunctionSpec, PolicyRunner, Protocol
+from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.secrets import derive_rng, seed_digest
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import derive_rng, seed_digest
 from rle_tasks.core.task import VerifyContext
 
 from .public.contract import FUNCTIONS, HANG_CAP_S

@@ -18,11 +18,11 @@ from rle_design.errors import RleError
 from rle_design.mjcf import load_design, match_profiles
 from rle_design.sandbox import ParticipantFault, SandboxLimits, wake_poll_for
 from rle_design.scene import Variation, element_id
-from rle_tasks.core.policy import PolicyRunner
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.runner import run_parallel
+from rle_tasks.core.runtime.policy import PolicyRunner
+from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f08_mobile_base import batteries as B
 from rle_tasks.f08_mobile_base.env import CONTROLLER, CONTROLLER_BUDGET, run_trial
@@ -171,7 +171,7 @@ def _render(design, arm_out: dict, arm: str, out_dir: Path, report: Findings) ->
 def _arm_job(args: tuple) -> tuple[dict, list]:
     """One unit of work (``part``: ``"stability"``, ``"shelf1"`` or ``"shelf2"`` of one arm) in a
     worker process: (results, error entries)."""
-    from rle_tasks.core.secrets import Secret
+    from rle_tasks.core.runtime.secrets import Secret
 
     root, arm, part, key, public, quick, hang_cap_s = args
     ctx = VerifyContext(secret=Secret(key, public), quick=quick, hang_cap_s=hang_cap_s)

@@ -9,7 +9,7 @@ Protocol (all calls run in ``rle_design.sandbox.Sandbox``, in a copy of the robo
 * ``feedforward(q, params) -> (n,)`` servo torque [N m] at pose q; ``params=None`` asks for the
   nominal feedforward of the submitted leader, otherwise ``params`` is exactly what ``adapt`` returned.
 
-The protocol is declared in ``TRIM`` and served by ``rle_tasks.core.policy.PolicyRunner`` with one
+The protocol is declared in ``TRIM`` and served by ``rle_tasks.core.runtime.policy.PolicyRunner`` with one
 child per robot (no restarts, no fault limit): a fault that ends the child (a hang) answers every
 later call with ``sandbox.dead``. Every fault is recorded, never raised.
 """
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from rle_design.sandbox import ParticipantFault, SandboxLimits
-from rle_tasks.core.policy import Budget, FunctionSpec, PolicyRunner, Protocol
+from rle_tasks.core.runtime.policy import Budget, FunctionSpec, PolicyRunner, Protocol
 
 N_PLANNED = 15
 PLAN_TIMEOUT_S = 5.0

@@ -25,8 +25,8 @@ from rle_design.errors import MjcfError
 from rle_design.kinematics import GravityMap, model_from_mujoco, springs_from_mujoco
 from rle_design.scene import element_id, has_element
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import derive_rng
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f09_gello import battery, clearance, device, scoring
 from rle_tasks.f09_gello.leaders import ROBOTS

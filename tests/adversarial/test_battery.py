@@ -89,7 +89,7 @@ def test_audit_command_prints_the_table(capsys):
 
 
 def test_leak_detector_finds_a_planted_seed(tmp_path):
-    from rle_tasks.core.secrets import derive_seed
+    from rle_tasks.core.runtime.secrets import derive_seed
 
     (tmp_path / "report.json").write_text(f'{{"note": "{derive_seed(AUDIT_SECRET, "09-gello", 5)}"}}')
     assert find_leaks([tmp_path], hidden_needles(AUDIT_SECRET, ["09-gello"])) == [

@@ -16,7 +16,7 @@ import json
 import pytest
 
 from rle_tasks.core.development import Episode, best_so_far, development_episodes, progress
-from rle_tasks.core.harbor_results import read_job, systems
+from rle_tasks.core.export.harbor.results import read_job, systems
 from rle_tasks.core.results import index_command
 
 

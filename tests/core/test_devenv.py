@@ -11,8 +11,8 @@ import pytest
 
 from rle_design.errors import RleError
 from rle_design.ledger import MeteredEnv, verify_ledger
-from rle_tasks.core.devenv import default_attempt, layout_workspace, ledger_key
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret, current_secret, derive_seed
+from rle_tasks.core.runtime.devenv import default_attempt, layout_workspace, ledger_key
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret, current_secret, derive_seed
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 SECRET = Secret(b"private-verifier-secret-for-devenv-tests", public=False)

@@ -7,7 +7,7 @@ from rle_design.errors import RleError
 from rle_tasks.core.index import compute_index, format_tables
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.results_page import write_index_html
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import run_verify

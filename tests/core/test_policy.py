@@ -10,7 +10,7 @@ import pytest
 
 from rle_design.errors import MissingElement, RleError
 from rle_design.sandbox import ParticipantFault
-from rle_tasks.core.policy import (
+from rle_tasks.core.runtime.policy import (
     Budget,
     FunctionSpec,
     PolicyFault,
@@ -210,7 +210,7 @@ onnx = pytest.importorskip("onnx")
 pytest.importorskip("onnxruntime")
 from onnx import TensorProto, helper  # noqa: E402
 
-from rle_tasks.core.onnx_policy import OnnxSignature, TensorSpec, load_onnx_policy  # noqa: E402
+from rle_tasks.core.runtime.onnx_policy import OnnxSignature, TensorSpec, load_onnx_policy  # noqa: E402
 
 W = np.array([[1.0, -2.0], [0.5, 0.0], [3.0, 1.0]], dtype=np.float32)  # (3, 2)
 B = np.array([0.25, -1.0], dtype=np.float32)

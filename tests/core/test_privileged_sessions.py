@@ -4,11 +4,11 @@ oracle serve one, and no score of one enters the index or a reward unless asked 
 import pytest
 
 from rle_design.errors import RleError
-from rle_tasks.core.devenv import layout_workspace
-from rle_tasks.core.harbor_results import TrialRecord, systems
-from rle_tasks.core.harbor_reward import reward_from_report
+from rle_tasks.core.export.harbor.results import TrialRecord, systems
+from rle_tasks.core.export.harbor.reward import reward_from_report
 from rle_tasks.core.index import compute_index
 from rle_tasks.core.registry import get_task
+from rle_tasks.core.runtime.devenv import layout_workspace
 
 PRIVILEGED = {
     "task_id": "03-cantilever",

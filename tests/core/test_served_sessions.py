@@ -15,9 +15,9 @@ import pytest
 
 from rle_design.ledger import verify_ledger
 from rle_design.ledger.show import describe_ledger
-from rle_tasks.core.devenv import ledger_key
 from rle_tasks.core.report import artifact_sha256
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.devenv import ledger_key
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.f06_pose_estimation import devserver
 from rle_tasks.f06_pose_estimation.service import EVALUATIONS, open_session
 

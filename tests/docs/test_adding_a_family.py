@@ -10,7 +10,7 @@ import yaml
 from rle_tasks.core import families as families_mod
 from rle_tasks.core import registry
 from rle_tasks.core.report import artifact_sha256
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import build, declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import run_verify

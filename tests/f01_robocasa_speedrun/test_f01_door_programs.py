@@ -11,7 +11,7 @@ from __future__ import annotations
 import mujoco
 import pytest
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.env import KitchenScenes
 from rle_tasks.envs.kitchen.fixtures import DOOR_RANGE

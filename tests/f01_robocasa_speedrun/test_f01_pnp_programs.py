@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.fixtures import Interior
 from rle_tasks.envs.kitchen.harness.motion import Motion

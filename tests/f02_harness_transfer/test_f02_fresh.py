@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from rle_design.errors import RleError
-from rle_tasks.core.devenv import layout_workspace
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.devenv import layout_workspace
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f02_harness_transfer.fresh import HARNESS_ENV, _unit, group_report

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import build
 from rle_tasks.f02_harness_transfer.groups import GROUPS
 from rle_tasks.f02_harness_transfer.solutions import _set

@@ -8,8 +8,8 @@ import pytest
 
 from rle_design.control.layout import MODE, zero_action
 from rle_design.ledger import MeteredSession
-from rle_tasks.core.devenv import ledger_key
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.devenv import ledger_key
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f03_physical_reasoning.balance import env as be
 from rle_tasks.f03_physical_reasoning.balance import scene as bs

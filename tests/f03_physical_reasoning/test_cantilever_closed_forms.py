@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.optimize import linprog
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.f03_physical_reasoning.cantilever.scoring import PZ4
 from rle_tasks.f03_physical_reasoning.cantilever.verifier import HEIGHT, instance, measure
 from rle_tasks.f03_physical_reasoning.scene import CONFIG

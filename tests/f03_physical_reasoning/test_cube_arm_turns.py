@@ -8,7 +8,7 @@ import os
 import pytest
 
 import rle_tasks.f03_physical_reasoning.cube.verifier as cube_verifier
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f03_physical_reasoning.cube.scene import PUBLIC_SCRAMBLES, CubeInstance, instance
 from rle_tasks.f03_physical_reasoning.solutions.pocket_cube import record

@@ -8,7 +8,7 @@ import pytest
 
 from rle_design.control import TabletopEnv
 from rle_design.ledger import MeteredSession
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.f03_physical_reasoning.cube import env as ce
 from rle_tasks.f03_physical_reasoning.cube.reading import lowest_corner, poses_from_data
 from rle_tasks.f03_physical_reasoning.cube.scene import (

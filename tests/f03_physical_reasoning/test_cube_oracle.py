@@ -6,9 +6,9 @@ import importlib.util
 import shutil
 from pathlib import Path
 
-from rle_tasks.core.devenv import layout_workspace
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import Secret
+from rle_tasks.core.runtime.devenv import layout_workspace
+from rle_tasks.core.runtime.secrets import Secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f03_physical_reasoning.cube.scene import instance
 from rle_tasks.f03_physical_reasoning.solutions.pocket_cube import harbor_oracle

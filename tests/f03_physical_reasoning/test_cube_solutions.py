@@ -15,7 +15,7 @@ import pytest
 
 import rle_tasks.f03_physical_reasoning.cube.verifier as cube_verifier
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f03_physical_reasoning.cube.distance import optimal_turns

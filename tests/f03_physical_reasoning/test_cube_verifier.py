@@ -16,7 +16,7 @@ import pytest
 
 from rle_design.ledger.testing import cut_seal
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f03_physical_reasoning.cube.group import QUATS
 from rle_tasks.f03_physical_reasoning.cube.lattice import SOLVED

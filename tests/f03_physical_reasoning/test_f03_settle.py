@@ -18,7 +18,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.f03_physical_reasoning.cantilever import verifier as cantilever
 from rle_tasks.f03_physical_reasoning.scene import (
     CONFIG,

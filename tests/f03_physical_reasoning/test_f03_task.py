@@ -9,9 +9,9 @@ import numpy as np
 
 from rle_design.control import CartesianHelper
 from rle_design.ledger import verify_ledger
-from rle_tasks.core.devenv import layout_workspace, ledger_key
 from rle_tasks.core.registry import all_tasks, get_task
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.devenv import layout_workspace, ledger_key
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.f03_physical_reasoning.scoring import RUBRICS
 
 README = Path(__file__).parents[2] / "rle_tasks/f03_physical_reasoning/README.md"

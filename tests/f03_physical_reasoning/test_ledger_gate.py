@@ -10,7 +10,7 @@ import pytest
 
 from rle_design.ledger.testing import cut_seal
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f03_physical_reasoning.cantilever.verifier import verify
 from rle_tasks.f03_physical_reasoning.scene import make_env
@@ -88,7 +88,7 @@ def test_garbage_never_crashes(tmp_path: Path, content: bytes) -> None:
 def test_a_session_is_bound_to_its_attempt(tmp_path):
     """The reference program in attempt "trial-A": its instance is the attempt's own (another block
     length than the unbound one), it verifies as trial-A and is refused as trial-B."""
-    from rle_tasks.core.devenv import record_solution
+    from rle_tasks.core.runtime.devenv import record_solution
     from rle_tasks.f03_physical_reasoning.cantilever import verifier as cantilever
     from rle_tasks.f03_physical_reasoning.scene import CONFIG
     from rle_tasks.f03_physical_reasoning.solutions import agents

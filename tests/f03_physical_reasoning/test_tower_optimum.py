@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.f03_physical_reasoning.scene import CONFIG
 from rle_tasks.f03_physical_reasoning.tower.optimum import Block, margins, optimal_tower
 from rle_tasks.f03_physical_reasoning.tower.verifier import instance, measure

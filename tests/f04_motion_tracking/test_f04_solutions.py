@@ -3,7 +3,7 @@ key), each baseline failing for its named reason, the reference beating open-loo
 
 import pytest
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f04_motion_tracking.task import REGISTERED, task_spec

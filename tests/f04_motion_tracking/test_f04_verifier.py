@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f04_motion_tracking.solutions import baselines
 from rle_tasks.f04_motion_tracking.verifier import verify_task

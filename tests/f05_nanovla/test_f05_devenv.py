@@ -7,9 +7,9 @@ import pytest
 
 from rle_design.errors import RleError
 from rle_design.ledger.verify import verify_ledger
-from rle_tasks.core.devenv import layout_workspace, ledger_key
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.runtime.devenv import layout_workspace, ledger_key
+from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.envs.libero.replay import train
 from rle_tasks.f05_nanovla import verifier

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from rle_design.ledger.verify import verify_ledger
-from rle_tasks.core.devenv import layout_workspace, ledger_key
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret, load_secret
+from rle_tasks.core.runtime.devenv import layout_workspace, ledger_key
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret, load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify

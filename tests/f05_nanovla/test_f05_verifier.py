@@ -12,7 +12,7 @@ import pytest
 
 from rle_design.errors import RleError
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify

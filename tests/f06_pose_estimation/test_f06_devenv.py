@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from rle_design.ledger.verify import verify_ledger
-from rle_tasks.core.devenv import layout_workspace, ledger_key
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.runtime.devenv import layout_workspace, ledger_key
+from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f06_pose_estimation.service import EVALUATIONS
 

@@ -5,7 +5,7 @@ from pathlib import Path
 import pytest
 
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f06_pose_estimation.scoring import RUBRICS

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import load_secret
+from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f06_pose_estimation.contract import variant

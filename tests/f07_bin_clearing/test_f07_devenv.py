@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from rle_design.ledger.session import MeteredSession
-from rle_tasks.core.devenv import layout_workspace
 from rle_tasks.core.registry import get_task
+from rle_tasks.core.runtime.devenv import layout_workspace
 from rle_tasks.f07_bin_clearing.public.env import make_env
 from rle_tasks.f07_bin_clearing.public.pile import PUBLIC_SEEDS, PileSpec
 
@@ -64,7 +64,7 @@ def act(obs):
 
 
 def test_devrun_refuses_what_the_verifier_refuses_with_the_same_code(tmp_path, capsys):
-    from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+    from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
     from rle_tasks.core.task import VerifyContext
     from rle_tasks.f07_bin_clearing.public import devrun
     from rle_tasks.f07_bin_clearing.verifier import verify

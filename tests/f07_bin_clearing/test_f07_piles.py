@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f07_bin_clearing.public.pile import PileSpec, part_qpos_adr, settle_pile
 from rle_tasks.f07_bin_clearing.public.workcell import (

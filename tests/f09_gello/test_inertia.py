@@ -13,7 +13,7 @@ import pytest
 from lxml import etree
 
 from rle_tasks.core.registry import get_task
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import run_verify

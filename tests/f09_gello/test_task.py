@@ -54,7 +54,7 @@ def test_trim_runner_records_faults_and_returns_none(tmp_path):
 
 
 def test_reference_trim_recovers_a_hidden_copy_within_the_friction_band():
-    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.runtime.secrets import load_secret
     from rle_tasks.f09_gello import battery, device, verifier
 
     robot = "ur5e"

@@ -13,7 +13,7 @@ import hashlib
 from pathlib import Path
 
 from rle_design.paths import REPO_ROOT
-from rle_tasks.core.devenv import layout_workspace
+from rle_tasks.core.runtime.devenv import layout_workspace
 from rle_tasks.core.solutions import materialise
 
 FORBIDDEN_PARTS = {"rle_tasks", "solutions", "reference", "baseline", "design_gen.py"}

@@ -5,10 +5,10 @@ from __future__ import annotations
 import pytest
 
 from rle_design.errors import RleError
-from rle_tasks.core.harbor import export_harbor, not_exportable
-from rle_tasks.core.harbor_images import DATA_ROOT
-from rle_tasks.core.harbor_results import read_trial, systems
-from rle_tasks.core.harbor_reward import reward_from_report
+from rle_tasks.core.export.harbor.export import export_harbor, not_exportable
+from rle_tasks.core.export.harbor.images import DATA_ROOT
+from rle_tasks.core.export.harbor.results import read_trial, systems
+from rle_tasks.core.export.harbor.reward import reward_from_report
 from rle_tasks.core.registry import get_task
 
 

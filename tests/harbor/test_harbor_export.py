@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from rle_design.errors import RleError
-from rle_tasks.core.harbor import export_harbor
+from rle_tasks.core.export.harbor.export import export_harbor
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.report import Checkpoint, VerifierReport, artifact_sha256
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
@@ -132,7 +132,10 @@ def test_files_images_and_scripts(tmp_path, spec):
     test_sh = task_dir / "tests" / "test.sh"
     assert os.access(test_sh, os.X_OK)
     text = test_sh.read_text()
-    assert 'exec python3 -m rle_tasks.core.harbor_reward 08-mobile-base --logs "$LOGS" --jobs "$JOBS"' in text
+    assert (
+        'exec python3 -m rle_tasks.core.export.harbor.reward 08-mobile-base --logs "$LOGS" --jobs "$JOBS"'
+        in text
+    )
     assert "JOBS=$(( $(nproc) < 4 ? $(nproc) : 4 ))" in text  # the task's CPU budget caps the workers
     assert subprocess.run(["bash", "-n", str(test_sh)], capture_output=True).returncode == 0
 
@@ -142,7 +145,7 @@ def test_files_images_and_scripts(tmp_path, spec):
 
 
 def test_reward_from_a_real_report():
-    from rle_tasks.core.harbor_reward import reward_from_report
+    from rle_tasks.core.export.harbor.reward import reward_from_report
 
     checkpoints = (Checkpoint("validity", 0.25, 1.0, True), Checkpoint("reward", 0.75, 0.5, False))
     report = VerifierReport(
@@ -190,7 +193,7 @@ def test_unimplemented_unsupported_and_unknown_ids_are_refused(tmp_path):
 
 
 def test_default_exports_every_implemented_task_that_can_be_exported(tmp_path):
-    from rle_tasks.core.harbor import not_exportable
+    from rle_tasks.core.export.harbor.export import not_exportable
     from rle_tasks.core.registry import all_tasks
 
     implemented = [t.id for t in all_tasks() if t.implemented and not not_exportable(t)]
@@ -276,6 +279,6 @@ def test_a_metered_dev_env_is_served_by_the_sidecar(tmp_path):
     assert "runs beside the agent as the compose service `dev`" in (task_dir / "README.md").read_text()
     assert (task_dir / "environment" / "docker-compose.yaml").is_file()
     assert (
-        "python3 -m rle_tasks.core.harbor_sidecar serve 07-metered"
+        "python3 -m rle_tasks.core.export.harbor.sidecar serve 07-metered"
         in (task_dir / "environment" / "dev" / "Dockerfile").read_text()
     )

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from rle_tasks.core.harbor import export_harbor
-from rle_tasks.core.harbor_images import base_image
+from rle_tasks.core.export.harbor.export import export_harbor
+from rle_tasks.core.export.harbor.images import base_image
 
 
 def _docker_ready() -> str | None:
@@ -54,7 +54,7 @@ def test_agent_and_verifier_images_import_what_they_must(tmp_path):
         assert hidden.returncode != 0 and "No module named 'rle_tasks'" in hidden.stderr
         verifier = _run(
             "rle-test-verifier:09",
-            "import rle_tasks.core.harbor_reward, rle_tasks.f09_gello.verifier, pinocchio; print('ok')",
+            "import rle_tasks.core.export.harbor.reward, rle_tasks.f09_gello.verifier, pinocchio; print('ok')",
         )
         assert verifier.returncode == 0 and verifier.stdout.strip().endswith("ok"), verifier.stderr[-2000:]
         probe = _run("rle-test-verifier:09", SANDBOX_PROBE)
@@ -72,7 +72,7 @@ def test_agent_and_verifier_images_import_what_they_must(tmp_path):
 
 
 SANDBOX_PROBE = (Path(__file__).parent / "sandbox_probe.py").read_text()
-"""A sandboxed submission in the verifier's image (as root, as ``harbor_reward`` runs) tries to read,
+"""A sandboxed submission in the verifier's image (as root, as ``harbor.reward`` runs) tries to read,
 list and import the verifier package, then imports the public toolkit (``sandbox_probe.py``)."""
 
 BASE_COMPOSE = """services:
@@ -134,7 +134,7 @@ def test_the_agents_container_reaches_the_sidecar_and_not_its_secrets(tmp_path, 
     import json
     import os
 
-    from rle_tasks.core.harbor import not_exportable
+    from rle_tasks.core.export.harbor.export import not_exportable
     from rle_tasks.core.registry import get_task
 
     if why := not_exportable(get_task(task_id)):
@@ -173,7 +173,7 @@ def test_the_agents_container_reaches_the_sidecar_and_not_its_secrets(tmp_path, 
         assert seen["uid"] == 1000 and seen["rle_env"] == public and seen["environ_leaks"] == []
         assert not seen["ledger_dir_visible"] and seen["charged"] == USES[task_id][1]
         sealed = subprocess.run(
-            [*compose, "exec", "-T", "dev", "python3", "-m", "rle_tasks.core.harbor_sidecar", "seal"],
+            [*compose, "exec", "-T", "dev", "python3", "-m", "rle_tasks.core.export.harbor.sidecar", "seal"],
             capture_output=True,
             text=True,
             env=env,

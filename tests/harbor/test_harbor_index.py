@@ -25,7 +25,7 @@ from datetime import UTC, datetime, timedelta
 
 import pytest
 
-from rle_tasks.core.harbor_results import read_job, systems
+from rle_tasks.core.export.harbor.results import read_job, systems
 from rle_tasks.core.registry import all_tasks
 from rle_tasks.core.results import index_command
 

@@ -78,7 +78,7 @@ FULL = os.environ.get("RLE_FULL_BATTERY") == "1"
 def _checked_ids() -> list[str]:
     """Every task of the shared export (``conftest.exported_specs``) with RLE_FULL_BATTERY=1; otherwise
     the first of each family."""
-    from rle_tasks.core.harbor import not_exportable
+    from rle_tasks.core.export.harbor.export import not_exportable
     from rle_tasks.core.registry import all_tasks
 
     tasks = [t for t in all_tasks() if t.implemented and not not_exportable(t) and not t.harbor_data]
@@ -95,7 +95,7 @@ def checked(exported):
 def pinned_export(tmp_path_factory):
     """The first checked task (every one with RLE_FULL_BATTERY=1), exported with a digest-pinned base
     image (the form lint asks for); the others share its image template."""
-    from rle_tasks.core.harbor import export_harbor
+    from rle_tasks.core.export.harbor.export import export_harbor
 
     out = tmp_path_factory.mktemp("pinned")
     mp = pytest.MonkeyPatch()

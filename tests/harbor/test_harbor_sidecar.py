@@ -4,7 +4,7 @@ privileged session the operator asked for).
 
 The sidecar's commands run here as processes (no Docker): ``serve`` in a workspace and ledger
 directory of the test's own, a client that connects as the agent's would, ``seal`` as Harbor's collect
-hook runs it; ``harbor_reward --sidecar`` with a stand-in ``rle`` that records what it was asked.
+hook runs it; ``harbor.reward --sidecar`` with a stand-in ``rle`` that records what it was asked.
 """
 
 from __future__ import annotations
@@ -24,9 +24,9 @@ import yaml
 
 from rle_design.ledger import Limits, check_ledger
 from rle_design.paths import REPO_ROOT
-from rle_tasks.core.devenv import ledger_key
-from rle_tasks.core.harbor import export_harbor
-from rle_tasks.core.secrets import Secret
+from rle_tasks.core.export.harbor.export import export_harbor
+from rle_tasks.core.runtime.devenv import ledger_key
+from rle_tasks.core.runtime.secrets import Secret
 
 SECRET = "sidecar-test-secret"
 
@@ -51,7 +51,11 @@ def test_a_metered_task_runs_its_server_in_the_sidecar(exported):
     assert (task / "environment" / ".dockerignore").read_text() == "dev/\n"  # not in the agent's image
     cfg = tomllib.loads((task / "task.toml").read_text())
     assert cfg["verifier"]["collect"] == [
-        {"service": "dev", "command": "python3 -m rle_tasks.core.harbor_sidecar seal", "timeout_sec": 120}
+        {
+            "service": "dev",
+            "command": "python3 -m rle_tasks.core.export.harbor.sidecar seal",
+            "timeout_sec": 120,
+        }
     ]
     assert cfg["artifacts"] == [{"source": "/rle-ledger", "service": "dev"}]
     assert '--sidecar "/rle-ledger"' in (task / "tests" / "test.sh").read_text()
@@ -105,7 +109,7 @@ def _client(workspace: Path):
 
 def _sidecar(*args: str, env: dict[str, str]) -> subprocess.Popen:
     return subprocess.Popen(
-        [sys.executable, "-m", "rle_tasks.core.harbor_sidecar", *args],
+        [sys.executable, "-m", "rle_tasks.core.export.harbor.sidecar", *args],
         env={**os.environ, "PYTHONPATH": str(REPO_ROOT), **env},
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
@@ -130,7 +134,7 @@ def test_the_sidecar_serves_an_attempt_of_its_own_and_leaves_its_sealed_ledger(t
             env.step([0.0] * env.info()["action_size"])
         assert "bodies" not in obs and "sizes" not in obs  # an agent's session: no piece poses
         sealed = subprocess.run(
-            [sys.executable, "-m", "rle_tasks.core.harbor_sidecar", "seal", *where],
+            [sys.executable, "-m", "rle_tasks.core.export.harbor.sidecar", "seal", *where],
             env={**os.environ, "PYTHONPATH": str(REPO_ROOT)},
             capture_output=True,
             text=True,
@@ -167,7 +171,7 @@ Path(args[args.index("--json") + 1]).write_text(json.dumps({{"score": 0.5, "secr
 
 @pytest.mark.skipif(os.geteuid() != 0, reason="the verifier runs as root in its container")
 def test_the_verifier_scores_the_sidecars_session_as_its_attempt(tmp_path):
-    from rle_tasks.core.harbor_reward import VerifierSetupError, run
+    from rle_tasks.core.export.harbor.reward import VerifierSetupError, run
 
     logs = tmp_path / "logs"
     for sub in ("artifacts", "verifier"):
@@ -211,9 +215,9 @@ def test_a_privileged_oracle_plays_through_the_sidecar_and_is_named(exported, tm
     """The exported oracle program, run as Harbor's oracle agent runs it, against a sidecar the operator
     started with RLE_ORACLE_PRIVILEGED=1 (public key here): the reference's score, and the report names
     the privileged session; the reward counts it only when the verifier is told (the same flag)."""
-    from rle_tasks.core.harbor_reward import reward_from_report
+    from rle_tasks.core.export.harbor.reward import reward_from_report
     from rle_tasks.core.registry import get_task
-    from rle_tasks.core.secrets import PUBLIC_KEY
+    from rle_tasks.core.runtime.secrets import PUBLIC_KEY
     from rle_tasks.core.solutions import declaration
     from rle_tasks.core.task import VerifyContext
     from rle_tasks.core.verify import run_verify

@@ -165,7 +165,7 @@ def test_simulated_unshare_refusal(submission, tmp_path, monkeypatch):
 def test_verifier_report_records_the_layers(tmp_path):
     from rle_design.sandbox import probe_layers
     from rle_tasks.core.report import VerifierReport
-    from rle_tasks.core.secrets import load_secret
+    from rle_tasks.core.runtime.secrets import load_secret
     from rle_tasks.core.task import TaskSpec, VerifyContext
     from rle_tasks.core.verify import run_verify
 

@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 
 from rle_design.ledger import LedgerClient, LedgerError
-from rle_tasks.core.devenv import record_solution
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.devenv import record_solution
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 
 from ..kitchens import BUDGET, KITCHEN_TASKS, LEVELS, STEP_BUDGET, KitchenTaskId, scenes
 from . import LEDGER, agents

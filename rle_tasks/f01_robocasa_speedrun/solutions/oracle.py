@@ -1,6 +1,6 @@
 """The Harbor oracle of family 01: the reference program, playing the task through the sidecar.
 
-An exported task's development server runs in its sidecar (``rle_tasks.core.harbor_sidecar``), so an
+An exported task's development server runs in its sidecar (``rle_tasks.core.export.harbor.sidecar``), so an
 oracle trial scores only what is played there. ``harbor_oracle`` writes into the task's ``solution/``
 the agent programs of ``agents`` (the same files, their harness imports pointed at the workspace's
 ``harness`` package, which holds the same modules) and ``oracle.py``, which connects with the
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rle_tasks.core.harbor import PLAYING_SOLVE_SH
+from rle_tasks.core.export.harbor.export import PLAYING_SOLVE_SH
 
 HERE = Path(__file__).resolve().parent
 HARNESS_IMPORT = "rle_tasks.envs.kitchen.harness"

@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
 from ..constants import CANTILEVER_ID, STEP_BUDGET, WALL_TIME_S

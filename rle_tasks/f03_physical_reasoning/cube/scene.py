@@ -25,7 +25,7 @@ import numpy as np
 
 from rle_design.scene.camera import look_at_quat
 from rle_design.scene.tabletop import STIFF_SOLREF, TabletopConfig, build_tabletop, finish
-from rle_tasks.core.secrets import Secret, derive_rng
+from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.f03_physical_reasoning.constants import CUBE_ID
 from rle_tasks.f03_physical_reasoning.cube.coords import N_STATES, decode
 from rle_tasks.f03_physical_reasoning.cube.distance import optimal_turns

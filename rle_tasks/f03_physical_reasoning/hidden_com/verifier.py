@@ -18,8 +18,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.core.scoring import Outcome
-from rle_tasks.core.secrets import Secret, derive_rng
 from rle_tasks.core.task import VerifyContext
 
 from ..constants import HIDDEN_COM_ID, HIDDEN_COM_STEPS, HIDDEN_COM_WALL_TIME_S, N_BOXES, STEPS_PER_BOX

@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from rle_design.ledger import LedgerClient
-from rle_tasks.core.devenv import record_solution
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.devenv import record_solution
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 
 from ..constants import CANTILEVER_ID, STEP_BUDGET, TOWER_ID, WALL_TIME_S
 from ..scene import CONFIG, make_env

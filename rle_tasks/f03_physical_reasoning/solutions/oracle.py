@@ -3,7 +3,7 @@
 The programs of 03-cantilever and 03-tower (``agents.harmonic_cantilever``, ``agents.tower`` with the
 plan ``tower_optimum`` computes from the pieces' sizes) read each piece's pose and size, which the
 card withholds from agents. An exported task's sidecar serves them only when the operator runs the
-oracle with ``RLE_ORACLE_PRIVILEGED=1`` on the host (``harbor_sidecar``); the session's ledger then
+oracle with ``RLE_ORACLE_PRIVILEGED=1`` on the host (``harbor.sidecar``); the session's ledger then
 says so (``privileged``), the verifier names it (``ledger.privileged``), ``rle index`` refuses the
 report, and the Harbor reward is 0 unless the verifier, too, was told it verifies the oracle (the same
 variable). An agent's trial never gets a privileged session: the variable is the host's, read by the
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rle_tasks.core.harbor import PLAYING_SOLVE_SH
+from rle_tasks.core.export.harbor.export import PLAYING_SOLVE_SH
 
 HERE = Path(__file__).resolve().parent
 SCALE = 0.93

@@ -28,7 +28,7 @@ SHIPPED = ("reference", "five_weighings")
 
 def record(program: str, secret, dest: Path, **kwargs) -> Path:
     """Play ``program`` on the instance of ``secret``; write and return ``dest`` holding ``ledger.jsonl``."""
-    from rle_tasks.core.devenv import record_solution
+    from rle_tasks.core.runtime.devenv import record_solution
 
     from ...balance.env import make_env
     from ...balance.verifier import LEDGER_FILE, instance

@@ -28,7 +28,7 @@ def record(program: str, secret, dest: Path, camera_every: int = 10, **kwargs) -
 
     ``camera_every`` > 10 renders fewer views (the reference reads only the view after its reset).
     """
-    from rle_tasks.core.devenv import record_solution
+    from rle_tasks.core.runtime.devenv import record_solution
 
     from ...constants import HIDDEN_COM_ID, HIDDEN_COM_STEPS, HIDDEN_COM_WALL_TIME_S
     from ...hidden_com.env import make_env

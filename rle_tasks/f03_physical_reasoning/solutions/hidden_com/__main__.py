@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from rle_tasks.core.secrets import PUBLIC_KEY, Secret
+from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 
 from . import SHIPPED, record
 

@@ -41,7 +41,7 @@ def record(program: str, secret, dest: Path, camera_every: int = 100_000, inst=N
     fingerprint do not change). ``inst`` replaces the secret's scramble (tests of the verifier's
     positive path on a shallow scramble; such a ledger verifies only against that scramble).
     """
-    from rle_tasks.core.devenv import record_solution
+    from rle_tasks.core.runtime.devenv import record_solution
 
     from ...constants import CUBE_ID, STEP_BUDGET, WALL_TIME_S
     from ...cube.env import make_env
@@ -141,7 +141,7 @@ with connect() as env:
 def harbor_oracle(spec, dest: Path) -> str:
     """Write the privileged playing oracle (``oracle.py``, and ``two_hands.py`` and ``top_turns.py`` with
     the one constant they take from the environment inlined) into ``dest``; returns ``solve.sh``."""
-    from rle_tasks.core.harbor import PLAYING_SOLVE_SH
+    from rle_tasks.core.export.harbor.export import PLAYING_SOLVE_SH
 
     from ...cube.env import ARM_ACTION
     from .reference import MOVES, TURN_SENSE

@@ -1,4 +1,4 @@
-"""An exported task's development environment as a Harbor sidecar: ``python -m rle_tasks.core.harbor_sidecar``.
+"""An exported task's development environment as a Harbor sidecar: ``python -m rle_tasks.core.export.harbor.sidecar``.
 
 Tasks whose development environment is metered or served (families 01, 02, 03, 06) cannot run it in
 the agent's container: its server holds the ledger key derived from the verifier secret. Their
@@ -6,7 +6,7 @@ exported ``environment/docker-compose.yaml`` adds a service ``dev`` beside the a
 
 - ``serve TASK`` (the service's command): draws a fresh attempt id (``harbor-`` and 16 hex digits),
   lays out the workspace in the volume both services mount at ``/workspace`` (owned by the agent's
-  uid) and serves the same server as ``rle dev`` (``rle_tasks.core.devenv.layout_workspace``) on
+  uid) and serves the same server as ``rle dev`` (``rle_tasks.core.runtime.devenv.layout_workspace``) on
   ``/workspace/.rle/ledger.sock``, open to the agent's uid, in that attempt. The key, the secret, the
   hidden scenes and the ledger (``/rle-ledger``, root-only) stay in the sidecar's own filesystem.
   The service is healthy once the socket exists, and the agent starts only then. With
@@ -15,7 +15,7 @@ exported ``environment/docker-compose.yaml`` adds a service ``dev`` beside the a
 - ``seal`` (Harbor's ``[[verifier.collect]]`` hook, after the agent phase): asks the server to seal,
   waits for the seal, and leaves ``/rle-ledger/ledger.jsonl`` (the attempt's ledger) and
   ``/rle-ledger/attempt`` for Harbor to collect as an artifact of the service (``[[artifacts]]``).
-  The separate verifier reads both there (``harbor_reward --sidecar``): the ledger the agent's
+  The separate verifier reads both there (``harbor.reward --sidecar``): the ledger the agent's
   container never could write, verified as the attempt the sidecar drew.
 """
 
@@ -39,9 +39,9 @@ ATTEMPT_FILE = "attempt"
 ORACLE_ENV = "RLE_ORACLE_PRIVILEGED"
 """Host variable of an operator's oracle trial: ``1`` makes the sidecar of a task with a privileged
 oracle (``TaskSpec.privileged_oracle``) serve privileged observations, and lets the verifier's reward
-count such a session (``harbor_reward``). The agent's container never reads it."""
+count such a session (``harbor.reward``). The agent's container never reads it."""
 AGENT_UID = 1000
-"""The agent user's uid in the exported agent image (``harbor_images.AGENT_USER``)."""
+"""The agent user's uid in the exported agent image (``harbor.images.AGENT_USER``)."""
 
 
 def _chown_tree(root: Path, uid: int) -> None:
@@ -53,7 +53,7 @@ def _chown_tree(root: Path, uid: int) -> None:
 
 def serve(task_id: str, workspace: Path = WORKSPACE, ledger_dir: Path = LEDGER_DIR) -> int:
     """Serve ``task_id``'s development environment in a fresh attempt until sealed or signalled."""
-    from rle_tasks.core.devenv import make_workspace
+    from rle_tasks.core.runtime.devenv import make_workspace
 
     if not os.environ.get("RLE_SECRET") and os.environ.get("RLE_ALLOW_PUBLIC_KEY") != "1":
         print(
@@ -125,7 +125,7 @@ def seal(workspace: Path = WORKSPACE, ledger_dir: Path = LEDGER_DIR, timeout_s: 
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m rle_tasks.core.harbor_sidecar")
+    parser = argparse.ArgumentParser(prog="python -m rle_tasks.core.export.harbor.sidecar")
     sub = parser.add_subparsers(dest="command", required=True)
     s = sub.add_parser("serve", help="serve the task's development environment (the service's command)")
     s.add_argument("task")

@@ -1,4 +1,4 @@
-"""Verification inside the Harbor verifier container: ``python -m rle_tasks.core.harbor_reward``.
+"""Verification inside the Harbor verifier container: ``python -m rle_tasks.core.export.harbor.reward``.
 
 ``tests/test.sh`` of an exported task runs this module as root. It turns one ``rle verify`` run into
 Harbor's reward file so that nothing the verified code does can influence the reward:
@@ -146,7 +146,7 @@ def reward_from_report(report: dict, secret_private: bool, oracle: bool = False)
 
 
 def sidecar_session(sidecar: Path) -> tuple[Path, str]:
-    """(ledger, attempt) the development sidecar left (``harbor_sidecar.seal``), collected by Harbor.
+    """(ledger, attempt) the development sidecar left (``harbor.sidecar.seal``), collected by Harbor.
 
     Raises:
         VerifierSetupError: the sidecar left no attempt (it did not run): no reward.
@@ -222,7 +222,7 @@ def run(task_id: str, logs: Path, jobs: int, environ: dict[str, str], sidecar: P
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m rle_tasks.core.harbor_reward")
+    parser = argparse.ArgumentParser(prog="python -m rle_tasks.core.export.harbor.reward")
     parser.add_argument("task")
     parser.add_argument("--logs", default="/logs")
     parser.add_argument("--jobs", type=int, default=1)

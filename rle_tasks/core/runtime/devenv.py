@@ -41,8 +41,8 @@ from pathlib import Path
 
 from rle_design.errors import RleError
 from rle_design.ledger import LedgerServer, MeteredEnv, SceneSet, record_session
-from rle_tasks.core.devservice import ADDRESS_FUNCTION
-from rle_tasks.core.secrets import Secret, load_secret, using_secret
+from rle_tasks.core.runtime.devservice import ADDRESS_FUNCTION
+from rle_tasks.core.runtime.secrets import Secret, load_secret, using_secret
 from rle_tasks.core.task import TaskSpec, privileged_dev
 
 LEDGER_LABEL = b"rle-bench ledger key v1"

@@ -6,13 +6,13 @@ Layout of ``OUT/<task id>/``::
     instruction.md         the instruction I, the artifact contract A and the budget B
     README.md              for the operator: expected score, how to set the secret, resources
     environment/           agent image: the public toolkit and the task's public workspace only
-                           (``harbor_images``)
+                           (``harbor.images``)
     tests/                 verifier image: Dockerfile, test.sh, and a snapshot of the project
     solution/solve.sh      copies the reference solution into /logs/artifacts (only when one is shipped)
 
 The agent writes its artifact into ``/logs/artifacts``, the only directory that crosses into the
 verifier container. ``tests/test.sh`` runs ``rle verify`` there and turns the report into
-``/logs/verifier/reward.json`` (``rle_tasks.core.harbor_reward``): ``reward`` (the task score),
+``/logs/verifier/reward.json`` (``rle_tasks.core.export.harbor.reward``): ``reward`` (the task score),
 ``secret_private`` and one key per checkpoint. The verifier secret comes from the host's ``RLE_SECRET``
 and has no default: without it the task does not verify.
 """
@@ -25,14 +25,14 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from rle_design.errors import RleError
-from rle_tasks.core.harbor_images import (
+from rle_tasks.core.export.harbor.images import (
     AGENT_USER,
     SIDECAR,
     SIDECAR_LEDGER_DIR,
     agent_context,
     verifier_context,
 )
-from rle_tasks.core.harbor_readme import readme
+from rle_tasks.core.export.harbor.readme import readme
 from rle_tasks.core.report import VERIFIER_VERSION
 from rle_tasks.core.task import TaskSpec
 
@@ -215,13 +215,13 @@ def _ledger_task(spec: TaskSpec) -> bool:
 
 
 def sidecar_toml(spec: TaskSpec) -> str:
-    """``task.toml`` entries of a task with a development server in the sidecar (``harbor_sidecar``):
+    """``task.toml`` entries of a task with a development server in the sidecar (``harbor.sidecar``):
     Harbor seals the session there after the agent phase and collects its ledger directory."""
     return f"""
 # The development server's ledger, sealed after the agent phase and handed to the verifier.
 [[verifier.collect]]
 service = "{SIDECAR}"
-command = "python3 -m rle_tasks.core.harbor_sidecar seal"
+command = "python3 -m rle_tasks.core.export.harbor.sidecar seal"
 timeout_sec = 120
 
 [[artifacts]]
@@ -234,7 +234,7 @@ def _test_sh(spec: TaskSpec, served: bool = False) -> str:
     sidecar = f' --sidecar "{SIDECAR_LEDGER_DIR}"' if served and _ledger_task(spec) else ""
     return f"""#!/usr/bin/env bash
 # Verifier of {ORG}/{spec.id}, run as root in the separate verifier image: only /logs/artifacts crosses
-# over. rle_tasks.core.harbor_reward closes /logs/verifier to the sandboxed code, runs `rle verify` on a
+# over. rle_tasks.core.export.harbor.reward closes /logs/verifier to the sandboxed code, runs `rle verify` on a
 # private copy of the artifact and writes reward.json atomically; any verifier fault exits non-zero
 # without a reward file, so Harbor reports an error instead of a score.
 set -euo pipefail
@@ -242,7 +242,7 @@ LOGS=/logs
 # Workers: the task's CPU budget ({spec.budget.cpus}), fewer where the container sees fewer cores (nproc
 # reports the host's cores under a CPU quota, so it is only an upper bound).
 JOBS=$(( $(nproc) < {spec.budget.cpus} ? $(nproc) : {spec.budget.cpus} ))
-exec python3 -m rle_tasks.core.harbor_reward {spec.id} --logs "$LOGS" --jobs "$JOBS"{sidecar}
+exec python3 -m rle_tasks.core.export.harbor.reward {spec.id} --logs "$LOGS" --jobs "$JOBS"{sidecar}
 """
 
 

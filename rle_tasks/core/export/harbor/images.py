@@ -161,14 +161,14 @@ def public_workspace(spec: TaskSpec, dest: Path) -> str:
     """Lay out what ``rle dev`` writes for ``spec`` into ``dest`` (nothing is served).
 
     A metered or served development environment holds a key derived from the verifier secret, so its
-    server cannot run in the agent's image: it runs in the sidecar ``dev`` (``harbor_sidecar``), and
+    server cannot run in the agent's image: it runs in the sidecar ``dev`` (``harbor.sidecar``), and
     the workspace's client reaches it through the socket beside itself (``.rle/ledger.sock``, a
     volume both containers mount).
 
     Returns:
         ``"metered"``, ``"served"`` or ``""`` (``DevWorkspace.environment``).
     """
-    from rle_tasks.core.devenv import layout_workspace
+    from rle_tasks.core.runtime.devenv import layout_workspace
 
     ws = layout_workspace(spec, dest, serve=False)
     shutil.rmtree(dest / ".rle", ignore_errors=True)
@@ -179,7 +179,7 @@ def public_workspace(spec: TaskSpec, dest: Path) -> str:
 SIDECAR = "dev"
 """Compose service of the development server beside the agent's ``main``."""
 SIDECAR_LEDGER_DIR = "/rle-ledger"
-"""Where the sidecar keeps the ledger (``harbor_sidecar.LEDGER_DIR``), collected by Harbor."""
+"""Where the sidecar keeps the ledger (``harbor.sidecar.LEDGER_DIR``), collected by Harbor."""
 
 
 def compose_file() -> str:
@@ -225,7 +225,7 @@ def sidecar_context(spec: TaskSpec, dest: Path, root: Path) -> None:
         + "COPY rle-bench /opt/rle-bench\n"
         + "RUN pip install --no-deps -e /opt/rle-bench\n"
         + side_envs(spec, dest, root)
-        + f'CMD ["sh", "-c", "python3 -m rle_tasks.core.harbor_sidecar serve {spec.id}; exec sleep infinity"]\n'
+        + f'CMD ["sh", "-c", "python3 -m rle_tasks.core.export.harbor.sidecar serve {spec.id}; exec sleep infinity"]\n'
     )
 
 

@@ -1,0 +1,1 @@
+"""Exports of the benchmark to evaluation harnesses (``harbor``)."""
