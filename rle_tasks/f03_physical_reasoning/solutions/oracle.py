@@ -100,3 +100,14 @@ def harbor_program_oracle(program: Path, dest: Path) -> str:
     Path(dest).mkdir(parents=True, exist_ok=True)
     (Path(dest) / "oracle.py").write_text(text)
     return PLAYING_SOLVE_SH
+
+
+def reference_program_oracle(solutions_file: str):
+    """The ``harbor_oracle`` hook of a task whose Harbor oracle is the ``reference.py`` beside
+    ``solutions_file`` (a program that reads only what agents get), playing through the sidecar."""
+    program = Path(solutions_file).resolve().parent / "reference.py"
+
+    def harbor_oracle(spec, dest: Path) -> str:
+        return harbor_program_oracle(program, dest)
+
+    return harbor_oracle

@@ -19,6 +19,7 @@ from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
 from rle_tasks.f03_physical_reasoning.solutions import unseal
+from rle_tasks.f03_physical_reasoning.solutions.oracle import reference_program_oracle
 
 PROGRAMS = {"reference": 1.0, "five_weighings": 0.4, "wrong_cube": 0.0}
 """Program -> expected score (any instance)."""
@@ -72,8 +73,5 @@ SOLUTIONS = SolutionSet(
 """Committed public-key ledgers: the reference (two weighings), five weighings (0.4), the reference unsealed (0)."""
 
 
-def harbor_oracle(spec, dest: Path) -> str:
-    """The Harbor oracle: ``reference.py`` (it reads only what agents get) plays through the sidecar."""
-    from rle_tasks.f03_physical_reasoning.solutions.oracle import harbor_program_oracle
-
-    return harbor_program_oracle(Path(__file__).resolve().parent / "reference.py", dest)
+harbor_oracle = reference_program_oracle(__file__)
+"""The Harbor oracle: ``reference.py`` (it reads only what agents get) plays through the sidecar."""

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
 from rle_tasks.f03_physical_reasoning.solutions import unseal
+from rle_tasks.f03_physical_reasoning.solutions.oracle import reference_program_oracle
 
 PROGRAMS = ("reference", "random_answers", "late_answers")
 SHIPPED = PROGRAMS
@@ -79,8 +80,5 @@ SOLUTIONS = SolutionSet(
 """Committed public-key ledgers: the reference (3/3), seeded random answers, the reference unsealed (0)."""
 
 
-def harbor_oracle(spec, dest: Path) -> str:
-    """The Harbor oracle: ``reference.py`` (it reads only what agents get) plays through the sidecar."""
-    from rle_tasks.f03_physical_reasoning.solutions.oracle import harbor_program_oracle
-
-    return harbor_program_oracle(Path(__file__).resolve().parent / "reference.py", dest)
+harbor_oracle = reference_program_oracle(__file__)
+"""The Harbor oracle: ``reference.py`` (it reads only what agents get) plays through the sidecar."""
