@@ -199,18 +199,19 @@ def stage_task(task_id: str, harness: Path | None = None) -> TaskSpec | None:
 
 
 def group_report(group: Group, rewards: list[float | None], trials: list[str]) -> VerifierReport:
-    """The group's report from its fresh agents' rewards (a missing or failed trial counts 0), in the
-    group rubric's form, so that ``rle index`` takes it like the verifier's own."""
+    """The group's report from its fresh agents' rewards (a failed trial, run without a reward, counts
+    0), in the group rubric's form, so that ``rle index`` takes it like the verifier's own. Fewer than
+    ``TRIALS`` trials make it partial, scored over the trials that ran (as the verifier's quick mode)."""
     scores = [float(r) if r is not None else 0.0 for r in rewards][:TRIALS]
-    total = sum(scores) / TRIALS
+    total = sum(scores) / max(len(scores), 1)
     findings = Findings()
     for name, reward in zip(trials, rewards, strict=False):
         if reward is None:
             findings.add_error("f02.trial_failed", f"fresh trial {name}: no reward (counted 0)", HARNESS_DIR)
-    msg = f"mean s_trial {total:.3f} over {TRIALS} fresh agents run as Harbor trials (" + ", ".join(
+    msg = f"mean s_trial {total:.3f} over {len(scores)} fresh agents run as Harbor trials (" + ", ".join(
         f"{s:.2f}" for s in scores
     )
-    msg += ")" if len(scores) == TRIALS else f"; {TRIALS - len(scores)} not run)"
+    msg += ")" if len(scores) == TRIALS else f"; partial: {TRIALS - len(scores)} of the {TRIALS} not run)"
     return group_rubric(group.task_id).report(
         {"transfer": Outcome({"agents": total}, msg, {"s_trial": scores})},
         valid=True,

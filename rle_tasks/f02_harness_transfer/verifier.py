@@ -3,7 +3,8 @@
 1. ``agent_harness/MANUAL.md`` must exist (the contract); otherwise score 0 with ``f02.no_manual``.
 2. Five ``TransferUnit``s (one per fresh agent: an unseen kitchen and episode from the secret, its own
    ledger key) run through the core runner (``ctx.jobs`` workers, local pool or Ray); quick mode runs
-   the first two and marks the report ``partial`` (the others count 0).
+   the first two and marks the report ``partial``; its score is then the mean over the agents it ran
+   (an estimate of the full score, as family 05's partial episode sets are), never an official score.
 3. Score: the mean of the five s_trial (``transfer.stage_score``); a trial that could not be scored
    (no stage records, harness unusable, unverifiable ledger) counts 0. Every agent that did not run to
    its end or left nothing to score is reported: ``f02.<agent ending>`` (``f02.no_entry_point``,
@@ -83,16 +84,21 @@ def verifier(group: Group):
                     f"fresh agent {r.trial}: {r.status}, {r.agent}: {r.message}"[:600],
                     HARNESS_DIR,
                 )
-        total = sum(r.score for r in results) / TRIALS
+        ran = max(len(results), 1)
+        total = sum(r.score for r in results) / ran
         wins = sum(r.success for r in results)
-        msg = f"mean s_trial {total:.3f} over {TRIALS} fresh agents ({wins} succeeded; " + ", ".join(
+        msg = f"mean s_trial {total:.3f} over {len(results)} fresh agents ({wins} succeeded; " + ", ".join(
             f"{r.score:.2f}" for r in results
         )
-        msg += ")" if len(results) == TRIALS else f"; {TRIALS - len(results)} not run in quick mode)"
+        msg += (
+            ")"
+            if len(results) == TRIALS
+            else f"; partial: {TRIALS - len(results)} of the {TRIALS} not run in quick mode)"
+        )
         native = {
             "held_out": group.held_out,
             "successes": wins,
-            "success_rate": wins / TRIALS,
+            "success_rate": wins / ran,
             "trials": [r.record() for r in results],
             "partial": len(results) < TRIALS,
         }

@@ -118,8 +118,8 @@ def test_the_group_reward_is_the_mean_of_its_fresh_trials():
     assert report.task_id == "02-group-01" and report.score == pytest.approx(2.5 / 5)
     assert [e.code for e in report.errors] == ["f02.trial_failed"] and not report.native_metrics["partial"]
     assert report.native_metrics["successes"] == 2
-    three = group_report(GROUP, [1.0, 1.0, 1.0], names[:3])
-    assert three.score == pytest.approx(3 / 5) and three.native_metrics["partial"]
+    three = group_report(GROUP, [1.0, 0.5, None], names[:3])  # partial: the mean of the three that ran
+    assert three.score == pytest.approx(1.5 / 3) and three.native_metrics["partial"]
 
 
 def test_export_of_the_fresh_trials_holds_the_harness_and_the_scripted_oracle(harness, tmp_path):

@@ -76,10 +76,10 @@ BASELINE_PINS: dict[str, tuple[str, float]] = {
 }
 """The baselines are the same files for every group (checksum, golden quick score)."""
 REFERENCE_PINS: dict[str, tuple[str, float]] = {
-    # quick mode runs two of the five agents (the others count 0): 2 successes -> 0.4
-    "02-group-01": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 0.4),
-    "02-group-09": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 0.4),
-    "02-group-12": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 0.4),
+    # quick mode runs two of the five agents and scores their mean (partial): two successes -> 1.0
+    "02-group-01": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 1.0),
+    "02-group-09": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 1.0),
+    "02-group-12": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 1.0),
 }
 """Task id -> the reference's (checksum, golden quick score under the public key)."""
 BASELINE_GROUPS = ("02-group-01", "02-group-09", "02-group-12")
