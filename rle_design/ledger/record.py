@@ -5,6 +5,7 @@ by ``rle dev`` instead (the server runs until the agent seals or its time runs o
 
 from __future__ import annotations
 
+import os
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -30,18 +31,23 @@ def record_session(
     seal_timeout_s: float = 60.0,
 ) -> Path:
     """Serve ``env`` under ``key`` (``budget`` charged steps, ``wall_time_s`` [s], ``attempt``), run
-    ``play(client)``, seal, and return the sealed ledger file ``ledger`` (replaced if present).
+    ``play(client)``, seal, and return the sealed ledger file ``ledger``.
 
-    The server stops (and seals what was played) even when ``play`` raises; the exception propagates.
+    The session is recorded beside ``ledger`` and replaces it only once sealed, so a failed recording
+    (``play`` raising, the server not starting) leaves a ledger already there as it was. The server
+    stops even when ``play`` raises; the exception propagates.
     """
     ledger = Path(ledger)
     ledger.parent.mkdir(parents=True, exist_ok=True)
-    ledger.unlink(missing_ok=True)
-    with tempfile.TemporaryDirectory(prefix="rle-record-") as tmp:
+    with (
+        tempfile.TemporaryDirectory(prefix="rle-record-", dir=ledger.parent) as part,
+        tempfile.TemporaryDirectory(prefix="rle-record-") as tmp,  # a short socket path
+    ):
+        recording = Path(part) / ledger.name
         server = LedgerServer(
             env,
             key=key,
-            ledger_path=ledger,
+            ledger_path=recording,
             socket_path=Path(tmp) / "ledger.sock",
             task_id=task_id,
             budget=budget,
@@ -57,4 +63,5 @@ def record_session(
             server.wait(seal_timeout_s)
         finally:
             server.stop()
+        os.replace(recording, ledger)
     return ledger

@@ -210,3 +210,31 @@ def test_a_session_without_wall_limit_records_no_time_fields(tmp_path):
     s.seal()
     verdict = verify_ledger(path, KEY, TASK)
     assert "wall_time_s" not in verdict.opened and "elapsed_s" not in verdict.sealed
+
+
+def test_record_session_replaces_a_ledger_only_once_sealed(tmp_path):
+    """``record_session``: a recording that fails leaves the ledger already there untouched; one that
+    succeeds replaces it with a sealed ledger of its own actions (v = u t / m after 10 x 0.002 s of 1 N)."""
+    from rle_design.ledger import record_session
+
+    ledger = tmp_path / "shipped" / "ledger.jsonl"
+    ledger.parent.mkdir()
+    ledger.write_text("the shipped ledger\n")
+
+    def broken(client):
+        client.reset()
+        raise RuntimeError("the program failed")
+
+    with pytest.raises(RuntimeError, match="the program failed"):
+        record_session(MeteredEnv(SLIDER), broken, ledger, key=KEY, task_id=TASK, budget=10)
+    assert ledger.read_text() == "the shipped ledger\n"
+    speeds = []
+
+    def push(client):
+        client.reset()
+        speeds.append(client.step(np.array([1.0]))["qvel"][0])
+
+    assert record_session(MeteredEnv(SLIDER), push, ledger, key=KEY, task_id=TASK, budget=10) == ledger
+    assert verify_ledger(ledger, KEY, TASK).valid
+    assert speeds[0] == pytest.approx(1.0 * 10 * 0.002 / 2.0)
+    assert sorted(p.name for p in ledger.parent.iterdir()) == ["ledger.jsonl"]
