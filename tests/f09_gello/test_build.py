@@ -42,3 +42,61 @@ def test_a_pair_astride_the_axis_balances_what_a_single_weight_does(tmp_path):
     shifted = exact_design("xarm7", {6: (0.08, 0.055), 5: None})
     assert shifted.unbalanced[5] > SERVO_FRICTION
     assert _worst_residual(apply_design("xarm7", shifted, tmp_path / "shifted"))[4] > SERVO_FRICTION
+
+
+def test_the_parts_collisions_add_up_to_the_verifiers_count():
+    """``attached.part_collisions`` per rigid group of added parts: their union over a design is
+    ``clearance.collision_fraction`` of the whole design (what the joint search adds up)."""
+    import mujoco
+
+    from rle_design.mjcf.loader import load_design
+    from rle_tasks.core.solutions import materialise
+    from rle_tasks.f09_gello.clearance import collision_fraction
+    from rle_tasks.f09_gello.device import stock_names
+    from rle_tasks.f09_gello.solutions.attached import part_collisions
+
+    ref = materialise("09-gello", "reference")
+    for robot in ("ur5e", "xarm7"):
+        leader = load_design(ref / robot, entry="lead.xml")
+        m = leader.compile()
+        stock = set(stock_names(robot)[0])
+        added = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in range(1, m.nbody)]
+        added = [b for b in added if b not in stock]
+        poses = workspace_grid(m.jnt_range, 96, seed=7)
+        frac, _, _ = collision_fraction(leader, added, poses)
+        union = np.zeros(len(poses), bool)
+        for name in added:
+            counted, hit = part_collisions(leader, stock, [name], poses)
+            union |= hit
+        assert union[counted].mean() == pytest.approx(frac, abs=1e-12)
+
+
+def test_combinations_are_the_union_of_their_candidates_collisions():
+    """``attached.best_combinations``: a combination's collisions are the union of its candidates'
+    (here disjoint poses add, shared ones count once), its added inertia the current one plus each
+    candidate's change, and the mass cap excludes what is too heavy."""
+    from rle_tasks.f09_gello.solutions.attached import _search_loss, best_combinations
+
+    n, counted = 20, np.ones(20, bool)
+
+    def cand(poses, mass, ai=0.0):
+        hit = np.zeros(n, bool)
+        hit[list(poses)] = True
+        return {"hit": hit, "ai": np.full((4, 3), ai), "mass": mass, "unb": 0.0}
+
+    cands = {
+        3: [cand({0, 1}, 1.0), cand({0}, 1.2), cand(set(), 2.5)],
+        4: [cand({1}, 1.0), cand({5, 6}, 1.0, ai=0.01)],
+    }
+    base = {"hit": cand({9}, 0)["hit"], "ai": np.zeros((4, 3)), "mass": 1.0, "current": {3: 0, 4: 0}}
+    out = best_combinations(cands, base, counted, top=10, mass_cap=2.0)
+    fracs = {idx: frac for _, frac, idx in out}
+    assert (2, 0) not in fracs and (2, 1) not in fracs  # 1.0 + 2.5 - 1.0 kg > 2.0 kg
+    assert fracs[(0, 0)] == pytest.approx(3 / n)  # {0, 1} | {1} | {9}
+    assert fracs[(1, 0)] == pytest.approx(3 / n)  # {0} | {1} | {9}
+    assert fracs[(1, 1)] == pytest.approx(4 / n)  # {0} | {5, 6} | {9}
+    loss = {idx: est for est, _, idx in out}
+    from rle_tasks.f09_gello.battery import ACCEL_REF
+
+    assert loss[(1, 1)] == pytest.approx(_search_loss(4 / n, 0.0, np.full(4, ACCEL_REF * 0.01)))
+    assert [idx for _, _, idx in out][:2] == [(0, 0), (1, 0)]  # equal loss: the first candidate first

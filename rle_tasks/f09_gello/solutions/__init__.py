@@ -81,8 +81,8 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="4926603767f4f4bc20330a8911a897bd1cd1065244e3ab1574dd31a3f275c21a",
-            quick_score=0.841716903387,
+            sha256="2ee0619de8378944ea911d4f8eb6f2a6013e6d7dd59899d560d5f1694dfbaedc",
+            quick_score=0.859965733993,
             files=_per_robot("lead.xml", "solutions/reference/{robot}/lead.xml")
             + _per_robot("meshes", "assets/{robot}/meshes")
             + _per_robot("trim.py", "assets/trim_templates/regressor_trim.py"),
@@ -105,15 +105,15 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/over_mass",
-            sha256="d26ba6c902107dc49302e7b701f214ff7ef42237184e414ff72094c8d766d1ce",
+            sha256="86f6848fcd4ec17df1611369fed27b8521c1085e5dc59df3d0fc1c96eac4fb1e",
             quick_score=0.0,
             base="reference",
             transforms=(steel_ballast,),
         ),
         Solution(
             "baseline/hanging_trim",
-            sha256="f8346334e10e57886f7dafcf287015ef9113a66e2873e2b5e382b4da15f40c37",
-            quick_score=0.4008945401,
+            sha256="e7ac5014dab5b7127402bced2328da0e86791607cd530f46dd6f293fa5aa6c27",
+            quick_score=0.424393359121,
             base="reference",
             files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
         ),

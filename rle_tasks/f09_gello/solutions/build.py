@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import shutil
 import tempfile
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -230,21 +231,27 @@ the pair's axial spread), or None (no counterweight on that joint: its subtree's
 gravity moment stays with the servo)."""
 
 
-def build_all(target: Path = PKG / "solutions" / "reference") -> None:
+def build_all(target: Path = PKG / "solutions" / "reference", robots: tuple[str, ...] = ROBOTS) -> None:
     """Write the reference leaders (``solutions/reference/<robot>/lead.xml``): the exact design with
     every part fastened and re-balanced (``attached.clear_fastened``). The rest of every shipped
-    solution is declared in ``solutions/__init__.py`` and materialised by ``rle_tasks.core.solutions``."""
+    solution is declared in ``solutions/__init__.py`` and materialised by ``rle_tasks.core.solutions``.
+    ``robots``: the leaders to write (each is built on its own: the others' files are left as they are)."""
     from rle_tasks.f09_gello.solutions.attached import clear_fastened, write_leader
 
     with tempfile.TemporaryDirectory() as tmp:
-        for robot in ROBOTS:
+        for robot in robots:
+            t0 = time.perf_counter()
             des = clear_fastened(robot, verbose=True)
             path = write_leader(robot, des, Path(tmp) / robot)
             m = mujoco.MjModel.from_xml_path(str(path))
-            print(f"{robot}: reference mass {m.body_mass.sum():.3f} kg, {des}")
+            print(
+                f"{robot}: reference mass {m.body_mass.sum():.3f} kg, {time.perf_counter() - t0:.0f} s, {des}"
+            )
             (target / robot).mkdir(parents=True, exist_ok=True)
             shutil.copyfile(path, target / robot / "lead.xml")
 
 
 if __name__ == "__main__":
-    build_all()
+    import sys
+
+    build_all(robots=tuple(sys.argv[1:]) or ROBOTS)  # e.g. ``... build ur5e xarm7``
