@@ -19,6 +19,21 @@ DOC = Path(__file__).resolve().parents[2] / "docs" / "adding-a-family.md"
 BLOCK = re.compile(r"`(f10_box_tip/[^`]+)`.*?\n```[a-z]*\n(.*?)```", re.DOTALL)
 
 
+def _write_family(text: str, files: list[tuple[str, str]], root: Path, monkeypatch) -> None:
+    """Write the page's files under ``root`` (with the family's ``assets/``) and register the family with
+    the first data line of ``text``; the cache goes to ``root/cache``."""
+    for rel, body in files:
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        (root / rel).write_text(body)
+    (root / files[0][0].split("/")[0] / "assets").mkdir()
+    line = yaml.safe_load(re.search(r"```yaml\n(.*?)```", text, re.DOTALL).group(1))[0]
+    info = families_mod.FamilyInfo(line["number"], line["slug"], line["workflow"], line["title"])
+    known = families_mod.families()
+    monkeypatch.setattr(families_mod, "families", lambda: (*known, info))
+    monkeypatch.syspath_prepend(str(root))
+    monkeypatch.setenv("RLE_CACHE_DIR", str(root / "cache"))
+
+
 @pytest.fixture
 def example(tmp_path, monkeypatch):
     """The example family written to ``tmp_path`` and registered with the page's data line."""
@@ -33,16 +48,7 @@ def example(tmp_path, monkeypatch):
         "f10_box_tip/solutions/__init__.py",
         "f10_box_tip/solutions/reference/box.xml",
     ]
-    for rel, body in files:
-        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / rel).write_text(body)
-    (tmp_path / "f10_box_tip" / "assets").mkdir()
-    line = yaml.safe_load(re.search(r"```yaml\n(.*?)```", text, re.DOTALL).group(1))[0]
-    info = families_mod.FamilyInfo(line["number"], line["slug"], line["workflow"], line["title"])
-    known = families_mod.families()
-    monkeypatch.setattr(families_mod, "families", lambda: (*known, info))
-    monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setenv("RLE_CACHE_DIR", str(tmp_path / "cache"))
+    _write_family(text, files, tmp_path, monkeypatch)
     yield tmp_path
     for name in [m for m in sys.modules if m.startswith("f10_box_tip")]:
         del sys.modules[name]
@@ -119,16 +125,7 @@ def example11(tmp_path, monkeypatch):
             "solutions/hold.py",
         )
     ]
-    for rel, body in files:
-        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / rel).write_text(body)
-    (tmp_path / "f11_slider" / "assets").mkdir()
-    line = yaml.safe_load(re.search(r"```yaml\n(.*?)```", section, re.DOTALL).group(1))[0]
-    info = families_mod.FamilyInfo(line["number"], line["slug"], line["workflow"], line["title"])
-    known = families_mod.families()
-    monkeypatch.setattr(families_mod, "families", lambda: (*known, info))
-    monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setenv("RLE_CACHE_DIR", str(tmp_path / "cache"))
+    _write_family(section, files, tmp_path, monkeypatch)
     packages = registry.family_packages([str(tmp_path)], prefix="")
     assert packages == {11: "f11_slider"}
     tasks = {t.id: t for t in registry.collect(packages)}
