@@ -6,7 +6,7 @@ import pytest
 
 from rle_tasks.f09_gello.public.gello_helpers import load_leader, residual, workspace_grid
 from rle_tasks.f09_gello.solutions.attached import SERVO_FRICTION, hold_failure
-from rle_tasks.f09_gello.solutions.build import apply_design, exact_design
+from rle_tasks.f09_gello.solutions.design import apply_design, exact_design
 
 
 def test_hold_failure_is_the_fraction_of_a_turn_where_the_moment_beats_the_friction():

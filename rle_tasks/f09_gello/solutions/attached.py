@@ -1,6 +1,6 @@
 """Build-time: the reference leaders with every added part fastened (build time only).
 
-``exact_design`` (``build.py``) places steel counterweights and a zero-length spring where they
+``exact_design`` (``design.py``) places steel counterweights and a zero-length spring where they
 balance the arm exactly, but leaves them in mid-air. Here each element is fastened to its link:
 
 * a counterweight hangs on an aluminium rod (cylinder, ``ARM_RADIUS``) from the nearest point of its
@@ -8,7 +8,7 @@ balance the arm exactly, but leaves them in mid-air. Here each element is fasten
   on an L-bracket (``BRACKETS``): a post rises from the link's material nearest its top, which stands
   out along the link or beside it at the sphere's axial height, and the rod runs from the post's top
   to the sphere, so it sweeps a disc beside the neighbouring link instead of through it. A pair of
-  half weights astride a joint's plane (``build.PLACEMENTS``) gets a rod or bracket each: a wrist
+  half weights astride a joint's plane (``design.PLACEMENTS``) gets a rod or bracket each: a wrist
   weight whose centre of mass must lie on the axis before (so that joint needs none) then swings
   beside the forearm instead of through it;
 * each spring end sits on the end face of an aluminium post (``BRACKET_RADIUS``) from the nearest
@@ -80,7 +80,7 @@ SPRING_OPTIONS = tuple(
     for drop in (None, 0.0, 0.03)
 )
 """Spring mounts the build chooses from: anchor and attachment offsets along joint 2's axis [m] (the
-balance does not depend on them, ``build.exact_design``) and the anchor post's route: None, a
+balance does not depend on them, ``design.exact_design``) and the anchor post's route: None, a
 straight post from the nearest material of link 1; a drop d [m], an L-post that leaves link 1's tube
 at d below joint 2 and rises parallel to link 1, beside the shoulder servo rather than through it."""
 SEARCH_ABOVE = 0.02
@@ -563,13 +563,13 @@ def clear_fastened(
     1. Spring mount (``SPRING_OPTIONS``): the one whose posts, alone on the arm, clear the most
        poses (ties: the first listed); chosen again before each pass and at the end, since the
        attachment follows link 2's centre of mass and so the counterweights.
-    2. Greedy passes from the tip (joint n down to 3): each joint's placement (``build.PLACEMENTS``)
+    2. Greedy passes from the tip (joint n down to 3): each joint's placement (``design.PLACEMENTS``)
        and mount (shell or servo housing; straight rod or an L-bracket, ``BRACKETS``) is chosen
        with the others fixed: every candidate is ranked by ``_loss`` with the clearance of the
        parts on the joints already placed and the candidate's own on every fourth of ``n_poses``
        poses, then the best ``shortlist`` again on ``n_fine`` poses (the first ``n_poses`` of them
        those above; 1024 estimate a 1 % collision rate to +-0.3 %, so the choice holds on the hidden
-       grid) (ties: lighter device). Devices over ``build.MASS_CAP`` or with a workshop finding
+       grid) (ties: lighter device). Devices over ``design.MASS_CAP`` or with a workshop finding
        (``structure_faults``; one of the spring's posts only: the next spring mount is tried) lose.
        Joints whose subtree's centre of mass lies on their axis (no counterweight) are skipped.
     2b. Joint search (``search``): where the first pass leaves collisions at more than
@@ -593,7 +593,7 @@ def clear_fastened(
     from rle_tasks.f09_gello.clearance import collision_fraction
     from rle_tasks.f09_gello.device import stock_names
     from rle_tasks.f09_gello.public.gello_helpers import workspace_grid
-    from rle_tasks.f09_gello.solutions.build import MASS_CAP, PLACEMENTS, exact_design
+    from rle_tasks.f09_gello.solutions.design import MASS_CAP, PLACEMENTS, exact_design
 
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
     stock_leader = m
