@@ -40,6 +40,7 @@ from rle_design.kinematics import model_from_mujoco
 from rle_design.kinematics.codesign import CounterweightSlot, SpringSlot, optimise_balance
 from rle_tasks.f09_gello.device import ASSET_DIR, STEEL_DENSITY
 from rle_tasks.f09_gello.scoring import SERVO_LIMIT
+from rle_tasks.f09_gello.solutions.design import add_spring_tendon
 
 ROD_DENSITY = 2700.0
 """Rods and posts are aluminium 6063 bar [kg/m^3] (``materials.yaml``), threaded into the printed links:
@@ -226,18 +227,7 @@ def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterwei
                 rod(post, f"spring_{name}_foot_al", np.asarray(start) - site, bend, BRACKET_RADIUS)
                 rod(post, f"spring_{name}_post_al", bend, np.zeros(3), BRACKET_RADIUS)
             etree.SubElement(post, "site", name=f"spring_{name}", pos="0 0 0", size="0.004")
-        tendon = etree.SubElement(root, "tendon")
-        sp = etree.SubElement(
-            tendon,
-            "spatial",
-            name="shoulder_spring",
-            stiffness=f"{k:.9g}",
-            springlength="0",
-            width="0.002",
-            rgba="0.2 0.6 0.9 1",
-        )
-        etree.SubElement(sp, "site", site="spring_anchor")
-        etree.SubElement(sp, "site", site="spring_attach")
+        add_spring_tendon(root, k)
     etree.indent(tree, space="  ")
     path = out_dir / "lead.xml"
     tree.write(str(path), xml_declaration=False, encoding="utf-8")

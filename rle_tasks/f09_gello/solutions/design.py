@@ -159,6 +159,23 @@ def _fmt(v) -> str:
     return " ".join(f"{float(x):.9g}" for x in np.ravel(v))
 
 
+def add_spring_tendon(root, k: float) -> None:
+    """The zero-length shoulder spring of stiffness ``k`` [N/m] between the sites ``spring_anchor`` and
+    ``spring_attach`` (a spatial tendon appended to the MJCF ``root``)."""
+    tendon = etree.SubElement(root, "tendon")
+    sp = etree.SubElement(
+        tendon,
+        "spatial",
+        name="shoulder_spring",
+        stiffness=f"{k:.9g}",
+        springlength="0",
+        width="0.002",
+        rgba="0.2 0.6 0.9 1",
+    )
+    etree.SubElement(sp, "site", site="spring_anchor")
+    etree.SubElement(sp, "site", site="spring_attach")
+
+
 def apply_design(robot: str, design: Design, out_dir: Path) -> Path:
     """Write the stock leader with the design's elements added into ``out_dir``."""
     src = ASSET_DIR / robot
@@ -187,18 +204,7 @@ def apply_design(robot: str, design: Design, out_dir: Path) -> Path:
         l1, p1, l2, p2, k = design.spring
         etree.SubElement(body(l1), "site", name="spring_anchor", pos=_fmt(p1), size="0.004")
         etree.SubElement(body(l2), "site", name="spring_attach", pos=_fmt(p2), size="0.004")
-        tendon = etree.SubElement(root, "tendon")
-        sp = etree.SubElement(
-            tendon,
-            "spatial",
-            name="shoulder_spring",
-            stiffness=f"{k:.9g}",
-            springlength="0",
-            width="0.002",
-            rgba="0.2 0.6 0.9 1",
-        )
-        etree.SubElement(sp, "site", site="spring_anchor")
-        etree.SubElement(sp, "site", site="spring_attach")
+        add_spring_tendon(root, k)
     for jname, k, ref in design.torsion:
         j = next(e for e in root.iter("joint") if e.get("name") == jname)
         j.set("stiffness", f"{k:.9g}")
