@@ -1,0 +1,153 @@
+"""Whole-body QP expert for the G1 (``rle_design.control.wbc``) and its evaluation rollouts.
+
+The expert reads the simulator's true ``qpos``/``qvel`` (privileged) and the clip's contact schedule,
+runs the QP on the nominal model (never the perturbed one) once per policy step (50 Hz) and sends
+the servo targets through ``TrackingEnv.step`` (so the perturbation's latency queue, gains and
+friction act on it as on a policy). ``python -m rle_tasks.f04_motion_tracking.solutions.expert CLIP
+--seeds 100 101 --strength 1`` prints U, T, MPJPE and the time per control step.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from rle_design.control.wbc import FrameTask, WbcGains, WholeBodyQP, motion_reference, servo_targets
+
+from ..public.clip import Clip, clip_qpos
+from ..public.env import POLICY_DT, TrackingEnv
+from ..public.evaluate import EVAL_TIMESTEP, _unstable, tracking_step
+from ..public.feasibility import finite_differences, sole_polygon
+from ..public.g1 import FOOT_FRICTION, g1_model
+from ..public.g1_constants import G1
+from ..public.perturb import NOMINAL, sample_perturbation
+
+__all__ = ["DEFAULT_GAINS", "Expert", "expert_rollout"]
+
+HANDS = ("left_wrist_yaw_link", "right_wrist_yaw_link")
+DEFAULT_GAINS = WbcGains(
+    frames=(
+        FrameTask(G1.anchor_body, pos=0.0, ori=5.0, kp=100.0, kd=20.0),
+        FrameTask("pelvis", pos=0.0, ori=2.0, kp=100.0, kd=20.0),
+        FrameTask(HANDS[0], pos=1.0, kp=100.0, kd=20.0),
+        FrameTask(HANDS[1], pos=1.0, kp=100.0, kd=20.0),
+    )
+)
+
+
+class Expert:
+    """The QP tracker of one clip on the nominal G1.
+
+    Args:
+        clip: The reference.
+        gains: QP task weights and gains.
+        schedule: (F, 2) contact flags of the feet (default: the clip's stance flags).
+        period: Hold time of each servo target [s] (``POLICY_DT`` at 50 Hz).
+    """
+
+    def __init__(
+        self,
+        clip: Clip,
+        gains: WbcGains = DEFAULT_GAINS,
+        schedule: np.ndarray | None = None,
+        period: float = POLICY_DT,
+    ) -> None:
+        self.model = g1_model(floor=False)
+        qpos = clip_qpos(clip).astype(np.float64)
+        qvel, qacc = finite_differences(self.model, qpos, 1.0 / clip.fps)
+        bodies = tuple(dict.fromkeys([*G1.feet, *(t.body for t in gains.frames)]))
+        ref = motion_reference(self.model, qpos, qvel, qacc, bodies, 1.0 / clip.fps)
+        soles = {f: sole_polygon(self.model, f) for f in G1.feet}
+        self.qp = WholeBodyQP(
+            self.model, G1.joints, np.asarray(G1.effort), soles, ref, mu=FOOT_FRICTION, gains=gains
+        )
+        self.schedule = np.asarray(clip.contacts if schedule is None else schedule, dtype=bool)
+        self.kp, self.kd = np.asarray(G1.kp), np.asarray(G1.kd)
+        self.default, self.scale = np.asarray(G1.default_pose), np.asarray(G1.action_scale)
+        self.period = period
+        self.solve_s: list[float] = []
+        self.last = None
+
+    def targets(self, qpos: np.ndarray, qvel: np.ndarray, frame: int) -> np.ndarray:
+        """Servo targets (29) for the true state at reference ``frame``."""
+        t0 = time.perf_counter()
+        f = min(frame, len(self.schedule) - 1)
+        sol = self.qp.solve(qpos, qvel, frame, self.schedule[f])
+        self.solve_s.append(time.perf_counter() - t0)
+        self.last = sol
+        j = self.qp.dofs
+        return servo_targets(sol.tau, qpos[self.qp.qadr], qvel[j], sol.qacc[j], self.kp, self.kd, self.period)
+
+    def action(self, env: TrackingEnv) -> np.ndarray:
+        """Action of ``env``'s current state (privileged: its true ``qpos``/``qvel``)."""
+        target = self.targets(env.data.qpos.copy(), env.data.qvel.copy(), env.frame)
+        return (target - self.default) / self.scale
+
+
+def expert_rollout(
+    clip: Clip, seed: int = 0, strength: float = 0.0, expert: Expert | None = None, record: bool = False
+) -> dict:
+    """``evaluate.rollout``'s episode (2 ms physics, terrain and perturbation of ``seed`` at ``strength``)
+    driven by the expert; with ``record`` the observations and actions per step are returned too."""
+    model = g1_model(timestep=EVAL_TIMESTEP, terrain=True)
+    pert = sample_perturbation(np.random.default_rng(seed), model, strength) if strength > 0 else NOMINAL
+    env = TrackingEnv(clip, timestep=EVAL_TIMESTEP, perturbation=pert, seed=seed, model=model)
+    expert = expert or Expert(clip)
+    obs = env.reset(0)
+    steps = clip.frames - 1
+    t_sum, err_sum, survived, fell, reason = 0.0, 0.0, steps, False, ""
+    targets, observations, actions = [], [], []
+    for k in range(steps):
+        a = expert.action(env)
+        if record:
+            observations.append(obs)
+            actions.append(a)
+        targets.append(expert.default + expert.scale * a)
+        obs, _, term, _, info = env.step(a)
+        if _unstable(env.data):
+            fell, survived, reason = True, k, "explosion"
+            break
+        t_sum += tracking_step(info.body_pos_err, info.body_ori_err, info.anchor_pos_err)
+        err_sum += info.body_pos_err
+        if term:
+            fell, survived, reason = True, k + 1, info.reason
+            break
+    tg = np.asarray(targets)
+    jerk = float(np.sqrt(np.mean((tg[2:] - 2 * tg[1:-1] + tg[:-2]) ** 2))) if len(tg) >= 3 else 0.0
+    out = {
+        "T": t_sum / steps,
+        "U": survived / steps,
+        "J": jerk,
+        "fell": fell,
+        "reason": reason,
+        "mpjpe_mm": 1e3 * err_sum / max(survived, 1),
+        "survived": survived,
+        "ms_per_step": 1e3 * float(np.mean(expert.solve_s)) if expert.solve_s else math.nan,
+    }
+    if record:
+        out["obs"], out["actions"] = np.asarray(observations), np.asarray(actions)
+    return out
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description="Evaluate the whole-body QP expert on a clip.")
+    p.add_argument("clip", type=Path)
+    p.add_argument("--seeds", type=int, nargs="+", default=[0])
+    p.add_argument("--strength", type=float, default=0.0)
+    a = p.parse_args()
+    clip = Clip.load(a.clip)
+    for seed in a.seeds:
+        r = expert_rollout(clip, seed, a.strength)
+        print(
+            f"seed {seed} strength {a.strength}: U {r['U']:.3f} T {r['T']:.3f} MPJPE {r['mpjpe_mm']:.0f} mm "
+            f"J {r['J']:.4f} fell {r['fell']} ({r['reason']}) {r['ms_per_step']:.1f} ms/step",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
