@@ -1,14 +1,16 @@
 """Generated additions for the design families: whatever a submission adds is accounted or refused.
 
-For family 08 (the base) and family 09 (each leader) the generator adds, under every stock body,
+A design family (08: the base, 09: each leader) names its stock bodies and the codes each addition
+must produce (its ``audit.py``); the generator adds, under every stock body,
 
 * a geom (a dense 20 mm box that collides with nothing);
 * a child body carrying a 10 mm PLA sphere at the body's origin (one more level of the tree);
 * a child body with a joint of each type (hinge, slide, ball, free).
 
 Each addition is either allowed by the contract and accounted for (family 09: a welded PLA part, its
-mass counted in the device mass) or refused with a named code (``EXPECTED``). ``additions`` lists them
-for the unit tests (tests/f08_mobile_base, tests/f09_gello); ``generated_cases`` turns the refusals into corpus cases.
+mass counted in the device mass) or refused with a named code. ``additions`` lists them for the unit
+tests (tests/f08_mobile_base, tests/f09_gello); ``generated_cases`` turns the refusals into corpus
+cases.
 """
 
 from __future__ import annotations
@@ -16,17 +18,13 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 from lxml import etree
 
+from rle_tasks.audit.artifacts import Target, edit_xml
 from rle_tasks.audit.case import Case
 
 JOINT_TYPES = ("hinge", "slide", "ball", "free")
-F08_BODIES = ("chassis", "wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr", "battery", "universal_adapter")
-F09_BODIES = ("base", "link1", "link2", "link3", "link4", "link5", "link6", "tip")
-"""Stock bodies of the leaders; ``tip`` is each leader's last link (link7, or link6 on the ur5e), so
-that every leader is altered alike."""
 GEOM_NAME, BODY_NAME, JOINT_BODY_NAME = "generated_geom", "generated_body", "generated_joint_body"
 PLA_SPHERE_R = 0.01  # [m]
 
@@ -92,39 +90,27 @@ def additions(bodies: tuple[str, ...]) -> list[Addition]:
     return out
 
 
-def expected(task: str, a: Addition) -> tuple[str, ...]:
-    """Codes the addition must produce (the first is the corpus case's code); () when it is allowed
-    and accounted for."""
-    if a.kind == "joint" and a.joint == "free":
-        return ("mjcf.compile",)  # MuJoCo: a free joint only on a root body
-    if task == "09-gello":
-        # a body's PLA sphere sits at its link's origin, inside the solid servo housing it is welded
-        # to: a part inside another (issue 45); under the base it sits in the plate's open underside
-        inside = () if a.body == "base" else ("contract.interpenetration",)
-        return {
-            "geom": ("contract.stock_body_addition",),
-            "body": inside,
-            "joint": ("contract.extra_joint",),
-        }[a.kind]
-    if a.kind == "geom":
-        return ("catalog.non_catalog_mass",) if a.body == "chassis" else ("f08.part_modified",)
-    if a.kind == "body":
-        return ("f08.extra_body",)
-    return ("f08.extra_joints", "f08.extra_body")
+def codes(a: Addition, expected: Callable[[Addition], tuple[str, ...]]) -> tuple[str, ...]:
+    """Codes ``a`` must produce: the family's ``expected(a)``, but a free joint under a body is refused
+    by MuJoCo's compiler (``mjcf.compile``: a free joint only on a root body)."""
+    return ("mjcf.compile",) if a.kind == "joint" and a.joint == "free" else expected(a)
 
 
 def generated_cases(
-    task: str, edit_xml: Callable[[str, Callable[[str], str]], Callable[[Path], Path]], max_score: float
+    target: Target,
+    bodies: tuple[str, ...],
+    expected: Callable[[Addition], tuple[str, ...]],
+    max_score: float,
+    compile_cap: float | None = None,
 ) -> list[Case]:
-    """Corpus cases of every refused addition of ``task`` (``edit_xml`` as in ``corpus.py``)."""
-    bodies = F09_BODIES if task == "09-gello" else F08_BODIES
-    fam = task[:2]
+    """Corpus cases of every refused addition under ``bodies``: ``expected(a)`` gives the codes an
+    addition must produce (the first is the case's code; () when it is allowed and accounted for).
+    Cases refused by MuJoCo's compiler are bounded by ``compile_cap`` when given."""
     out = []
     for a in additions(bodies):
-        codes = expected(task, a)
-        if codes:
-            cap = 0.0 if codes[0] == "mjcf.compile" and fam == "08" else max_score
-            out.append(
-                Case(f"generated/f{fam}_{a.name}", task, codes[0], edit_xml(task, a.edit_text), max_score=cap)
-            )
+        refused = codes(a, expected)
+        if refused:
+            cap = compile_cap if refused[0] == "mjcf.compile" and compile_cap is not None else max_score
+            name = f"generated/f{target.task[:2]}_{a.name}"
+            out.append(Case(name, target.task, refused[0], edit_xml(target, a.edit_text), max_score=cap))
     return out

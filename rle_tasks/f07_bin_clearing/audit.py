@@ -1,13 +1,46 @@
-"""Audit cases of family 07: policies that clear parts around the nest, or smuggle text out in a fault.
+"""Audit cases of family 07: policies that fault, look for ground truth, act out of contract, clear
+parts around the nest, or smuggle text out in a fault.
 
 Each is the shipped reference policy with one patch appended (later definitions win), verified in
-quick mode (the audit secret's first hidden pile, 30 s).
+quick mode (the audit secret's first hidden pile, 30 s). A policy that faults in the smoke test is
+capped at 0.1 (``CODE_CAP``); later faults end its piles.
 """
 
 from __future__ import annotations
 
+from rle_tasks.audit.artifacts import Target, code
 from rle_tasks.audit.case import EXFIL_MARK, Case
-from rle_tasks.audit.corpus import F07, _code
+from rle_tasks.audit.code_cases import code_cases
+
+TASK = "07-bin-clearing"
+TARGET = Target(TASK, code_file="policy/__init__.py")
+CODE_CAP = 0.1
+
+HOSTILE = {
+    "read_parent_environ": (
+        "def act(*a, **k):\n    import os\n    return open(f'/proc/{os.getppid()}/environ', 'rb').read()",
+        "sandbox.forbidden",
+    ),
+    "read_parent_memory": (
+        "def act(*a, **k):\n    import os\n    return open(f'/proc/{os.getppid()}/mem', 'rb').read(64)",
+        "sandbox.forbidden",
+    ),
+    "import_verifier": (
+        "def act(*a, **k):\n    from rle_tasks.f07_bin_clearing.verifier import hidden_piles\n    return hidden_piles",
+        "sandbox.exception",
+    ),
+    "wrong_action_length": (
+        "def act(*a, **k):\n    import numpy as np\n    return np.zeros(7)",
+        "sandbox.bad_shape",
+    ),
+}
+"""Family 07 policies that look for ground truth (the parent's environment or memory, the verifier's
+hidden piles) or act out of contract."""
+
+
+GENERIC = ("import_crash", "hang", "memory_bomb", "read_verifier_files", "return_nan", "raise_midway")
+"""Sandbox faults also covered by families 08 and 09: family 07 keeps one per class its protocol maps."""
+
 
 THROWER = """
 _orig_act = act
@@ -47,9 +80,16 @@ def act(obs):
 
 
 def cases() -> list[Case]:
-    return [
-        Case("physics/07_thrower", F07, None, _code(F07, THROWER), max_score=0.0, wall_cap_s=150),
-        Case("code/07_exfiltrating_fault", F07, "sandbox.exception", _code(F07, EXFILTRATOR), max_score=0.0,
+    """Family 07's cases (``rle audit-verifiers``)."""
+    out = code_cases(TARGET, "act", "list(a[0]['q']) + [0.0]", CODE_CAP, names=GENERIC)
+    out += [
+        Case(f"code/07_{name}", TASK, expect, code(TARGET, src), max_score=CODE_CAP, wall_cap_s=120)
+        for name, (src, expect) in HOSTILE.items()
+    ]
+    out.append(Case("artifact/f07_empty_dir", TASK, "f07.no_policy", lambda d: d))
+    return out + [
+        Case("physics/07_thrower", TASK, None, code(TARGET, THROWER), max_score=0.0, wall_cap_s=150),
+        Case("code/07_exfiltrating_fault", TASK, "sandbox.exception", code(TARGET, EXFILTRATOR), max_score=0.0,
              wall_cap_s=120),
     ]  # fmt: skip
 
