@@ -7,6 +7,7 @@ Each control step solves one QP over ``x = [qdd (nv), lam (nlam) / (m g), tau (n
                lam >= 0  (stance contact points),  lam = 0  (swing)  (friction pyramids)
                |tau| <= torque_fraction * effort                     (effort limits)
 
+and ``J_c qdd + Jdot_c v = -kd_c J_c v`` for every stance body (6 rows: the sole at rest).
 ``U`` holds the four edges ``n +- mu t`` of the linearised friction cone at every contact point of a
 stance body (a sole's polygon vertices: the centre of pressure stays on the sole). Tasks: the whole-body
 COM, frame tasks (orientation and/or position of named bodies: the anchor, the hands, the pelvis), the
@@ -20,7 +21,8 @@ simulated plant. The tests cross-check the static torques against Pinocchio's RN
 
 The sparsity pattern of ``P`` and ``A`` is fixed at construction (dense ``qdd`` block, every contact
 column of both feet present); a swing foot only gets the bound ``lam = 0``. OSQP is warm-started from
-the previous solution. Torques become PD targets of the servos: ``tau = kp (target - q) - kd qd``
+the previous solution. A stance body's acceleration is a hard equality, ``J qdd + Jdot v = -kd J v``
+(its rows are free for a swing body). Torques become PD targets of the servos: ``tau = kp (target - q) - kd qd``
 averaged over the hold period ``T`` gives ``target = q_m + (tau + kd v_m) / kp`` with the mean state
 ``q_m = q + v T/2 + qdd T^2/6``, ``v_m = v + qdd T/2`` (``T = 0``: the exact instantaneous form).
 """
@@ -69,7 +71,6 @@ class WbcGains:
     swing_ori: float = 5.0
     swing_kp: float = 200.0
     swing_kd: float = 30.0
-    contact: float = 100.0
     contact_kd: float = 10.0
     posture: float = 0.5
     posture_kp: float = 100.0
@@ -218,15 +219,19 @@ class WholeBodyQP:
         pp = np.zeros((self.n, self.n), bool)
         pp[:nv, :nv] = np.triu(np.ones((nv, nv), bool))
         pp[np.arange(self.n), np.arange(self.n)] = True
-        ap = np.zeros((nv + nl + nu, self.n), bool)
+        nc = 6 * len(self.contact_ids)
+        self.rows = nv + nl + nu + nc
+        ap = np.zeros((self.rows, self.n), bool)
         ap[:nv, : nv + nl] = True
         ap[self.dofs, nv + nl + np.arange(nu)] = True
         ap[nv + np.arange(nl + nu), nv + np.arange(nl + nu)] = True
+        ap[nv + nl + nu :, :nv] = True  # stance bodies at rest: J qdd = -Jdot v - kd J v
         self._p_idx = self._pattern(pp)
         self._a_idx = self._pattern(ap)
         p0, a0 = self._csc(pp.astype(float), pp), self._csc(ap.astype(float), ap)
-        self.l = np.concatenate([np.zeros(nv), np.zeros(nl), -np.full(nu, self.g.torque_fraction)])
-        self.u = np.concatenate([np.zeros(nv), np.full(nl, np.inf), np.full(nu, self.g.torque_fraction)])
+        tf = self.g.torque_fraction
+        self.l = np.concatenate([np.zeros(nv), np.zeros(nl), -np.full(nu, tf), np.full(nc, -np.inf)])
+        self.u = np.concatenate([np.zeros(nv), np.full(nl, np.inf), np.full(nu, tf), np.full(nc, np.inf)])
         self.solver = osqp.OSQP()
         self.solver.setup(
             p0, np.zeros(self.n), a0, self.l, self.u,
@@ -281,12 +286,16 @@ class WholeBodyQP:
             add(j, a, np.array([t.pos] * 3 + [t.ori] * 3))
         # feet: stance damped to rest, swing tracks the reference
         cols = np.zeros((nv, nl))
-        k = 0
+        A = np.zeros((self.rows, self.n))
+        k, r0 = 0, nv + nl + nu
         for i, (name, b) in enumerate(zip(self.contact_bodies, self.contact_ids)):
             j, jd = _body_jac(m, d, b)
+            rows = slice(r0 + 6 * i, r0 + 6 * i + 6)
+            A[rows, :nv] = j
             if stance[i]:
-                add(j, -g.contact_kd * (j @ v) - jd @ v, g.contact)
+                self.l[rows] = self.u[rows] = -g.contact_kd * (j @ v) - jd @ v
             else:
+                self.l[rows], self.u[rows] = -np.inf, np.inf
                 e = np.concatenate(
                     [r.body_pos[name][f] - d.xpos[b], _ori_error(r.body_quat[name][f], d.xquat[b])]
                 )
@@ -311,7 +320,6 @@ class WholeBodyQP:
         P[np.arange(nv, nv + nl), np.arange(nv, nv + nl)] = g.reg_lam
         P[np.arange(nv + nl, self.n), np.arange(nv + nl, self.n)] = g.reg_tau
         q = np.concatenate([c, np.zeros(nl + nu)])
-        A = np.zeros((nv + nl + nu, self.n))
         A[:nv, :nv] = M
         A[:nv, nv : nv + nl] = -cols
         A[self.dofs, nv + nl + np.arange(nu)] = -self.effort
@@ -322,7 +330,7 @@ class WholeBodyQP:
             self.u[nv + k : nv + k + 4 * len(pts)] = np.inf if stance[i] else 0.0
             k += 4 * len(pts)
         self.solver.update(Px=P[self._p_idx], Ax=A[self._a_idx], q=q, l=self.l, u=self.u)
-        res = self.solver.solve()
+        res = self.solver.solve(raise_error=False)
         status = str(res.info.status)
         x = res.x
         if x is None or not np.all(np.isfinite(x)):
