@@ -78,6 +78,8 @@ class WbcGains:
     reg_qdd: float = 1e-4
     reg_lam: float = 1e-4
     reg_tau: float = 1e-3
+    tau_rate: float = 0.0
+    """Weight of |(tau - tau_prev) / effort|^2: smooths the torques (the servo targets) between steps."""
     torque_fraction: float = 0.95
 
 
@@ -318,8 +320,10 @@ class WholeBodyQP:
         P = np.zeros((self.n, self.n))
         P[:nv, :nv] = H
         P[np.arange(nv, nv + nl), np.arange(nv, nv + nl)] = g.reg_lam
-        P[np.arange(nv + nl, self.n), np.arange(nv + nl, self.n)] = g.reg_tau
+        P[np.arange(nv + nl, self.n), np.arange(nv + nl, self.n)] = g.reg_tau + g.tau_rate
         q = np.concatenate([c, np.zeros(nl + nu)])
+        if self.prev is not None and g.tau_rate > 0:
+            q[nv + nl :] = -g.tau_rate * self.prev[nv + nl :]
         A[:nv, :nv] = M
         A[:nv, nv : nv + nl] = -cols
         A[self.dofs, nv + nl + np.arange(nu)] = -self.effort

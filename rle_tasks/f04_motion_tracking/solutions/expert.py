@@ -14,6 +14,7 @@ import math
 import time
 from pathlib import Path
 
+import mujoco
 import numpy as np
 
 from rle_design.control.wbc import FrameTask, WbcGains, WholeBodyQP, motion_reference, servo_targets
@@ -24,12 +25,13 @@ from ..public.evaluate import EVAL_TIMESTEP, _unstable, tracking_step
 from ..public.feasibility import finite_differences, sole_polygon
 from ..public.g1 import FOOT_FRICTION, g1_model
 from ..public.g1_constants import G1
-from ..public.perturb import NOMINAL, sample_perturbation
+from ..public.perturb import NOMINAL, Perturbation, sample_perturbation
 
 __all__ = ["DEFAULT_GAINS", "Expert", "expert_rollout"]
 
 HANDS = ("left_wrist_yaw_link", "right_wrist_yaw_link")
 DEFAULT_GAINS = WbcGains(
+    contact_kd=20.0,  # the action jerk J on the nominal dance: 0.028 at 10, 0.022 at 20, 0.061 at 40
     frames=(
         FrameTask(G1.anchor_body, pos=0.0, ori=5.0, kp=100.0, kd=20.0),
         FrameTask("pelvis", pos=0.0, ori=2.0, kp=100.0, kd=20.0),
@@ -47,6 +49,8 @@ class Expert:
         gains: QP task weights and gains.
         schedule: (F, 2) contact flags of the feet (default: the clip's stance flags).
         period: Hold time of each servo target [s] (``POLICY_DT`` at 50 Hz).
+        sole_scale: The contact polygon is the sole's shrunk by this factor about its centroid [1].
+        smoothing: Low-pass of the targets, ``target = s target_prev + (1 - s) target_qp`` [1].
     """
 
     def __init__(
@@ -55,20 +59,27 @@ class Expert:
         gains: WbcGains = DEFAULT_GAINS,
         schedule: np.ndarray | None = None,
         period: float = POLICY_DT,
+        smoothing: float = 0.0,
+        sole_scale: float = 1.0,
     ) -> None:
         self.model = g1_model(floor=False)
         qpos = clip_qpos(clip).astype(np.float64)
         qvel, qacc = finite_differences(self.model, qpos, 1.0 / clip.fps)
         bodies = tuple(dict.fromkeys([*G1.feet, *(t.body for t in gains.frames)]))
         ref = motion_reference(self.model, qpos, qvel, qacc, bodies, 1.0 / clip.fps)
-        soles = {f: sole_polygon(self.model, f) for f in G1.feet}
+        soles = {}
+        for f in G1.feet:  # the sole polygon shrunk about its centroid: a margin for the centre of pressure
+            poly = sole_polygon(self.model, f)
+            centre = poly.mean(axis=0)
+            soles[f] = centre + sole_scale * (poly - centre)
         self.qp = WholeBodyQP(
             self.model, G1.joints, np.asarray(G1.effort), soles, ref, mu=FOOT_FRICTION, gains=gains
         )
         self.schedule = np.asarray(clip.contacts if schedule is None else schedule, dtype=bool)
         self.kp, self.kd = np.asarray(G1.kp), np.asarray(G1.kd)
         self.default, self.scale = np.asarray(G1.default_pose), np.asarray(G1.action_scale)
-        self.period = period
+        self.period, self.smoothing = period, smoothing
+        self.prev_target: np.ndarray | None = None
         self.solve_s: list[float] = []
         self.last = None
 
@@ -80,7 +91,11 @@ class Expert:
         self.solve_s.append(time.perf_counter() - t0)
         self.last = sol
         j = self.qp.dofs
-        return servo_targets(sol.tau, qpos[self.qp.qadr], qvel[j], sol.qacc[j], self.kp, self.kd, self.period)
+        t = servo_targets(sol.tau, qpos[self.qp.qadr], qvel[j], sol.qacc[j], self.kp, self.kd, self.period)
+        if self.prev_target is not None and self.smoothing > 0:
+            t = self.smoothing * self.prev_target + (1 - self.smoothing) * t
+        self.prev_target = t
+        return t
 
     def action(self, env: TrackingEnv) -> np.ndarray:
         """Action of ``env``'s current state (privileged: its true ``qpos``/``qvel``)."""
@@ -88,15 +103,46 @@ class Expert:
         return (target - self.default) / self.scale
 
 
+def _step_every_substep(env: TrackingEnv, expert: Expert, action: np.ndarray) -> tuple:
+    """``TrackingEnv.step`` with the expert's targets recomputed before every physics step."""
+    t_end = (env.frame + 1) * POLICY_DT
+    while env._pushes and env._pushes[0].time <= t_end:
+        env.data.qvel[:2] += env._pushes.pop(0).dv
+    env.data.ctrl[:] = expert.default + expert.scale * action
+    for i in range(env.substeps):
+        if i:
+            env.data.ctrl[:] = expert.targets(env.data.qpos.copy(), env.data.qvel.copy(), env.frame)
+        mujoco.mj_step(env.model, env.data)
+    mujoco.mj_kinematics(env.model, env.data)
+    mujoco.mj_comPos(env.model, env.data)
+    mujoco.mj_comVel(env.model, env.data)
+    env.frame += 1
+    env.last_action = action
+    info = env.tracking()
+    return env.observe(), bool(info.reason), info
+
+
 def expert_rollout(
-    clip: Clip, seed: int = 0, strength: float = 0.0, expert: Expert | None = None, record: bool = False
+    clip: Clip,
+    seed: int = 0,
+    strength: float = 0.0,
+    expert: Expert | None = None,
+    record: bool = False,
+    perturbation: Perturbation | None = None,
+    every_substep: bool = False,
 ) -> dict:
-    """``evaluate.rollout``'s episode (2 ms physics, terrain and perturbation of ``seed`` at ``strength``)
-    driven by the expert; with ``record`` the observations and actions per step are returned too."""
+    """``evaluate.rollout``'s episode (2 ms physics, terrain and perturbation of ``seed`` at ``strength``,
+    or ``perturbation``) driven by the expert; with ``record`` the observations and actions per step
+    are returned too. ``every_substep``: the expert recomputes its targets every physics step (period 0;
+    a diagnostic that bypasses the action queue, so it refuses a perturbation with latency)."""
     model = g1_model(timestep=EVAL_TIMESTEP, terrain=True)
-    pert = sample_perturbation(np.random.default_rng(seed), model, strength) if strength > 0 else NOMINAL
+    pert = perturbation
+    if pert is None:
+        pert = sample_perturbation(np.random.default_rng(seed), model, strength) if strength > 0 else NOMINAL
     env = TrackingEnv(clip, timestep=EVAL_TIMESTEP, perturbation=pert, seed=seed, model=model)
-    expert = expert or Expert(clip)
+    expert = expert or Expert(clip, period=0.0 if every_substep else POLICY_DT)
+    if every_substep and pert.latency:
+        raise ValueError("every_substep bypasses the latency queue")
     obs = env.reset(0)
     steps = clip.frames - 1
     t_sum, err_sum, survived, fell, reason = 0.0, 0.0, steps, False, ""
@@ -107,7 +153,10 @@ def expert_rollout(
             observations.append(obs)
             actions.append(a)
         targets.append(expert.default + expert.scale * a)
-        obs, _, term, _, info = env.step(a)
+        if every_substep:
+            obs, term, info = _step_every_substep(env, expert, a)
+        else:
+            obs, _, term, _, info = env.step(a)
         if _unstable(env.data):
             fell, survived, reason = True, k, "explosion"
             break
@@ -138,10 +187,11 @@ def main() -> None:
     p.add_argument("clip", type=Path)
     p.add_argument("--seeds", type=int, nargs="+", default=[0])
     p.add_argument("--strength", type=float, default=0.0)
+    p.add_argument("--every-substep", action="store_true", help="recompute every physics step (nominal only)")
     a = p.parse_args()
     clip = Clip.load(a.clip)
     for seed in a.seeds:
-        r = expert_rollout(clip, seed, a.strength)
+        r = expert_rollout(clip, seed, a.strength, every_substep=a.every_substep)
         print(
             f"seed {seed} strength {a.strength}: U {r['U']:.3f} T {r['T']:.3f} MPJPE {r['mpjpe_mm']:.0f} mm "
             f"J {r['J']:.4f} fell {r['fell']} ({r['reason']}) {r['ms_per_step']:.1f} ms/step",
