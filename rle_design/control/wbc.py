@@ -198,8 +198,6 @@ class WholeBodyQP:
         mu: float = 0.6,
         gains: WbcGains | None = None,
     ) -> None:
-        import osqp
-
         self.model, self.data = model, mujoco.MjData(model)
         self.g = gains or WbcGains()
         self.ref = reference
@@ -230,13 +228,19 @@ class WholeBodyQP:
         ap[nv + nl + nu :, :nv] = True  # stance bodies at rest: J qdd = -Jdot v - kd J v
         self._p_idx = self._pattern(pp)
         self._a_idx = self._pattern(ap)
-        p0, a0 = self._csc(pp.astype(float), pp), self._csc(ap.astype(float), ap)
+        self._p0, self._a0 = self._csc(pp.astype(float), pp), self._csc(ap.astype(float), ap)
         tf = self.g.torque_fraction
         self.l = np.concatenate([np.zeros(nv), np.zeros(nl), -np.full(nu, tf), np.full(nc, -np.inf)])
         self.u = np.concatenate([np.zeros(nv), np.full(nl, np.inf), np.full(nu, tf), np.full(nc, np.inf)])
+        self.reset()
+
+    def reset(self) -> None:
+        """A fresh OSQP solver (no warm start from earlier solves): episodes replay bit for bit."""
+        import osqp
+
         self.solver = osqp.OSQP()
         self.solver.setup(
-            p0, np.zeros(self.n), a0, self.l, self.u,
+            self._p0, np.zeros(self.n), self._a0, self.l.copy(), self.u.copy(),
             verbose=False, eps_abs=1e-5, eps_rel=1e-5, max_iter=4000, polishing=False,
             warm_starting=True, adaptive_rho=True, check_termination=10,
         )  # fmt: skip

@@ -37,7 +37,7 @@ DEFAULT_GAINS = WbcGains(
         FrameTask("pelvis", pos=0.0, ori=2.0, kp=100.0, kd=20.0),
         FrameTask(HANDS[0], pos=1.0, kp=100.0, kd=20.0),
         FrameTask(HANDS[1], pos=1.0, kp=100.0, kd=20.0),
-    )
+    ),
 )
 
 
@@ -82,6 +82,12 @@ class Expert:
         self.prev_target: np.ndarray | None = None
         self.solve_s: list[float] = []
         self.last = None
+
+    def reset(self) -> None:
+        """Forget the previous episode (solver warm start, smoothing state, timings)."""
+        self.qp.reset()
+        self.prev_target, self.last = None, None
+        self.solve_s = []
 
     def targets(self, qpos: np.ndarray, qvel: np.ndarray, frame: int) -> np.ndarray:
         """Servo targets (29) for the true state at reference ``frame``."""
@@ -143,6 +149,7 @@ def expert_rollout(
     expert = expert or Expert(clip, period=0.0 if every_substep else POLICY_DT)
     if every_substep and pert.latency:
         raise ValueError("every_substep bypasses the latency queue")
+    expert.reset()
     obs = env.reset(0)
     steps = clip.frames - 1
     t_sum, err_sum, survived, fell, reason = 0.0, 0.0, steps, False, ""
