@@ -7,7 +7,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from rle_tasks.envs.kitchen import fixtures as fx
+from rle_tasks.envs.kitchen import fixture as fx
 from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.scene import build_scene
 

@@ -14,7 +14,7 @@ import pytest
 from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.env import KitchenScenes
-from rle_tasks.envs.kitchen.fixtures import DOOR_RANGE
+from rle_tasks.envs.kitchen.fixture import DOOR_RANGE
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
 from rle_tasks.f01_robocasa_speedrun.solutions.agents import Direct, solver

@@ -11,7 +11,7 @@ import pytest
 
 from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.envs.kitchen import predicates as pr
-from rle_tasks.envs.kitchen.fixtures import Interior
+from rle_tasks.envs.kitchen.fixture import Interior
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
 from rle_tasks.envs.kitchen.objects import add_object, extent

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rle_tasks.envs.kitchen import predicates as pr
-from rle_tasks.envs.kitchen.fixtures import BURNERS, Fixture
+from rle_tasks.envs.kitchen.fixture import BURNERS, Fixture
 from rle_tasks.envs.kitchen.tasks import (
     FLAT_KINDS,
     STANDOFF,

@@ -38,7 +38,7 @@ from rle_design.sensors import RgbdSensor
 from rle_design.sensors.camera import camera_spec
 from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.composite_tasks import kitchen_task
-from rle_tasks.envs.kitchen.fixtures import Fixture
+from rle_tasks.envs.kitchen.fixture import Fixture
 from rle_tasks.envs.kitchen.objects import extent
 from rle_tasks.envs.kitchen.scene import ROBOT, KitchenScene, build_scene
 from rle_tasks.envs.kitchen.tasks import Condition

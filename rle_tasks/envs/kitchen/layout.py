@@ -17,7 +17,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from rle_tasks.envs.kitchen import fixtures as fx
+from rle_tasks.envs.kitchen import appliances, cabinetry
+from rle_tasks.envs.kitchen import fixture as fx
 
 __all__ = ["Layout", "Unit", "build_layout", "sample_layout"]
 
@@ -177,33 +178,33 @@ def build_layout(spec: mujoco.MjSpec, layout: Layout) -> dict[str, fx.Fixture]:
     for i, unit in enumerate(layout.units):
         x = layout.unit_x(i)
         if unit.kind == "fridge":
-            f = fx.add_fridge(world, "fridge", x, unit.width, unit.hinge_left, style)
+            f = appliances.add_fridge(world, "fridge", x, unit.width, unit.hinge_left, style)
         elif unit.kind == "stove":
-            f = fx.add_stove(world, "stove", x, unit.width, style)
+            f = appliances.add_stove(world, "stove", x, unit.width, style)
             world.add_geom(
                 name="range_hood", type=mujoco.mjtGeom.mjGEOM_BOX, size=[unit.width / 2, 0.25, 0.12],
                 pos=[x, -0.25, 1.75], rgba=list(style.appliance),
             )  # fmt: skip
         elif unit.kind == "sink":
-            f = fx.add_sink(world, "sink", x, unit.width, style)
+            f = appliances.add_sink(world, "sink", x, unit.width, style)
         elif unit.kind == "drawer_cabinet":
-            f = fx.add_drawer_cabinet(world, name_of("drawer"), x, unit.width, style)
+            f = cabinetry.add_drawer_cabinet(world, name_of("drawer"), x, unit.width, style)
         elif unit.kind == "hinge_cabinet":
-            f = fx.add_hinge_cabinet(world, name_of("cabinet"), x, unit.width, unit.hinge_left, style)
+            f = cabinetry.add_hinge_cabinet(world, name_of("cabinet"), x, unit.width, unit.hinge_left, style)
         else:
-            f = fx.add_counter(world, name_of("counter"), x, unit.width, style)
+            f = cabinetry.add_counter(world, name_of("counter"), x, unit.width, style)
         out[f.name] = f
         if unit.wall_cabinet:
-            w = fx.add_wall_cabinet(
+            w = cabinetry.add_wall_cabinet(
                 world, f"wall_cabinet_{wall_k}", x, unit.width, unit.wall_hinge_left, style
             )
             out[w.name] = w
             wall_k += 1
         if i == layout.microwave_on:
-            m = fx.add_microwave(world, "microwave", x, -0.04, style)
+            m = appliances.add_microwave(world, "microwave", x, -0.04, style)
             out[m.name] = m
         if i == layout.dish_rack_on:
-            r = fx.add_dish_rack(world, "dish_rack", x, -0.2)
+            r = appliances.add_dish_rack(world, "dish_rack", x, -0.2)
             out[r.name] = r
     world.add_light(
         name="ceiling", pos=[0, -1.2, 2.6], dir=[0, 0.3, -1], diffuse=[0.55, 0.55, 0.55], castshadow=False

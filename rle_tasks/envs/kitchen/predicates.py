@@ -23,7 +23,7 @@ import math
 import mujoco
 import numpy as np
 
-from rle_tasks.envs.kitchen.fixtures import Fixture, Interior
+from rle_tasks.envs.kitchen.fixture import Fixture, Interior
 from rle_tasks.envs.kitchen.objects import extent
 
 __all__ = [

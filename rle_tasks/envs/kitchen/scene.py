@@ -22,7 +22,7 @@ from rle_design.scene.floor import FloorConfig
 from rle_design.scene.mobile_panda import MobilePandaConfig, MobilePandaNames
 from rle_design.scene.robots import PANDA
 from rle_tasks.envs.kitchen.composite_tasks import kitchen_task
-from rle_tasks.envs.kitchen.fixtures import Fixture
+from rle_tasks.envs.kitchen.fixture import Fixture
 from rle_tasks.envs.kitchen.layout import Layout, build_layout, sample_layout
 from rle_tasks.envs.kitchen.objects import add_object, extent
 from rle_tasks.envs.kitchen.tasks import Episode

@@ -26,7 +26,7 @@ import mujoco
 import numpy as np
 
 from rle_tasks.envs.kitchen import predicates as pr
-from rle_tasks.envs.kitchen.fixtures import BURNERS, Fixture
+from rle_tasks.envs.kitchen.fixture import BURNERS, Fixture
 from rle_tasks.envs.kitchen.objects import extent, graspable
 
 __all__ = ["TASKS", "Condition", "Episode", "KitchenTask", "Placement"]
