@@ -5,14 +5,8 @@ import numpy as np
 import pytest
 
 from rle_design.catalog import load_catalog
-from rle_design.mjcf.strength import (
-    G,
-    beam_section,
-    part_loads,
-    polygon_section,
-    spring_tensions,
-    strength_faults,
-)
+from rle_design.mjcf.sections import beam_section, polygon_section
+from rle_design.mjcf.strength import G, part_loads, spring_tensions, strength_faults
 
 PLA = load_catalog("materials").get("pla")
 R, L, M_TIP = 0.004, 0.08, 0.2  # rod radius, length [m]; steel weight at its tip [kg]
