@@ -256,9 +256,18 @@ class WholeBodyQP:
         return sp.csc_matrix((dense[rows, cols], (rows, cols)), shape=mask.shape)
 
     # -- one step -------------------------------------------------------------------------------
-    def solve(self, qpos: np.ndarray, qvel: np.ndarray, frame: int, stance: np.ndarray) -> WbcSolution:
+    def solve(
+        self,
+        qpos: np.ndarray,
+        qvel: np.ndarray,
+        frame: int,
+        stance: np.ndarray,
+        scales: dict[str, float] | None = None,
+    ) -> WbcSolution:
         """Accelerations, torques and contact forces for the state (``qpos``, ``qvel``) tracking
-        reference ``frame``; ``stance[i]``: contact body i may push."""
+        reference ``frame``; ``stance[i]``: contact body i may push. ``scales`` multiplies the weights
+        of task groups this step: ``com_xy``, ``frames``, ``posture``."""
+        sc = {"com_xy": 1.0, "frames": 1.0, "posture": 1.0, **(scales or {})}
         m, d, g, r = self.model, self.data, self.g, self.ref
         nv, nl, nu = self.nv, self.nlam, self.nu
         f = min(max(frame, 0), r.frames - 1)
@@ -280,7 +289,7 @@ class WholeBodyQP:
         mujoco.mj_jacSubtreeCom(m, d, jc, 1)
         com, vcom = d.subtree_com[1].copy(), jc @ v
         a = r.com_acc[f] + g.com_kp * (r.com[f] - com) + g.com_kd * (r.com_vel[f] - vcom)
-        add(jc, a, np.asarray(g.com))
+        add(jc, a, np.asarray(g.com) * np.array([sc["com_xy"], sc["com_xy"], 1.0]))
         # frame tasks
         for t in g.frames:
             b = self.frame_ids[t.body]
@@ -289,7 +298,7 @@ class WholeBodyQP:
                 [r.body_pos[t.body][f] - d.xpos[b], _ori_error(r.body_quat[t.body][f], d.xquat[b])]
             )
             a = r.body_acc[t.body][f] + t.kp * e + t.kd * (r.body_vel[t.body][f] - j @ v) - jd @ v
-            add(j, a, np.array([t.pos] * 3 + [t.ori] * 3))
+            add(j, a, sc["frames"] * np.array([t.pos] * 3 + [t.ori] * 3))
         # feet: stance damped to rest, swing tracks the reference
         cols = np.zeros((nv, nl))
         A = np.zeros((self.rows, self.n))
@@ -317,8 +326,8 @@ class WholeBodyQP:
         qerr = np.zeros(nv)
         mujoco.mj_differentiatePos(m, qerr, 1.0, qpos, r.qpos[f])
         a = r.qacc[f] + g.posture_kp * qerr + g.posture_kd * (r.qvel[f] - v)
-        H[self.dofs, self.dofs] += g.posture
-        c[self.dofs] -= g.posture * a[self.dofs]
+        H[self.dofs, self.dofs] += g.posture * sc["posture"]
+        c[self.dofs] -= g.posture * sc["posture"] * a[self.dofs]
         H[np.arange(nv), np.arange(nv)] += g.reg_qdd
         # assemble
         P = np.zeros((self.n, self.n))

@@ -50,6 +50,7 @@ class Expert:
         schedule: (F, 2) contact flags of the feet (default: the clip's stance flags).
         period: Hold time of each servo target [s] (``POLICY_DT`` at 50 Hz).
         sole_scale: The contact polygon is the sole's shrunk by this factor about its centroid [1].
+        balance: ``(e0, e1, boost, floor)`` of the capture-point emphasis (``_balance_scales``); None: off.
         smoothing: Low-pass of the targets, ``target = s target_prev + (1 - s) target_qp`` [1].
     """
 
@@ -61,6 +62,7 @@ class Expert:
         period: float = POLICY_DT,
         smoothing: float = 0.0,
         sole_scale: float = 1.0,
+        balance: tuple[float, float, float, float] | None = None,
     ) -> None:
         self.model = g1_model(floor=False)
         qpos = clip_qpos(clip).astype(np.float64)
@@ -78,7 +80,8 @@ class Expert:
         self.schedule = np.asarray(clip.contacts if schedule is None else schedule, dtype=bool)
         self.kp, self.kd = np.asarray(G1.kp), np.asarray(G1.kd)
         self.default, self.scale = np.asarray(G1.default_pose), np.asarray(G1.action_scale)
-        self.period, self.smoothing = period, smoothing
+        self.period, self.smoothing, self.balance = period, smoothing, balance
+        self.emphasis: list[float] = []
         self.prev_target: np.ndarray | None = None
         self.solve_s: list[float] = []
         self.last = None
@@ -89,11 +92,38 @@ class Expert:
         self.prev_target, self.last = None, None
         self.solve_s = []
 
+    def _balance_scales(self, qpos: np.ndarray, qvel: np.ndarray, frame: int) -> dict[str, float] | None:
+        """Balance emphasis from the divergent component of motion (capture point) error: with
+        omega = sqrt(g / z_com), xi = c + v / omega against the reference's; e = |xi - xi_ref| (xy) turns
+        the COM's horizontal weight up (x ``1 + (boost - 1) s``) and the posture and frame tasks down
+        (x ``1 - (1 - floor) s``), s = clip((e - e0) / (e1 - e0), 0, 1): the upper body may swing (the
+        hip strategy) while a push is absorbed."""
+        if self.balance is None:
+            return None
+        e0, e1, boost, floor = self.balance
+        d, r = self.qp.data, self.qp.ref
+        d.qpos[:], d.qvel[:] = qpos, qvel
+        mujoco.mj_kinematics(self.model, d)
+        mujoco.mj_comPos(self.model, d)
+        f = min(frame, r.frames - 1)
+        jc = np.zeros((3, self.model.nv))
+        mujoco.mj_jacSubtreeCom(self.model, d, jc, 1)
+        c, v = d.subtree_com[1], jc @ d.qvel
+        omega = math.sqrt(9.81 / max(c[2], 0.3))
+        e = float(np.linalg.norm((c + v / omega - r.com[f] - r.com_vel[f] / omega)[:2]))
+        s = min(max((e - e0) / (e1 - e0), 0.0), 1.0)
+        self.emphasis.append(s)
+        return {
+            "com_xy": 1.0 + (boost - 1.0) * s,
+            "frames": 1.0 - (1.0 - floor) * s,
+            "posture": 1.0 - (1.0 - floor) * s,
+        }
+
     def targets(self, qpos: np.ndarray, qvel: np.ndarray, frame: int) -> np.ndarray:
         """Servo targets (29) for the true state at reference ``frame``."""
         t0 = time.perf_counter()
         f = min(frame, len(self.schedule) - 1)
-        sol = self.qp.solve(qpos, qvel, frame, self.schedule[f])
+        sol = self.qp.solve(qpos, qvel, frame, self.schedule[f], self._balance_scales(qpos, qvel, frame))
         self.solve_s.append(time.perf_counter() - t0)
         self.last = sol
         j = self.qp.dofs
