@@ -20,8 +20,9 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
-from rle_tasks.envs.kitchen.env import KitchenEnv, pretrain_seed  # noqa: E402
+from rle_tasks.envs.kitchen.env import KitchenEnv  # noqa: E402
 from rle_tasks.envs.kitchen.scene import build_scene  # noqa: E402
+from rle_tasks.envs.kitchen.sessions import pretrain_seed  # noqa: E402
 from rle_tasks.envs.kitchen.tasks import TASKS  # noqa: E402
 
 TARGET_MS = 20.0

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from rle_tasks.core.runtime.secrets import Secret, derive_seed
 from rle_tasks.core.task import Budget
-from rle_tasks.envs.kitchen.env import KitchenScenes
+from rle_tasks.envs.kitchen.sessions import KitchenScenes
 
 STEP_BUDGET = 50_000
 """Charged development steps (card)."""
@@ -50,6 +50,15 @@ KITCHEN_TASKS = (
     ),
 )
 LEVELS = (1, 2, 3)
+
+
+def kitchen_level(task_id: str) -> tuple[KitchenTaskId, int]:
+    """The kitchen task and harness level of a task id (``01-<slug>-l<level>``)."""
+    for k in KITCHEN_TASKS:
+        for level in LEVELS:
+            if k.task_id(level) == task_id:
+                return k, level
+    raise KeyError(f"no family-01 task {task_id!r}")
 
 
 def targets(secret: Secret, kitchen: KitchenTaskId) -> tuple[tuple[int, int], ...]:

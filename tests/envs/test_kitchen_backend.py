@@ -3,7 +3,7 @@
 import numpy as np
 
 from rle_tasks.envs.kitchen.backend import BuiltinKitchen, KitchenBackend
-from rle_tasks.envs.kitchen.env import pretrain_seed
+from rle_tasks.envs.kitchen.sessions import pretrain_seed
 
 
 def test_builtin_kitchen_implements_the_backend_and_reports_stages():

@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from rle_tasks.envs.kitchen.composite_tasks import COMPOSITES
-from rle_tasks.envs.kitchen.env import KitchenEnv, pretrain_seed
+from rle_tasks.envs.kitchen.env import KitchenEnv
 from rle_tasks.envs.kitchen.scene import build_scene
+from rle_tasks.envs.kitchen.sessions import pretrain_seed
 from rle_tasks.envs.kitchen.tasks import TASKS
 
 

@@ -13,10 +13,10 @@ import pytest
 
 from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.envs.kitchen import predicates as pr
-from rle_tasks.envs.kitchen.env import KitchenScenes
 from rle_tasks.envs.kitchen.fixture import DOOR_RANGE
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
+from rle_tasks.envs.kitchen.sessions import KitchenScenes
 from rle_tasks.f01_robocasa_speedrun.solutions.agents import Direct, solver
 from rle_tasks.f01_robocasa_speedrun.task import KITCHEN_TASKS, KitchenTaskId, scenes
 

@@ -79,9 +79,9 @@ def test_turn_on_stove_l2_reads_no_world_state() -> None:
 
 def test_turn_on_stove_l2_in_a_pretrain_kitchen() -> None:
     # One L2 episode (no L3 keys in the observation): the burner comes on within 200 actions.
-    from rle_tasks.envs.kitchen.env import KitchenScenes
     from rle_tasks.envs.kitchen.harness.motion import Motion
     from rle_tasks.envs.kitchen.harness.robot import Robot
+    from rle_tasks.envs.kitchen.sessions import KitchenScenes
     from rle_tasks.f01_robocasa_speedrun.solutions.agents import Direct, solver
 
     session = KitchenScenes("TurnOnStove", level=2, evaluation=None).open_session(task_id="test", budget=None)

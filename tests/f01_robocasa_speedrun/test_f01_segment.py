@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 from rle_design.ledger import LedgerError
-from rle_tasks.envs.kitchen.env import SEGMENT_NOISE, KitchenEnv, KitchenScenes, _shift_or, _words, noisy_mask
+from rle_tasks.envs.kitchen.env import KitchenEnv
 from rle_tasks.envs.kitchen.scene import ROBOT
+from rle_tasks.envs.kitchen.segmentation import SEGMENT_NOISE, noisy_mask, shift_or, words
+from rle_tasks.envs.kitchen.sessions import KitchenScenes
 
 LARGE_PX = 500
 """Instances of at least this many pixels count as large (IoU > 0.5 after the noise)."""
@@ -25,7 +27,7 @@ def band(mask: np.ndarray, steps: int) -> tuple[np.ndarray, np.ndarray]:
     """(mask eroded ``steps`` times, mask dilated ``steps`` times) by one pixel (4-neighbourhood)."""
     inner, outer = mask, mask
     for _ in range(steps):
-        inner, outer = ~_shift_or(~inner), _shift_or(outer)
+        inner, outer = ~shift_or(~inner), shift_or(outer)
     return inner, outer
 
 
@@ -111,7 +113,7 @@ def test_noise_within_documented_bounds(kitchen) -> None:
     for camera in ROBOT.cameras:
         pix, names, labels = env.instances(model, data, camera)
         for label in sorted(set(labels[i] for i in np.unique(pix[pix >= 0]))):
-            same = [i for i, lab in enumerate(labels) if set(_words(label)) <= set(_words(lab))]
+            same = [i for i, lab in enumerate(labels) if set(words(label)) <= set(words(lab))]
             out = session.query("segment", {"prompt": label, "camera": camera})
             for mask in out["masks"]:
                 i = max(same, key=lambda k: (mask & (pix == k)).sum() / (mask | (pix == k)).sum())
