@@ -84,12 +84,12 @@ def verify_s() -> float:
     from rle_tasks.core.runtime.secrets import load_secret
     from rle_tasks.core.task import VerifyContext
     from rle_tasks.f04_motion_tracking.solutions.baselines import open_loop
-    from rle_tasks.f04_motion_tracking.verifier import verify_task
+    from rle_tasks.f04_motion_tracking.verifier import verify
 
     with tempfile.TemporaryDirectory() as tmp:
         open_loop(Path(tmp))
         t0 = time.perf_counter()
-        verify_task("04-dance", "dance", Path(tmp), VerifyContext(secret=load_secret(None)))
+        verify(Path(tmp), VerifyContext(secret=load_secret(None)), task_id="04-dance")
         return time.perf_counter() - t0
 
 

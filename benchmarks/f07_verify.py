@@ -26,7 +26,7 @@ from rle_tasks.core.task import VerifyContext
 from rle_tasks.f07_bin_clearing.public.env import make_env, render_cameras
 from rle_tasks.f07_bin_clearing.public.workcell import CAMERA_HZ
 from rle_tasks.f07_bin_clearing.scoring import EPISODE_S, QUICK_EPISODE_S, pile_score
-from rle_tasks.f07_bin_clearing.verifier import POLICY_FILE, _load_and_smoke, hidden_piles, run_pile
+from rle_tasks.f07_bin_clearing.verifier import POLICY_FILE, PileUnit, _load_and_smoke, hidden_piles, run_pile
 
 
 def _floor(pile, seconds: float) -> tuple[float, float]:
@@ -65,7 +65,7 @@ def main() -> int:
 
     cap = _load_and_smoke(root / POLICY_FILE, ctx.hang_cap_s, Findings())
     t_smoke = time.perf_counter() - t0
-    items = [(str(root / POLICY_FILE), pile, ctx.hang_cap_s, seconds) for pile in piles]
+    items = [PileUnit(str(root / POLICY_FILE), pile, ctx.hang_cap_s, seconds) for pile in piles]
     results = run_parallel(run_pile, items, jobs=a.jobs)
     wall = time.perf_counter() - t0
     t_build = time.perf_counter()

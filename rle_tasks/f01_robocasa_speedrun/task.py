@@ -9,11 +9,12 @@ levels are comparable. The artifact is the session's sealed ledger.
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 from rle_tasks.core.runtime.secrets import current_secret
 from rle_tasks.core.task import ArtifactContract, TaskSpec
-from rle_tasks.envs.kitchen.env import KitchenScenes
+from rle_tasks.envs.kitchen.sessions import KitchenScenes
 from rle_tasks.envs.kitchen.workspace import lay_out_harness
 
 from .kitchens import (
@@ -28,6 +29,7 @@ from .kitchens import (
     scenes,
     targets,
 )
+from .verifier import verify
 
 __all__ = [
     "ACTIONS_PER_TRIAL",
@@ -74,7 +76,6 @@ def instruction(kitchen: KitchenTaskId, level: int) -> str:
 
 def task_specs() -> list[TaskSpec]:
     from .solutions import SOLUTIONS
-    from .verifier import verifier
 
     specs = []
     for kitchen in KITCHEN_TASKS:
@@ -97,7 +98,7 @@ def task_specs() -> list[TaskSpec]:
                     budget=BUDGET,
                     contract=CONTRACT,
                     make_dev_env=make_dev_env,
-                    verify=verifier(kitchen, level),
+                    verify=partial(verify, task_id=tid),
                     solutions=SOLUTIONS[tid].names if tid in SOLUTIONS else (),
                     solutions_module="rle_tasks.f01_robocasa_speedrun.solutions",
                 )

@@ -32,7 +32,7 @@ from rle_tasks.core.runtime.devenv import ledger_key
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
-from .kitchens import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, STEP_BUDGET, TRIALS, KitchenTaskId, scenes
+from .kitchens import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, STEP_BUDGET, TRIALS, kitchen_level, scenes
 from .scoring import rubric
 
 LEDGER_FILE = "ledger.jsonl"
@@ -98,76 +98,73 @@ def _render_trials(trials, scene_set, path: Path) -> None:
     sheet.save(path)
 
 
-def verifier(kitchen: KitchenTaskId, level: int):
-    """The verify function of one task (``kitchen`` at harness ``level``)."""
-    task_id = kitchen.task_id(level)
-
-    def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
-        findings = Findings()
-        path = Path(root) / LEDGER_FILE
-        if path.is_symlink() or not path.is_file():
-            return _invalid(
-                task_id, "ledger.missing", f"{LEDGER_FILE} is missing or not a regular file", findings
-            )
-        gate = check_ledger(path, ledger_key(ctx.secret, task_id), task_id, LIMITS, ctx.attempt)
-        if not gate.ok:
-            return _invalid(task_id, gate.code, gate.message, findings)
-        attempt = {"id": gate.attempt, "bound": gate.attempt_bound}
-        scene_set = scenes(kitchen, level, ctx.secret.for_attempt(gate.attempt), image_size=None)
-        if gate.opened.get("scene_set") != scene_set.fingerprint():
-            return _invalid(
-                task_id,
-                "f01.wrong_session",
-                "the ledger was not recorded in this task's kitchen session (its scene set differs)",
-                findings,
-            )
-        d = gate.development_steps
-        try:
-            trials = replay_trials(scene_set, path)
-        except ReplayError as exc:
-            return _invalid(task_id, exc.code, exc.message, findings, development_steps=d)
-        disputed = set()
-        for t in trials:
-            if t.recorded_success is not None and t.recorded_success != t.success:
-                disputed.add(t.trial)
-                findings.add_error(
-                    "ledger.seal_mismatch",
-                    f"trial {t.trial}: the seal records success={t.recorded_success}, the replay finds {t.success}; "
-                    "the trial counts as failed",
-                    LEDGER_FILE,
-                )
-        if ctx.out_dir is not None and trials:
-            _render_trials(trials, scene_set, Path(ctx.out_dir) / "trials.png")
-        wins = sum(t.success and t.trial not in disputed for t in trials)
-        s = wins / TRIALS
-        eff = s * max(0.0, 1.0 - d / STEP_BUDGET)
-        per_trial = [
-            {"trial": t.trial, "success": t.success, "actions": t.actions, "success_at": t.success_at}
-            for t in trials
-        ]
-        missing = TRIALS - len(trials)
-        msg = f"{wins} of {TRIALS} trials succeeded" + (f" ({missing} not played)" if missing else "")
-        measured = {"successes": wins, "trials_played": len(trials), "trials": per_trial}
-        return rubric(task_id).report(
-            {
-                "success": Outcome({"trials": s}, msg, measured),
-                "efficiency": Outcome(
-                    {"trials": eff},
-                    f"s (1 - d/{STEP_BUDGET}) with d = {d} development steps",
-                    {"development_steps": d},
-                ),
-            },
-            valid=True,
-            errors=findings.errors,
-            native_metrics={
-                "s": s,
-                "development_steps": d,
-                "successes": wins,
-                "trials": per_trial,
-                "steps": gate.steps,
-                "level": level,
-                "attempt": attempt,
-            },
+def verify(root: Path, ctx: VerifyContext, *, task_id: str) -> VerifierReport:
+    """Score the sealed session at ``root`` for ``task_id`` (a kitchen task at a harness level; module
+    docstring)."""
+    kitchen, level = kitchen_level(task_id)
+    findings = Findings()
+    path = Path(root) / LEDGER_FILE
+    if path.is_symlink() or not path.is_file():
+        return _invalid(
+            task_id, "ledger.missing", f"{LEDGER_FILE} is missing or not a regular file", findings
         )
-
-    return verify
+    gate = check_ledger(path, ledger_key(ctx.secret, task_id), task_id, LIMITS, ctx.attempt)
+    if not gate.ok:
+        return _invalid(task_id, gate.code, gate.message, findings)
+    attempt = {"id": gate.attempt, "bound": gate.attempt_bound}
+    scene_set = scenes(kitchen, level, ctx.secret.for_attempt(gate.attempt), image_size=None)
+    if gate.opened.get("scene_set") != scene_set.fingerprint():
+        return _invalid(
+            task_id,
+            "f01.wrong_session",
+            "the ledger was not recorded in this task's kitchen session (its scene set differs)",
+            findings,
+        )
+    d = gate.development_steps
+    try:
+        trials = replay_trials(scene_set, path)
+    except ReplayError as exc:
+        return _invalid(task_id, exc.code, exc.message, findings, development_steps=d)
+    disputed = set()
+    for t in trials:
+        if t.recorded_success is not None and t.recorded_success != t.success:
+            disputed.add(t.trial)
+            findings.add_error(
+                "ledger.seal_mismatch",
+                f"trial {t.trial}: the seal records success={t.recorded_success}, the replay finds {t.success}; "
+                "the trial counts as failed",
+                LEDGER_FILE,
+            )
+    if ctx.out_dir is not None and trials:
+        _render_trials(trials, scene_set, Path(ctx.out_dir) / "trials.png")
+    wins = sum(t.success and t.trial not in disputed for t in trials)
+    s = wins / TRIALS
+    eff = s * max(0.0, 1.0 - d / STEP_BUDGET)
+    per_trial = [
+        {"trial": t.trial, "success": t.success, "actions": t.actions, "success_at": t.success_at}
+        for t in trials
+    ]
+    missing = TRIALS - len(trials)
+    msg = f"{wins} of {TRIALS} trials succeeded" + (f" ({missing} not played)" if missing else "")
+    measured = {"successes": wins, "trials_played": len(trials), "trials": per_trial}
+    return rubric(task_id).report(
+        {
+            "success": Outcome({"trials": s}, msg, measured),
+            "efficiency": Outcome(
+                {"trials": eff},
+                f"s (1 - d/{STEP_BUDGET}) with d = {d} development steps",
+                {"development_steps": d},
+            ),
+        },
+        valid=True,
+        errors=findings.errors,
+        native_metrics={
+            "s": s,
+            "development_steps": d,
+            "successes": wins,
+            "trials": per_trial,
+            "steps": gate.steps,
+            "level": level,
+            "attempt": attempt,
+        },
+    )

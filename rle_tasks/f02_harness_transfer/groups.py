@@ -169,3 +169,11 @@ for _g in GROUPS:
         raise RuntimeError(
             f"group {_g.number}: its development tasks must be composite tasks covering its held-out task"
         )
+
+
+def group_of(task_id: str) -> Group:
+    """The group of a task id (``02-group-NN``)."""
+    for g in GROUPS:
+        if g.task_id == task_id:
+            return g
+    raise KeyError(f"no family-02 task {task_id!r}")

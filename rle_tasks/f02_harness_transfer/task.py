@@ -11,17 +11,18 @@ The artifact is ``agent_harness/`` (code and ``MANUAL.md``). Evaluation: five fr
 from __future__ import annotations
 
 import re
+from functools import partial
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 from rle_tasks.envs.kitchen.composite_tasks import COMPOSITES
-from rle_tasks.envs.kitchen.env import GroupScenes
+from rle_tasks.envs.kitchen.sessions import GroupScenes
 from rle_tasks.envs.kitchen.workspace import lay_out_harness
 
 from .constants import AGENT_STEPS, AGENT_WALL_S, STEP_BUDGET, TRIALS
 from .groups import GROUPS, SKILLS, Group
 from .solutions import SOLUTIONS
-from .verifier import QUICK_TRIALS, verifier
+from .verifier import QUICK_TRIALS, verify
 
 __all__ = [
     "AGENT_STEPS",
@@ -97,7 +98,7 @@ def task_specs() -> list[TaskSpec]:
                 budget=BUDGET,
                 contract=CONTRACT,
                 make_dev_env=make_dev_env,
-                verify=verifier(group),
+                verify=partial(verify, task_id=group.task_id),
                 solutions=shipped.names if shipped is not None else (),
                 solutions_module="rle_tasks.f02_harness_transfer.solutions",
                 quick_note=f"quick runs {QUICK_TRIALS} of the {TRIALS} fresh agents; the score is partial",

@@ -19,12 +19,12 @@ from pathlib import Path
 
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runtime.devenv import ledger_key
-from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
 from .constants import AGENT_STEPS, AGENT_WALL_S, TRIALS
-from .groups import Group
+from .groups import Group, group_of
 from .scoring import rubric
 from .transfer import AGENT_ENV, HARNESS_DIR, TransferUnit, run_unit, targets
 
@@ -54,59 +54,53 @@ def units(group: Group, root: Path, ctx: VerifyContext) -> list[TransferUnit]:
     ]
 
 
-def verifier(group: Group):
-    """The verify function of one group."""
-    task_id = group.task_id
-
-    def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
-        findings = Findings()
-        manual = Path(root) / HARNESS_DIR / "MANUAL.md"
-        if manual.is_symlink() or not manual.is_file():
-            findings.add_error(
-                "f02.no_manual",
-                f"{HARNESS_DIR}/MANUAL.md is missing: a fresh agent has no manual",
-                f"{HARNESS_DIR}/MANUAL.md",
-            )
-            return rubric(task_id).report(
-                {"transfer": Outcome({"agents": 0.0}, "no harness manual")},
-                valid=False,
-                errors=findings.errors,
-                native_metrics={"trials": []},
-            )
-        todo = units(group, Path(root), ctx)
-        results = run_parallel(
-            run_unit, todo, jobs=ctx.jobs, executor=ctx.executor, ray_address=ctx.ray_address
+def verify(root: Path, ctx: VerifyContext, *, task_id: str) -> VerifierReport:
+    """Score the harness at ``root`` for the group ``task_id`` (module docstring)."""
+    group = group_of(task_id)
+    findings = Findings()
+    manual = Path(root) / HARNESS_DIR / "MANUAL.md"
+    if manual.is_symlink() or not manual.is_file():
+        findings.add_error(
+            "f02.no_manual",
+            f"{HARNESS_DIR}/MANUAL.md is missing: a fresh agent has no manual",
+            f"{HARNESS_DIR}/MANUAL.md",
         )
-        for r in results:
-            if r.status != "scored" or r.agent != "ran":
-                findings.add_error(
-                    f"f02.{r.status}" if r.agent in ("ran", "not_run") else f"f02.{r.agent}",
-                    f"fresh agent {r.trial}: {r.status}, {r.agent}: {r.message}"[:600],
-                    HARNESS_DIR,
-                )
-        ran = max(len(results), 1)
-        total = sum(r.score for r in results) / ran
-        wins = sum(r.success for r in results)
-        msg = f"mean s_trial {total:.3f} over {len(results)} fresh agents ({wins} succeeded; " + ", ".join(
-            f"{r.score:.2f}" for r in results
-        )
-        msg += (
-            ")"
-            if len(results) == TRIALS
-            else f"; partial: {TRIALS - len(results)} of the {TRIALS} not run in quick mode)"
-        )
-        native = {
-            "held_out": group.held_out,
-            "successes": wins,
-            "success_rate": wins / ran,
-            "trials": [r.record() for r in results],
-            "partial": len(results) < TRIALS,
-        }
         return rubric(task_id).report(
-            {"transfer": Outcome({"agents": total}, msg, {"s_trial": [r.score for r in results]})},
-            valid=True,
+            {"transfer": Outcome({"agents": 0.0}, "no harness manual")},
+            valid=False,
             errors=findings.errors,
-            native_metrics=native,
+            native_metrics={"trials": []},
         )
-
-    return verify
+    todo = units(group, Path(root), ctx)
+    results = run_units(run_unit, todo, ctx)
+    for r in results:
+        if r.status != "scored" or r.agent != "ran":
+            findings.add_error(
+                f"f02.{r.status}" if r.agent in ("ran", "not_run") else f"f02.{r.agent}",
+                f"fresh agent {r.trial}: {r.status}, {r.agent}: {r.message}"[:600],
+                HARNESS_DIR,
+            )
+    ran = max(len(results), 1)
+    total = sum(r.score for r in results) / ran
+    wins = sum(r.success for r in results)
+    msg = f"mean s_trial {total:.3f} over {len(results)} fresh agents ({wins} succeeded; " + ", ".join(
+        f"{r.score:.2f}" for r in results
+    )
+    msg += (
+        ")"
+        if len(results) == TRIALS
+        else f"; partial: {TRIALS - len(results)} of the {TRIALS} not run in quick mode)"
+    )
+    native = {
+        "held_out": group.held_out,
+        "successes": wins,
+        "success_rate": wins / ran,
+        "trials": [r.record() for r in results],
+        "partial": len(results) < TRIALS,
+    }
+    return rubric(task_id).report(
+        {"transfer": Outcome({"agents": total}, msg, {"s_trial": [r.score for r in results]})},
+        valid=True,
+        errors=findings.errors,
+        native_metrics=native,
+    )

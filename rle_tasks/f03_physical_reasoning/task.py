@@ -10,6 +10,7 @@ tasks with free pieces on the shared table (tower, cantilever).
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 from rle_tasks.core.runtime.secrets import current_secret as _current_secret
@@ -17,6 +18,7 @@ from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec, serving_priv
 
 from .constants import CPUS, GPUS, STEP_BUDGET, VERIFIER_TIMEOUT_S, WALL_TIME_S
 from .scene import make_env
+from .verifier import verify
 
 HERE = Path(__file__).resolve().parent
 
@@ -57,7 +59,6 @@ def ledger_task(
     instruction: str,
     contract: ArtifactContract,
     make_dev_env: Callable[[Path], object],
-    verify: Callable,
     solutions: tuple[str, ...],
     solutions_module: str,
     task_budget: Budget = BUDGET,
@@ -73,7 +74,7 @@ def ledger_task(
         budget=task_budget,
         contract=contract,
         make_dev_env=make_dev_env,
-        verify=verify,
+        verify=partial(verify, task_id=task_id),
         solutions=solutions,
         solutions_module=solutions_module,
         privileged_oracle=privileged_oracle,
@@ -85,7 +86,6 @@ def tabletop_task(
     title: str,
     task_dir: Path,
     rubric_table: str,
-    verify: Callable,
     pieces: Callable[[], tuple],
     solutions: tuple[str, ...],
     solutions_module: str,
@@ -108,7 +108,6 @@ def tabletop_task(
         instruction,
         CONTRACT,
         make_dev_env,
-        verify,
         solutions,
         solutions_module,
         privileged_oracle=True,

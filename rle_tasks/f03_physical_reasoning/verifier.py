@@ -1,4 +1,5 @@
-"""Verifiers of the family's tasks, by task id (each task subpackage holds its own ``verifier.verify``).
+"""Verifiers of the family's tasks, by task id (each task subpackage holds its own ``verifier.verify``;
+``verify`` dispatches by ``task_id``).
 
 Every tabletop verifier follows the same protocol: the ledger gate (``session.open_ledger``: a
 missing, unsealed, altered or non-replaying ledger scores 0 with its reason), the replay of the
@@ -28,3 +29,8 @@ VERIFIERS: dict[str, Callable[[Path, VerifyContext], VerifierReport]] = {
     CUBE_ID: cube.verify,
     HIDDEN_COM_ID: hidden_com.verify,
 }
+
+
+def verify(root: Path, ctx: VerifyContext, *, task_id: str) -> VerifierReport:
+    """Score the sealed session at ``root`` for ``task_id`` with that task's verifier."""
+    return VERIFIERS[task_id](root, ctx)

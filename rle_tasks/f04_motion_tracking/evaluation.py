@@ -5,6 +5,7 @@ itself and returns plain numbers, so seeds fan out through the core runner."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 from rle_design.errors import RleError
@@ -17,7 +18,7 @@ from .public.contract import MAX_PARAMS, ONNX, PolicyMeta, read_meta
 from .public.evaluate import PolicyError, rollout
 from .public.g1_constants import G1
 
-__all__ = ["SMOKE_STEPS", "count_parameters", "load_policy", "run_seed"]
+__all__ = ["SMOKE_STEPS", "SeedUnit", "count_parameters", "load_policy", "run_seed"]
 
 SMOKE_STEPS = 50
 """Policy steps of the first second, where an explosion is a smoke failure."""
@@ -55,10 +56,21 @@ def load_policy(root: Path):
     return meta, policy
 
 
-def run_seed(item: tuple[str, str, int]) -> dict:
-    """``rollout`` of clip ``style`` for the policy in ``root`` on the robot of ``seed``."""
-    root, style, seed = item
-    meta, policy = load_policy(Path(root))
+@dataclass(frozen=True)
+class SeedUnit:
+    """One hidden seed of a verification (a runner unit; picklable)."""
+
+    root: str
+    """The submission directory."""
+    style: str
+    """The clip."""
+    seed: int
+    """Seed of the perturbation, the terrain and the sensor noise."""
+
+
+def run_seed(unit: SeedUnit) -> dict:
+    """``rollout`` of the unit's clip for the policy in its root on the robot of its seed."""
+    meta, policy = load_policy(Path(unit.root))
 
     def act(x):
         try:
@@ -66,4 +78,4 @@ def run_seed(item: tuple[str, str, int]) -> dict:
         except PolicyFault as exc:
             raise PolicyError(exc.code) from None
 
-    return rollout(act, meta, Clip.load(clip_path(style)), seed)
+    return rollout(act, meta, Clip.load(clip_path(unit.style)), unit.seed)

@@ -8,19 +8,12 @@ from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
-from .clips import clip_path
+from .clips import TASK_CLIPS, clip_path
+from .verifier import verify
 
 HERE = Path(__file__).resolve().parent
 PUBLIC_PACKAGE = "motion_tracking"
 """Name of the public modules' package in the workspace."""
-STYLES = {
-    "04-dance": ("dance", "G1 dance clip"),
-    "04-fight": ("fight", "G1 fight clip"),
-    "04-fall-getup": ("fall-getup", "G1 fall and getup clip"),
-    "04-run": ("run", "G1 run clip"),
-    "04-sprint": ("sprint", "G1 sprint clip"),
-}
-"""Task id -> (clip style, title suffix)."""
 REGISTERED: tuple[str, ...] = ("04-dance", "04-fight", "04-fall-getup")
 """Tasks registered with a verifier: those with a shipped reference policy (the others stay placeholders)."""
 SOLUTION_NAMES = (
@@ -36,7 +29,7 @@ SOLUTION_NAMES = (
 def instruction(task_id: str) -> str:
     from rle_tasks.f04_motion_tracking.scoring import rubric
 
-    style = STYLES[task_id][0]
+    style = TASK_CLIPS[task_id][0]
     text = (HERE / "instruction.md").read_text().replace("{clip}", style)
     return text + "\n" + rubric(task_id).markdown_table() + "\n"
 
@@ -54,16 +47,10 @@ def make_dev_env(workspace: Path, style: str):
     return None
 
 
-def verify(root: Path, ctx, *, task_id: str):
-    from rle_tasks.f04_motion_tracking.verifier import verify_task
-
-    return verify_task(task_id, STYLES[task_id][0], Path(root), ctx)
-
-
 def task_spec(task_id: str) -> TaskSpec:
     from rle_tasks.f04_motion_tracking.scoring import N_SEEDS, QUICK_SEEDS
 
-    style, title = STYLES[task_id]
+    style, title = TASK_CLIPS[task_id]
     return TaskSpec(
         id=task_id,
         family=4,

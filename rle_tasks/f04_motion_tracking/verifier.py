@@ -18,15 +18,16 @@ import numpy as np
 from rle_design.errors import RleError
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runtime.policy import PolicyFault
-from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_seed, seed_digest
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
-from .evaluation import SMOKE_STEPS, load_policy, run_seed
+from .clips import TASK_CLIPS
+from .evaluation import SMOKE_STEPS, SeedUnit, load_policy, run_seed
 from .scoring import J_MAX, N_SEEDS, QUICK_SEEDS, rubric, seed_score
 
-__all__ = ["smoke_inputs", "verify_task"]
+__all__ = ["smoke_inputs", "verify"]
 
 
 def smoke_inputs(obs_dim: int) -> list[np.ndarray]:
@@ -49,7 +50,9 @@ def _determinism(policy, obs_dim: int) -> str:
     return ""
 
 
-def verify_task(task_id: str, style: str, root: Path, ctx: VerifyContext) -> VerifierReport:
+def verify(root: Path, ctx: VerifyContext, *, task_id: str) -> VerifierReport:
+    """Score the policy at ``root`` on the clip of ``task_id`` (module docstring)."""
+    style, root = TASK_CLIPS[task_id][0], Path(root)
     n = QUICK_SEEDS if ctx.quick else N_SEEDS
     rub = rubric(task_id, n)
     findings = Findings()
@@ -64,8 +67,7 @@ def verify_task(task_id: str, style: str, root: Path, ctx: VerifyContext) -> Ver
         findings.add_error("f04.smoke", f"smoke check: {reason}", "policy.onnx")
         caps.append("smoke")
     seeds = [derive_seed(ctx.secret, task_id, i) for i in range(n)]
-    items = [(str(root), style, s) for s in seeds]
-    results = run_parallel(run_seed, items, jobs=ctx.jobs, executor=ctx.executor, ray_address=ctx.ray_address)
+    results = run_units(run_seed, [SeedUnit(str(root), style, s) for s in seeds], ctx)
     tracking, survival, deductions, native_seeds = {}, {}, {}, {}
     for name, r in zip(rub.variants, results):
         tracking[name], survival[name] = r["T"], r["U"]

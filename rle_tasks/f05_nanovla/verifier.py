@@ -16,7 +16,7 @@ from the demonstrations' seeds); robust, 225 (3 x 75) scenes whose look is pertu
    500 episodes; robust, 500 episodes of LIBERO-PRO's perturbed LIBERO-10 suites (``PERTURBATIONS``)
    drawn from the secret, 12 or 13 per (perturbation, task). The recipe is trained on the same
    clean demonstrations for both; there is no standard-performance gate on the robust track. Episodes are
-   independent units for the core runner (``run_parallel``, ``--jobs``, Ray): each unit serves the
+   independent units for the core runner (``run_units``, ``--jobs``, Ray): each unit serves the
    trained checkpoint in its own sandboxed process and runs up to ``UNIT_EPISODES`` episodes of one
    task. Units carry the recipe and its checkpoint as bytes, so Ray workers need no shared disk.
 4. The score: successes over the set; zero when step 1 or 2 fails (``replay_failed``) or fewer than
@@ -43,7 +43,7 @@ import numpy as np
 
 from rle_design.policy_socket import ProtocolError
 from rle_tasks.core.report import ErrorEntry, VerifierReport
-from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
@@ -189,17 +189,33 @@ def _dataset(path: Path, task_id: str = OPEN_ID) -> str:
     return digest.read_text().strip()
 
 
-def run_unit(item: tuple) -> list[dict]:
-    """Serve the trained recipe and run one task's episodes (a runner unit; picklable).
+@dataclasses.dataclass(frozen=True)
+class EpisodeUnit:
+    """Episodes of one task, served by one policy server (a runner unit; picklable)."""
 
-    Args:
-        item: ``(solution bytes, ckpt bytes, meta bytes or None, suite, task, inits, their episode
-            numbers in the run (what a request's ``episode`` says), horizon override or None)``.
-    """
+    solution: bytes
+    """The recipe's solution file."""
+    ckpt: bytes
+    """The trained checkpoint."""
+    meta: bytes | None
+    """The checkpoint's meta.json, if any."""
+    suite: str
+    task: int
+    inits: tuple[int, ...]
+    """Initial states of the episodes."""
+    numbers: tuple[int, ...]
+    """Their episode numbers in the run (what a request's ``episode`` says)."""
+    max_steps: int | None
+    """Horizon override, or None for the suite's."""
+
+
+def run_unit(unit: EpisodeUnit) -> list[dict]:
+    """Serve the trained recipe and run one task's episodes."""
     from rle_tasks.envs.libero.client import serving
     from rle_tasks.envs.libero.replay import CKPT, SOLUTION
 
-    solution, ckpt, meta, suite, task, inits, numbers, max_steps = item
+    solution, ckpt, meta, suite, task = unit.solution, unit.ckpt, unit.meta, unit.suite, unit.task
+    inits, numbers, max_steps = unit.inits, unit.numbers, unit.max_steps
     stage = Path(tempfile.mkdtemp(prefix="rle-f05u-"))
     os.chmod(stage, 0o755)
     out: list[dict] = []
@@ -257,7 +273,7 @@ def _standin_episodes(policy, suite: str, task: int, seeds, numbers, max_steps):
 
 def units(
     episodes: list[Episode], solution: bytes, ckpt: bytes, meta: bytes | None, max_steps: int | None
-) -> list[tuple]:
+) -> list[EpisodeUnit]:
     """Runner units: the episodes grouped by (suite, task), ``UNIT_EPISODES`` at most per unit."""
     by_task: dict[tuple[str, int], list[tuple[int, int]]] = {}
     for k, (suite, t, i) in enumerate(episodes):
@@ -268,7 +284,7 @@ def units(
             chunk = eps[s : s + UNIT_EPISODES]
             inits = tuple(i for _, i in chunk)
             numbers = tuple(k for k, _ in chunk)
-            items.append((solution, ckpt, meta, suite, t, inits, numbers, max_steps))
+            items.append(EpisodeUnit(solution, ckpt, meta, suite, t, inits, numbers, max_steps))
     return items
 
 
@@ -328,7 +344,7 @@ def verify(
     native["ckpt_sha256"] = hashlib.sha256(ckpt).hexdigest()
     episodes = episode_order(task_id, ctx)[:n]
     items = units(episodes, path.read_bytes(), ckpt, meta, max_steps)
-    results = run_parallel(run_unit, items, jobs=ctx.jobs, executor=ctx.executor, ray_address=ctx.ray_address)
+    results = run_units(run_unit, items, ctx)
     runs = [r for unit in results for r in unit]
     return _report(rub, runs, n, native)
 
@@ -384,6 +400,7 @@ __all__ = [
     "STANDIN_ROBUST_ID",
     "episode_order",
     "episode_set",
+    "EpisodeUnit",
     "run_unit",
     "units",
     "verify",

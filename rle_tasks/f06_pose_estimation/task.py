@@ -5,9 +5,10 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec, VerifyContext
+from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 from .contract import VARIANTS, Variant
+from .verifier import verify
 
 HERE = Path(__file__).resolve().parent
 RESOURCES = {
@@ -33,12 +34,6 @@ def instruction(v: Variant) -> str:
     head = f"# {v.task_id}: {v.title}\n\nVariant {v.letter.upper()}; resources: {RESOURCES[v.letter]}.\n"
     head += "Observations carry depth and a validity mask.\n" if v.depth else "Observations are RGB only.\n"
     return head + "\n" + text + "\n" + RUBRICS[v.task_id].markdown_table() + "\n"
-
-
-def _verify(task_id: str, root: Path, ctx: VerifyContext):
-    from .verifier import verify
-
-    return verify(root, ctx, task_id)
 
 
 def _dev_env(task_id: str, workspace: Path):
@@ -68,7 +63,7 @@ def task_specs() -> list[TaskSpec]:
                     required=(v.artifact,), optional=("*",), description=CONTRACTS[v.learned]
                 ),
                 make_dev_env=functools.partial(_dev_env, v.task_id),
-                verify=functools.partial(_verify, v.task_id),
+                verify=functools.partial(verify, task_id=v.task_id),
                 solutions=solution_names(v.letter),
                 solutions_module=f"{__package__}.solutions.variant_{v.letter}",
                 quick_note="quick scores 3 of the 10 frame groups and 3 of the 10 push trajectories (20 of "

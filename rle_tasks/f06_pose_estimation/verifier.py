@@ -2,7 +2,7 @@
 
 Evaluation units are the ten frame groups and the ten push trajectories (quick mode: three of each,
 trajectories of 20 frames; the report marks it ``partial``). Each unit, in a worker of
-``run_parallel``: draws its appearance, noise and frames from the secret, renders them, and runs the
+``run_units``: draws its appearance, noise and frames from the secret, renders them, and runs the
 submission in its own sandboxed child: ``reset()`` before every independent frame and once before a
 trajectory, then ``update(obs)`` per frame. A fault leaves that frame without a prediction (wrong
 shape, infinite error). The frame rate nu is frames with a prediction divided by the child's CPU time
@@ -25,7 +25,7 @@ import numpy as np
 from rle_design.sandbox import ParticipantFault
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runtime.policy import PolicyRunner, distinct
-from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
@@ -259,7 +259,7 @@ def _outcome(g: list[float], metrics: list[dict], what: str) -> Outcome:
     return Outcome({VARIANT: float(np.mean(g))}, msg, {"g": g, "shape_accuracy": acc})
 
 
-def verify(root: Path, ctx: VerifyContext, task_id: str) -> VerifierReport:
+def verify(root: Path, ctx: VerifyContext, *, task_id: str) -> VerifierReport:
     """Verify a submission directory for one of the four tasks."""
     v = variant(task_id)
     rubric = RUBRICS[task_id]
@@ -281,9 +281,7 @@ def verify(root: Path, ctx: VerifyContext, task_id: str) -> VerifierReport:
         for kind, n in (("frames", n_groups), ("trajectory", n_traj))
         for i in range(n)
     ]
-    results = run_parallel(
-        run_unit, jobs, jobs=min(ctx.jobs, len(jobs)), executor=ctx.executor, ray_address=ctx.ray_address
-    )
+    results = run_units(run_unit, jobs, ctx, max_jobs=len(jobs))
     per_unit, g = {"frames": [], "trajectory": []}, {"frames": [], "trajectory": []}
     for r in results:
         score, metrics = group_score(r.pred, r.truth)

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import shutil
+from functools import partial
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+from rle_tasks.f07_bin_clearing.verifier import TASK_ID, verify
 
 HERE = Path(__file__).resolve().parent
 CALIBRATION = HERE / "assets" / "calibration.json"
@@ -44,10 +46,9 @@ def make_dev_env(workspace: Path):
 
 
 def task_spec() -> TaskSpec:
-    from rle_tasks.f07_bin_clearing.verifier import verify
 
     return TaskSpec(
-        id="07-bin-clearing",
+        id=TASK_ID,
         family=7,
         title="Contact-rich bin clearing onto a conveyor",
         instruction=instruction(),
@@ -59,7 +60,7 @@ def task_spec() -> TaskSpec:
             "seven joint-position targets [rad] and one magnet command in [0, 1] per 20 Hz tick.",
         ),
         make_dev_env=make_dev_env,
-        verify=verify,
+        verify=partial(verify, task_id=TASK_ID),
         solutions=SOLUTION_NAMES,
         solutions_module="rle_tasks.f07_bin_clearing.solutions",
         quick_note="quick plays the first hidden pile for 30 s of simulated time (the evaluation: eight "

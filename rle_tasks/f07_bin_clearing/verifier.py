@@ -13,6 +13,7 @@ where it stands: what was cleared counts, the fault is reported.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import mujoco
@@ -22,7 +23,7 @@ from rle_design.rollout.env import ActionError
 from rle_design.sandbox import ParticipantFault, SandboxLimits, excerpt
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runtime.policy import HANG_CODES, Budget, FunctionSpec, PolicyRunner, Protocol
-from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_rng, seed_digest
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
@@ -66,13 +67,22 @@ def hidden_piles(ctx: VerifyContext) -> list[PileSpec]:
     return [PileSpec.draw(derive_rng(ctx.secret, TASK_ID, f"pile/{i}")) for i in range(n)]
 
 
-def run_pile(item: tuple[str, PileSpec, float, float]) -> dict:
-    """Play the policy at ``item[0]`` on one pile; returns the event summary, faults and timings.
+@dataclass(frozen=True)
+class PileUnit:
+    """One hidden pile of a verification (a runner unit; picklable)."""
 
-    Args:
-        item: (policy file, pile, hang cap [s], simulated time [s]).
-    """
-    path, pile, hang_cap_s, episode_s = item
+    policy: str
+    """The submitted policy file."""
+    pile: PileSpec
+    hang_cap_s: float
+    """A call of the policy that takes longer is a hang [s]."""
+    episode_s: float
+    """Simulated time of the pile [s]."""
+
+
+def run_pile(unit: PileUnit) -> dict:
+    """Play the unit's policy on its pile; returns the event summary, faults and timings."""
+    path, pile, hang_cap_s, episode_s = unit.policy, unit.pile, unit.hang_cap_s, unit.episode_s
     t0 = time.perf_counter()
     env = make_env(pile)
     model = env.build()
@@ -152,8 +162,10 @@ def _load_and_smoke(path: Path, hang_cap_s: float, findings: Findings) -> str | 
     return None
 
 
-def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
+def verify(root: Path, ctx: VerifyContext, *, task_id: str = TASK_ID) -> VerifierReport:
     """Score the submission at ``root`` (see the module docstring)."""
+    if task_id != TASK_ID:
+        raise ValueError(f"this verifier scores {TASK_ID}, not {task_id}")
     findings = Findings()
     n = QUICK_PILES if ctx.quick else N_PILES
     rub = rubric(n)
@@ -175,8 +187,7 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
         return rub.report({}, valid=True, errors=findings.errors, caps=["smoke"], native_metrics=base)
     piles = hidden_piles(ctx)
     episode_s = QUICK_EPISODE_S if ctx.quick else EPISODE_S
-    items = [(str(path), p, ctx.hang_cap_s, episode_s) for p in piles]
-    results = run_parallel(run_pile, items, jobs=ctx.jobs, executor=ctx.executor, ray_address=ctx.ray_address)
+    results = run_units(run_pile, [PileUnit(str(path), p, ctx.hang_cap_s, episode_s) for p in piles], ctx)
     per: dict[str, dict[str, float]] = {
         k: {} for k in ("complete", "clearance", "throughput", "clean_throughput")
     }
@@ -215,4 +226,4 @@ def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     )  # fmt: skip
 
 
-__all__ = ["PROTOCOL", "hidden_piles", "run_pile", "verify"]
+__all__ = ["PROTOCOL", "PileUnit", "hidden_piles", "run_pile", "verify"]

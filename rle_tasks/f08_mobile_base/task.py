@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import shutil
+from functools import partial
 from pathlib import Path
 
 from rle_design.catalog import load_catalog
 from rle_design.paths import CATALOG_DIR, resolve_asset
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+from rle_tasks.f08_mobile_base.verifier import TASK_ID, verify
 
 HERE = Path(__file__).resolve().parent
 SKELETON = HERE / "assets" / "skeleton_robot.xml"
@@ -51,10 +53,9 @@ def make_dev_env(workspace: Path) -> None:
 
 
 def task_spec() -> TaskSpec:
-    from rle_tasks.f08_mobile_base.verifier import verify
 
     return TaskSpec(
-        id="08-mobile-base",
+        id=TASK_ID,
         family=8,
         title="Universal mobile-manipulator base",
         instruction=instruction(),
@@ -65,7 +66,7 @@ def task_spec() -> TaskSpec:
             "controller.py: reset(arm, target, payload_kg, layout) and control(t, qpos, qvel, ctrl) at 50 Hz.",
         ),
         make_dev_env=make_dev_env,
-        verify=verify,
+        verify=partial(verify, task_id=TASK_ID),
         solutions=SOLUTION_NAMES,
         solutions_module="rle_tasks.f08_mobile_base.solutions",
         quick_note="quick reaches two shelf targets (T01, T12) from three directions (front, left, back) "

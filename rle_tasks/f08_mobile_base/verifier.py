@@ -9,6 +9,7 @@ cannot stand, or ``shelf_1kg`` below ``LOAD_PASS`` (fewer than half of the targe
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import mujoco
@@ -20,7 +21,7 @@ from rle_design.sandbox import ParticipantFault, SandboxLimits, wake_poll_for
 from rle_design.scene import Variation, element_id
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runtime.policy import PolicyRunner
-from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
@@ -168,13 +169,28 @@ def _render(design, arm_out: dict, arm: str, out_dir: Path, report: Findings) ->
         report.add_error("render.failed", f"{arm}: {type(exc).__name__}: {exc}")
 
 
-def _arm_job(args: tuple) -> tuple[dict, list]:
-    """One unit of work (``part``: ``"stability"``, ``"shelf1"`` or ``"shelf2"`` of one arm) in a
-    worker process: (results, error entries)."""
+@dataclass(frozen=True)
+class ArmUnit:
+    """One part of one arm's evaluation (a runner unit; picklable)."""
+
+    root: str
+    """The submission directory."""
+    arm: str
+    part: str
+    """``"stability"``, ``"shelf1"`` or ``"shelf2"``."""
+    key: bytes
+    """The secret's key, and whether it is the public one."""
+    public: bool
+    quick: bool
+    hang_cap_s: float
+
+
+def _arm_job(unit: ArmUnit) -> tuple[dict, list]:
+    """One unit of work in a worker process: (results, error entries)."""
     from rle_tasks.core.runtime.secrets import Secret
 
-    root, arm, part, key, public, quick, hang_cap_s = args
-    ctx = VerifyContext(secret=Secret(key, public), quick=quick, hang_cap_s=hang_cap_s)
+    root, arm, part = unit.root, unit.arm, unit.part
+    ctx = VerifyContext(secret=Secret(unit.key, unit.public), quick=unit.quick, hang_cap_s=unit.hang_cap_s)
     sink = Findings()
     try:
         design = load_design(Path(root))
@@ -194,10 +210,11 @@ def _evaluate_arms(root: Path, ctx: VerifyContext, report: Findings, problems: l
     """Per-arm evaluations as 9 units (arm x part), in ``ctx.jobs`` worker processes when > 1; results
     are merged in a fixed order, so the report does not depend on scheduling."""
     units = [(a, p) for p in PARTS for a in ARMS]
-    args = [(str(root), a, p, ctx.secret.key, ctx.secret.public, ctx.quick, ctx.hang_cap_s) for a, p in units]
-    results = run_parallel(
-        _arm_job, args, jobs=min(ctx.jobs, len(args)), executor=ctx.executor, ray_address=ctx.ray_address
-    )
+    args = [
+        ArmUnit(str(root), a, p, ctx.secret.key, ctx.secret.public, ctx.quick, ctx.hang_cap_s)
+        for a, p in units
+    ]
+    results = run_units(_arm_job, args, ctx, max_jobs=len(args))
     arms: dict[str, dict] = {}
     faults: dict[str, tuple[str, str]] = {}
     for (arm, part), (out, errors) in zip(units, results):
@@ -221,8 +238,10 @@ def _evaluate_arms(root: Path, ctx: VerifyContext, report: Findings, problems: l
     return arms
 
 
-def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
+def verify(root: Path, ctx: VerifyContext, *, task_id: str = TASK_ID) -> VerifierReport:
     """Verify a submission directory (robot.xml, controller.py)."""
+    if task_id != TASK_ID:
+        raise ValueError(f"this verifier scores {TASK_ID}, not {task_id}")
     report = Findings()
     problems: list[tuple[str, str]] = []
     design = None

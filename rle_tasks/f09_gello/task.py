@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import shutil
+from functools import partial
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
+from rle_tasks.f09_gello.verifier import TASK_ID, verify
 
 HERE = Path(__file__).resolve().parent
 TRIM_TEMPLATES = HERE / "assets" / "trim_templates"
@@ -39,10 +41,9 @@ def make_dev_env(workspace: Path) -> None:
 
 
 def task_spec() -> TaskSpec:
-    from rle_tasks.f09_gello.verifier import verify
 
     return TaskSpec(
-        id="09-gello",
+        id=TASK_ID,
         family=9,
         title="Multi-robot GELLO gravity-compensation co-design",
         instruction=instruction(),
@@ -63,7 +64,7 @@ def task_spec() -> TaskSpec:
             max_total_bytes=32 * 1024 * 1024,
         ),
         make_dev_env=make_dev_env,
-        verify=verify,
+        verify=partial(verify, task_id=TASK_ID),
         solutions=("reference", *(f"baseline/{b}" for b in BASELINES)),
         solutions_module="rle_tasks.f09_gello.solutions",
         quick_note="quick uses 256 workspace-grid poses (full 4,096), 48 clearance poses (384), 2 hidden test "

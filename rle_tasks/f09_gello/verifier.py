@@ -382,8 +382,10 @@ def _render(sub, home: np.ndarray, path: Path, res: VariantResult) -> None:
         res.measured["render"] = f"unavailable: {exc.message}"
 
 
-def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
+def verify(root: Path, ctx: VerifyContext, *, task_id: str = TASK_ID) -> VerifierReport:
     """Verify a submission directory holding one directory per robot (``scoring.RUBRIC.variants``)."""
+    if task_id != TASK_ID:
+        raise ValueError(f"this verifier scores {TASK_ID}, not {task_id}")
     findings = Findings()
     results = {robot: verify_variant(robot, Path(root), ctx, findings) for robot in ROBOTS}
     outcomes = {

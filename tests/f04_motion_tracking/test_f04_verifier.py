@@ -10,14 +10,14 @@ import pytest
 from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f04_motion_tracking.solutions import baselines
-from rle_tasks.f04_motion_tracking.verifier import verify_task
+from rle_tasks.f04_motion_tracking.verifier import verify
 
 CTX = VerifyContext(secret=load_secret(None), quick=True)
 
 
 def _verify(tmp_path, build):
     build(tmp_path)
-    return verify_task("04-dance", "dance", tmp_path, CTX)
+    return verify(tmp_path, CTX, task_id="04-dance")
 
 
 def _codes(report):
@@ -56,7 +56,7 @@ def test_bad_meta_is_invalid(tmp_path, meta, expect):
     good = json.loads((tmp_path / "policy_meta.json").read_text())
     text = meta if isinstance(meta, str) else json.dumps({**good, **meta})
     (tmp_path / "policy_meta.json").write_text(text)
-    r = verify_task("04-dance", "dance", tmp_path, CTX)
+    r = verify(tmp_path, CTX, task_id="04-dance")
     assert not r.valid and r.score == 0.0 and "f04.meta" in _codes(r)
     assert expect in r.errors[0].message
 
@@ -68,7 +68,7 @@ def test_policy_outside_the_submission_is_refused(tmp_path):
     sub.mkdir()
     (sub / "policy_meta.json").write_text((outside / "policy_meta.json").read_text())
     os.symlink(outside / "policy.onnx", sub / "policy.onnx")
-    r = verify_task("04-dance", "dance", sub, CTX)
+    r = verify(sub, CTX, task_id="04-dance")
     assert not r.valid and "onnx.path" in _codes(r)
 
 
@@ -110,5 +110,5 @@ def test_parameters_hidden_in_a_constant_node_count(tmp_path):
         ]
     )
     (tmp_path / "policy.onnx").write_bytes(model.SerializeToString())
-    r = verify_task("04-dance", "dance", tmp_path, CTX)
+    r = verify(tmp_path, CTX, task_id="04-dance")
     assert not r.valid and "f04.params" in _codes(r) and "10,504,669 parameters" in r.errors[0].message

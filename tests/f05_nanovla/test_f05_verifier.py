@@ -89,7 +89,7 @@ def test_units_group_episodes_by_task_and_keep_their_numbers():
     eps = [("libero_10", t, i) for t, i in eps] + [("libero_10_swap", 3, 9)]
     items = verifier.units(eps, b"s", b"c", None, None)
     # task 0: one unit; task 3: six episodes in units of at most five; the perturbed suite apart
-    assert [(it[3], it[4], it[5], it[6]) for it in items] == [
+    assert [(u.suite, u.task, u.inits, u.numbers) for u in items] == [
         ("libero_10", 0, (4,), (1,)),
         ("libero_10", 3, (1, 2, 5, 6, 7), (0, 2, 3, 4, 5)),
         ("libero_10", 3, (8,), (6,)),

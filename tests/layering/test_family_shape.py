@@ -1,6 +1,8 @@
 """Every family folder has the same shape, and its instruction and README carry the rubric's table."""
 
+import functools
 import importlib
+import inspect
 from pathlib import Path
 
 import pytest
@@ -46,3 +48,18 @@ def test_instruction_and_readme_show_the_declared_rubric(package):
 def test_every_implemented_task_comes_from_a_family_folder():
     implemented = {t.family for t in all_tasks() if t.implemented}
     assert implemented and implemented <= set(PACKAGES)
+
+
+@pytest.mark.parametrize("package", list(PACKAGES.values()))
+def test_every_task_verifies_through_its_familys_verify(package):
+    """One entry point: every implemented task's ``verify`` is its family's ``verifier.verify(root, ctx, *,
+    task_id)`` bound to the task's id."""
+    family_verify = importlib.import_module(f"{package}.verifier").verify
+    family = int(package.split(".f")[1][:2])
+    implemented = [t for t in all_tasks() if t.implemented and t.family == family]
+    for task in implemented:
+        v = task.verify
+        assert isinstance(v, functools.partial), f"{task.id}: verify is {v!r}"
+        assert v.func is family_verify and v.args == () and v.keywords == {"task_id": task.id}, task.id
+    params = inspect.signature(family_verify).parameters
+    assert list(params)[:2] == ["root", "ctx"] and params["task_id"].kind is inspect.Parameter.KEYWORD_ONLY

@@ -9,6 +9,10 @@
   with ``num_cpus=jobs`` unless ``ray_address`` names a cluster. ``RAY_AUTH_MODE=disabled`` is set
   so that a local Ray does not write a token into ``$HOME``.
 
+A verifier fans out typed units (a frozen dataclass per family: a seed, a pile, an arm's part, an
+episode group) with ``run_units(fn, units, ctx)``, which takes ``jobs``, ``executor`` and
+``ray_address`` from its context.
+
 An exception raised by ``fn`` reaches the caller with its own type; a note added to it
 (``exc.__notes__``, printed with the traceback) names the item that failed. The first failure
 cancels the items that have not started.
@@ -21,7 +25,7 @@ import os
 import pickle
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_EXCEPTION, Future, ProcessPoolExecutor, wait
-from typing import Any, TypeVar
+from typing import Any, Protocol, TypeVar
 
 from rle_design.errors import RleError
 
@@ -29,6 +33,14 @@ T = TypeVar("T")
 R = TypeVar("R")
 Progress = Callable[[int, int], None]
 EXECUTORS = ("local", "ray")
+
+
+class Fanout(Protocol):
+    """What ``run_units`` reads of a context (``VerifyContext`` has it)."""
+
+    jobs: int
+    executor: str
+    ray_address: str | None
 
 
 class RunnerError(RleError):
@@ -184,3 +196,19 @@ def run_parallel(
     if jobs == 1 or len(work) == 1:
         return _serial(fn, work, progress)
     return _local(fn, work, int(jobs), progress)
+
+
+def run_units(
+    fn: Callable[[T], R],
+    units: Iterable[T],
+    ctx: Fanout,
+    *,
+    max_jobs: int | None = None,
+    progress: Progress | None = None,
+) -> list[R]:
+    """``run_parallel`` of ``units`` with the context's ``jobs`` (at most ``max_jobs``), executor and
+    Ray address."""
+    jobs = ctx.jobs if max_jobs is None else max(1, min(ctx.jobs, max_jobs))
+    return run_parallel(
+        fn, units, jobs=jobs, executor=ctx.executor, ray_address=ctx.ray_address, progress=progress
+    )

@@ -5,7 +5,9 @@ positions [m] (0..0.04 and -0.04..0). Action (14): per arm six joint targets [ra
 joint ranges) and a gripper command in [0, 1] (1 open, 0 closed; each finger's target is
 0.04 x command). Each action is held for ``SUBSTEPS`` physics steps of 2 ms, the joint targets
 moving linearly from the previous action's over the first ``RAMP`` of them (a servo's trajectory
-interpolation), physics stepped in C.
+interpolation), physics stepped in C by the toolkit's ``rle_design.rollout.advance`` (the same zero-order
+hold as every battery's episode loop; the step itself stays a method, since a served policy and the
+dataset builder drive it from outside).
 
 Views: ``head`` and ``front`` RGB, ``VIEW`` x ``VIEW`` x 3 uint8, rendered only when asked
 (``observe(views=True)``). ``privileged()`` gives the objects' poses (scripted experts, tests);
@@ -18,6 +20,7 @@ import mujoco
 import numpy as np
 
 from rle_design.control.cameras import render_rgb
+from rle_design.rollout import advance
 from rle_tasks.envs.standin import tasks as _tasks
 from rle_tasks.envs.standin.scene import (
     ARMS,
@@ -120,14 +123,15 @@ class StandinEnv:
         target = np.clip(np.concatenate([a[0:6], a[7:13]]), self._lo, self._hi)
         grip = np.clip(a[[6, 13]], 0.0, 1.0) * GRIPPER_OPEN
         m, d = self.model, self.data
+        ctrl = d.ctrl.copy()
         for i in range(2):
-            d.ctrl[self._grip_act[i]] = (grip[i], -grip[i])
+            ctrl[self._grip_act[i]] = (grip[i], -grip[i])
         prev = self._target
         pieces = 5
         for k in range(1, pieces + 1):
-            d.ctrl[self._arm_act] = prev + (target - prev) * (k / pieces)
-            mujoco.mj_step(m, d, RAMP // pieces)
-        mujoco.mj_step(m, d, SUBSTEPS - RAMP)
+            ctrl[self._arm_act] = prev + (target - prev) * (k / pieces)
+            advance(m, d, ctrl, RAMP // pieces)
+        advance(m, d, ctrl, SUBSTEPS - RAMP)
         self._target = target
         self.steps += 1
         return self.success()

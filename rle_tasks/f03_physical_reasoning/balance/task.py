@@ -10,7 +10,7 @@ from ..constants import BALANCE_ID
 from ..task import current_secret, ledger_contract, ledger_task, task_instruction
 from .env import make_env
 from .scoring import RUBRIC
-from .verifier import instance, verify
+from .verifier import instance
 
 HERE = Path(__file__).resolve().parent
 CONTRACT = ledger_contract(
@@ -31,7 +31,6 @@ def task_spec() -> TaskSpec:
         task_instruction(HERE, RUBRIC.markdown_table()),
         CONTRACT,
         make_dev_env,
-        verify,
         ("reference", "baseline/five_weighings", "baseline/unsealed"),
         "rle_tasks.f03_physical_reasoning.solutions.balance_coins",
     )

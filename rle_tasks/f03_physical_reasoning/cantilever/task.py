@@ -9,7 +9,7 @@ from rle_tasks.core.task import TaskSpec
 from ..constants import CANTILEVER_ID
 from ..task import current_secret, tabletop_task
 from .scoring import RUBRIC
-from .verifier import instance, verify
+from .verifier import instance
 
 HERE = Path(__file__).resolve().parent
 
@@ -20,7 +20,6 @@ def task_spec() -> TaskSpec:
         "Tabletop physical reasoning: maximise the overhang of four blocks",
         HERE,
         RUBRIC.markdown_table(),
-        verify,
         lambda: instance(current_secret()).pieces,
         ("reference", "baseline/overreach", "baseline/unsealed"),
         "rle_tasks.f03_physical_reasoning.solutions.cantilever",

@@ -12,7 +12,6 @@ from ..task import current_secret, ledger_contract, ledger_task, task_instructio
 from .env import make_env
 from .scene import instance
 from .scoring import RUBRIC
-from .verifier import verify
 
 HERE = Path(__file__).resolve().parent
 CONTRACT = ledger_contract(
@@ -54,7 +53,6 @@ def task_spec() -> TaskSpec:
         task_instruction(HERE, RUBRIC.markdown_table()),
         CONTRACT,
         make_dev_env,
-        verify,
         (
             "reference",
             "baseline/idle",

@@ -10,7 +10,7 @@ from ..constants import HIDDEN_COM_ID, HIDDEN_COM_STEPS, HIDDEN_COM_WALL_TIME_S
 from ..task import budget, current_secret, ledger_contract, ledger_task, task_instruction
 from .env import make_env
 from .scoring import RUBRIC
-from .verifier import instance, verify
+from .verifier import instance
 
 HERE = Path(__file__).resolve().parent
 CONTRACT = ledger_contract(
@@ -31,7 +31,6 @@ def task_spec() -> TaskSpec:
         task_instruction(HERE, RUBRIC.markdown_table()),
         CONTRACT,
         make_dev_env,
-        verify,
         ("reference", "baseline/random_answers", "baseline/late_answers", "baseline/unsealed"),
         "rle_tasks.f03_physical_reasoning.solutions.hidden_com",
         task_budget=budget(HIDDEN_COM_STEPS, HIDDEN_COM_WALL_TIME_S),

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from rle_design.rollout import advance
+
 from .clip import Clip
 from .g1 import g1_model
 from .g1_constants import G1
@@ -189,12 +191,10 @@ class TrackingEnv:
         action = np.asarray(action, dtype=np.float64).reshape(G1.dof)
         self.queue.append(action.copy())
         applied = self.queue.popleft()
-        self.data.ctrl[:] = self.default + self.scale * applied
         t_end = (self.frame + 1) * POLICY_DT
         while self._pushes and self._pushes[0].time <= t_end:
             self.data.qvel[:2] += self._pushes.pop(0).dv
-        for _ in range(self.substeps):
-            mujoco.mj_step(self.model, self.data)
+        advance(self.model, self.data, self.default + self.scale * applied, self.substeps)
         # mj_step leaves the kinematics of the state before its last integration: refresh them
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_comPos(self.model, self.data)
