@@ -13,7 +13,7 @@ evaluation the server runs outside the agent's container or user; with the publi
 the ledger proves nothing and is only a rehearsal.
 
 A ``SceneSet`` serves many scenes in one session (a development phase, then a terminal evaluation
-phase of trials, ``scenes``); ``replay_trials`` re-executes its trials for a verifier.
+phase of trials, ``scenes``); ``replay_trials`` re-executes its trials for a verifier (``trials``).
 
 Verifiers pass a submitted ledger through ``check_ledger`` (``gate``): authenticity, the attempt, and
 every card limit recounted from the records.
@@ -23,16 +23,10 @@ from rle_design.ledger.client import LedgerClient
 from rle_design.ledger.gate import GATE_CODES, GateResult, Limits, TrialCount, check_ledger
 from rle_design.ledger.record import record_session
 from rle_design.ledger.records import LedgerError, LedgerWriter
-from rle_design.ledger.scenes import (
-    EvaluationPhase,
-    SceneSession,
-    SceneSet,
-    TrialReplay,
-    development_steps,
-    replay_trials,
-)
+from rle_design.ledger.scenes import EvaluationPhase, SceneSession, SceneSet
 from rle_design.ledger.server import LedgerServer, serve
 from rle_design.ledger.session import MeteredEnv, MeteredSession
+from rle_design.ledger.trials import TrialReplay, development_steps, replay_trials
 from rle_design.ledger.verify import VERDICT_CODES, LedgerVerdict, verify_ledger
 
 __all__ = [
