@@ -263,11 +263,17 @@ class WholeBodyQP:
         frame: int,
         stance: np.ndarray,
         scales: dict[str, float] | None = None,
+        offset: np.ndarray | None = None,
+        swing: dict[str, tuple] | None = None,
     ) -> WbcSolution:
         """Accelerations, torques and contact forces for the state (``qpos``, ``qvel``) tracking
         reference ``frame``; ``stance[i]``: contact body i may push. ``scales`` multiplies the weights
-        of task groups this step: ``com_xy``, ``frames``, ``posture``."""
+        of task groups this step: ``com_xy``, ``frames``, ``posture``. ``offset`` (3,) shifts every
+        reference position (COM, bodies) [m]; ``swing`` replaces a swing body's reference by ``(pos,
+        quat, vel (6), acc (6))`` (a step the reference does not have)."""
         sc = {"com_xy": 1.0, "frames": 1.0, "posture": 1.0, **(scales or {})}
+        off = np.zeros(3) if offset is None else np.asarray(offset, dtype=float)
+        swing = swing or {}
         m, d, g, r = self.model, self.data, self.g, self.ref
         nv, nl, nu = self.nv, self.nlam, self.nu
         f = min(max(frame, 0), r.frames - 1)
@@ -288,14 +294,14 @@ class WholeBodyQP:
         jc = np.zeros((3, nv))
         mujoco.mj_jacSubtreeCom(m, d, jc, 1)
         com, vcom = d.subtree_com[1].copy(), jc @ v
-        a = r.com_acc[f] + g.com_kp * (r.com[f] - com) + g.com_kd * (r.com_vel[f] - vcom)
+        a = r.com_acc[f] + g.com_kp * (r.com[f] + off - com) + g.com_kd * (r.com_vel[f] - vcom)
         add(jc, a, np.asarray(g.com) * np.array([sc["com_xy"], sc["com_xy"], 1.0]))
         # frame tasks
         for t in g.frames:
             b = self.frame_ids[t.body]
             j, jd = _body_jac(m, d, b)
             e = np.concatenate(
-                [r.body_pos[t.body][f] - d.xpos[b], _ori_error(r.body_quat[t.body][f], d.xquat[b])]
+                [r.body_pos[t.body][f] + off - d.xpos[b], _ori_error(r.body_quat[t.body][f], d.xquat[b])]
             )
             a = r.body_acc[t.body][f] + t.kp * e + t.kd * (r.body_vel[t.body][f] - j @ v) - jd @ v
             add(j, a, sc["frames"] * np.array([t.pos] * 3 + [t.ori] * 3))
@@ -311,10 +317,17 @@ class WholeBodyQP:
                 self.l[rows] = self.u[rows] = -g.contact_kd * (j @ v) - jd @ v
             else:
                 self.l[rows], self.u[rows] = -np.inf, np.inf
-                e = np.concatenate(
-                    [r.body_pos[name][f] - d.xpos[b], _ori_error(r.body_quat[name][f], d.xquat[b])]
+                pos, quat, vel, acc = swing.get(
+                    name,
+                    (
+                        r.body_pos[name][f] + off,
+                        r.body_quat[name][f],
+                        r.body_vel[name][f],
+                        r.body_acc[name][f],
+                    ),
                 )
-                a = r.body_acc[name][f] + g.swing_kp * e + g.swing_kd * (r.body_vel[name][f] - j @ v) - jd @ v
+                e = np.concatenate([pos - d.xpos[b], _ori_error(quat, d.xquat[b])])
+                a = acc + g.swing_kp * e + g.swing_kd * (vel - j @ v) - jd @ v
                 add(j, a, np.array([g.swing_pos] * 3 + [g.swing_ori] * 3))
             rot = d.xmat[b].reshape(3, 3)
             jp = np.zeros((3, nv))

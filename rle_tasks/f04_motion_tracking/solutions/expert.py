@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import mujoco
@@ -41,6 +42,42 @@ DEFAULT_GAINS = WbcGains(
 )
 
 
+@dataclass(frozen=True)
+class StepParams:
+    """Capture steps of ``Expert`` (see ``Expert._capture_step``)."""
+
+    margin: float = 0.01
+    """The capture point this far outside the soles' hull triggers a step [m]."""
+    error: float = 0.04
+    """... and this far from the reference's capture point [m]."""
+    duration: float = 0.2
+    """Swing time [s] (0.26 on the dance's seeds 201 and 204: 0.28 and 0.24 survival instead of 0.65 and 0.24)."""
+    height: float = 0.06
+    """Swing apex [m]."""
+    reach: tuple[float, float] = (0.3, 0.3)
+    """Largest step along the stance foot's heading [m] (back, forward)."""
+    width: tuple[float, float] = (0.14, 0.4)
+    """Lateral distance of the swing sole's centre from the stance sole's [m]."""
+    com_scale: float = 0.1
+    """COM weight factor during the step."""
+    cooldown: int = 5
+    """Policy steps after a touchdown before another capture step [1]."""
+    max_lean: float = 0.3
+    """No step when the COM is further than this from the stance sole's centre (xy) [m]."""
+
+
+STEPPING = StepParams()
+
+
+def _outside(points: np.ndarray, x: np.ndarray) -> float:
+    """Signed distance of ``x`` outside the convex hull of ``points`` (xy) [m] (negative inside)."""
+    from scipy.spatial import ConvexHull
+
+    hull = ConvexHull(points)
+    # equations: n . p + c <= 0 inside, unit normals
+    return float(np.max(hull.equations[:, :2] @ x + hull.equations[:, 2]))
+
+
 class Expert:
     """The QP tracker of one clip on the nominal G1.
 
@@ -50,6 +87,7 @@ class Expert:
         schedule: (F, 2) contact flags of the feet (default: the clip's stance flags).
         period: Hold time of each servo target [s] (``POLICY_DT`` at 50 Hz).
         sole_scale: The contact polygon is the sole's shrunk by this factor about its centroid [1].
+        stepping: Capture steps the clip does not have (``_capture_step``); None: off.
         balance: ``(e0, e1, boost, floor)`` of the capture-point emphasis (``_balance_scales``); None: off.
         smoothing: Low-pass of the targets, ``target = s target_prev + (1 - s) target_qp`` [1].
     """
@@ -63,6 +101,7 @@ class Expert:
         smoothing: float = 0.0,
         sole_scale: float = 1.0,
         balance: tuple[float, float, float, float] | None = None,
+        stepping: StepParams | None = STEPPING,
     ) -> None:
         self.model = g1_model(floor=False)
         qpos = clip_qpos(clip).astype(np.float64)
@@ -82,6 +121,12 @@ class Expert:
         self.default, self.scale = np.asarray(G1.default_pose), np.asarray(G1.action_scale)
         self.period, self.smoothing, self.balance = period, smoothing, balance
         self.emphasis: list[float] = []
+        self.stepping = stepping
+        self.soles = soles
+        self.offset = np.zeros(3)
+        self.step: dict | None = None
+        self.steps_taken: list[int] = []
+        self.cooldown = 0
         self.prev_target: np.ndarray | None = None
         self.solve_s: list[float] = []
         self.last = None
@@ -91,6 +136,7 @@ class Expert:
         self.qp.reset()
         self.prev_target, self.last = None, None
         self.solve_s = []
+        self.offset, self.step, self.steps_taken, self.cooldown = np.zeros(3), None, [], 0
 
     def _balance_scales(self, qpos: np.ndarray, qvel: np.ndarray, frame: int) -> dict[str, float] | None:
         """Balance emphasis from the divergent component of motion (capture point) error: with
@@ -119,11 +165,99 @@ class Expert:
             "posture": 1.0 - (1.0 - floor) * s,
         }
 
+    def _capture_step(self, qpos, qvel, f, stance, scales):
+        """A step the clip does not have, when a push throws the capture point out of the support.
+
+        In the clip's double stance, with omega = sqrt(g / z_com) and xi = c + v / omega (xy): when xi
+        is outside the convex hull of both soles by more than ``margin`` and more than ``error`` from
+        the reference's, the foot nearer xi swings for ``duration`` to where the linear inverted
+        pendulum on the other sole (centre p) takes xi by then, p + (xi - p) exp(omega T), clamped
+        in the stance foot's heading frame; a minimum-jerk path with a (4u(1-u))^2 height bump.
+        At touchdown every reference position is shifted by the feet's mean displacement from
+        their reference (``offset``), so the clip goes on around the new stance."""
+        sp, d, r, m = self.stepping, self.qp.data, self.qp.ref, self.model
+        d.qpos[:], d.qvel[:] = qpos, qvel
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        feet = [m.body(b).id for b in G1.feet]
+        if self.step is not None:
+            st = self.step
+            u = (f - st["k0"]) / st["n"]
+            if u < 1.0:
+                T = st["n"] * POLICY_DT
+                s = 10 * u**3 - 15 * u**4 + 6 * u**5
+                ds = (30 * u**2 - 60 * u**3 + 30 * u**4) / T
+                dds = (60 * u - 180 * u**2 + 120 * u**3) / T**2
+                zb = 16 * u**2 * (1 - u) ** 2
+                dzb = 16 * (2 * u - 6 * u**2 + 4 * u**3) / T
+                ddzb = 16 * (2 - 12 * u + 12 * u**2) / T**2
+                dp = st["p1"] - st["p0"]
+                pos = st["p0"] + dp * s + np.array([0, 0, sp.height * zb])
+                vel = np.concatenate([dp * ds + np.array([0, 0, sp.height * dzb]), np.zeros(3)])
+                acc = np.concatenate([dp * dds + np.array([0, 0, sp.height * ddzb]), np.zeros(3)])
+                name = G1.feet[st["foot"]]
+                stance = np.array([i != st["foot"] for i in range(2)])
+                return stance, {name: (pos, st["quat"], vel, acc)}, {**(scales or {}), "com_xy": sp.com_scale}
+            self.step = None
+            ref_mean = np.mean([r.body_pos[b][f] for b in G1.feet], axis=0)
+            self.offset = np.zeros(3)
+            self.offset[:2] = (np.mean([d.xpos[b] for b in feet], axis=0) - ref_mean)[:2]
+            self.cooldown = f + sp.cooldown
+        if not (stance[0] and stance[1]) or f < self.cooldown:
+            return stance, None, scales
+        jc = np.zeros((3, m.nv))
+        mujoco.mj_jacSubtreeCom(m, d, jc, 1)
+        c = d.subtree_com[1].copy()
+        omega = math.sqrt(9.81 / max(c[2], 0.3))
+        xi = (c + jc @ qvel / omega)[:2]
+        xi_ref = (r.com[f] + self.offset + r.com_vel[f] / omega)[:2]
+        centres, verts = [], []
+        for i, b in enumerate(feet):
+            rot = d.xmat[b].reshape(3, 3)
+            w = d.xpos[b] + self.soles[G1.feet[i]] @ rot.T
+            verts.append(w[:, :2])
+            centres.append(w.mean(axis=0))
+        outside = _outside(np.vstack(verts), xi)
+        if outside < sp.margin or np.linalg.norm(xi - xi_ref) < sp.error:
+            return stance, None, scales
+        foot = int(np.argmin([np.linalg.norm(cc[:2] - xi) for cc in centres]))
+        other = 1 - foot
+        p = centres[other][:2]
+        if np.linalg.norm(c[:2] - p) > sp.max_lean:
+            return stance, None, scales  # the stance foot could not carry the body through the swing
+        T = sp.duration
+        land = p + (xi - p) * math.exp(omega * T)
+        yaw_rot = d.xmat[feet[other]].reshape(3, 3)
+        heading = yaw_rot[:2, 0] / np.linalg.norm(yaw_rot[:2, 0])
+        lateral = np.array([-heading[1], heading[0]])
+        rel = land - p
+        side = 1.0 if foot == 0 else -1.0  # left foot on the +lateral side
+        dx = float(np.clip(rel @ heading, -sp.reach[0], sp.reach[1]))
+        dy = side * float(np.clip(side * (rel @ lateral), sp.width[0], sp.width[1]))
+        target_centre = p + dx * heading + dy * lateral
+        b = feet[foot]
+        p0 = d.xpos[b].copy()
+        sole_off = centres[foot] - d.xpos[b]
+        p1 = np.array([*(target_centre - sole_off[:2]), p0[2]])
+        self.step = {
+            "foot": foot,
+            "k0": f,
+            "n": max(int(round(T / POLICY_DT)), 2),
+            "p0": p0,
+            "p1": p1,
+            "quat": d.xquat[b].copy(),
+        }
+        self.steps_taken.append(f)
+        return self._capture_step(qpos, qvel, f, stance, scales)
+
     def targets(self, qpos: np.ndarray, qvel: np.ndarray, frame: int) -> np.ndarray:
         """Servo targets (29) for the true state at reference ``frame``."""
         t0 = time.perf_counter()
         f = min(frame, len(self.schedule) - 1)
-        sol = self.qp.solve(qpos, qvel, frame, self.schedule[f], self._balance_scales(qpos, qvel, frame))
+        stance, swing, scales = self.schedule[f], None, self._balance_scales(qpos, qvel, frame)
+        if self.stepping is not None:
+            stance, swing, scales = self._capture_step(qpos, qvel, f, stance, scales)
+        sol = self.qp.solve(qpos, qvel, frame, stance, scales, self.offset, swing)
         self.solve_s.append(time.perf_counter() - t0)
         self.last = sol
         j = self.qp.dofs
