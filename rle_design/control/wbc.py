@@ -232,15 +232,17 @@ class WholeBodyQP:
         tf = self.g.torque_fraction
         self.l = np.concatenate([np.zeros(nv), np.zeros(nl), -np.full(nu, tf), np.full(nc, -np.inf)])
         self.u = np.concatenate([np.zeros(nv), np.full(nl, np.inf), np.full(nu, tf), np.full(nc, np.inf)])
+        self._l0, self._u0 = self.l.copy(), self.u.copy()
         self.reset()
 
     def reset(self) -> None:
         """A fresh OSQP solver (no warm start from earlier solves): episodes replay bit for bit."""
         import osqp
 
+        self.l, self.u = self._l0.copy(), self._u0.copy()
         self.solver = osqp.OSQP()
         self.solver.setup(
-            self._p0, np.zeros(self.n), self._a0, self.l.copy(), self.u.copy(),
+            self._p0.copy(), np.zeros(self.n), self._a0.copy(), self.l.copy(), self.u.copy(),
             verbose=False, eps_abs=1e-5, eps_rel=1e-5, max_iter=4000, polishing=False,
             warm_starting=True, adaptive_rho=True, check_termination=10,
         )  # fmt: skip
