@@ -28,16 +28,19 @@ from rle_tasks.core.runtime.devenv import ledger_key
 from rle_tasks.core.runtime.secrets import Secret
 from rle_tasks.core.scoring import Outcome, Rubric
 
-from .scene import Piece, piece_poses, piece_velocities
+from .constants import STEP_BUDGET, WALL_TIME_S
+from .scene import Piece, make_env, piece_poses, piece_velocities
 
 __all__ = [
     "LEDGER_FILE",
     "LedgerOutcome",
     "OpenedLedger",
+    "SettledPieces",
     "final_poses",
     "invalid_report",
     "open_ledger",
     "replay_ledger",
+    "settled_pieces",
     "tabletop_limits",
 ]
 
@@ -181,3 +184,30 @@ def note_privileged(opened: OpenedLedger, findings) -> bool:
     if opened.gate.privileged:
         findings.add_error("ledger.privileged", PRIVILEGED_MESSAGE, LEDGER_FILE)
     return opened.gate.privileged
+
+
+@dataclass(frozen=True)
+class SettledPieces:
+    """A free-pieces session past the gate: the secret's instance, the replay with the pieces' final
+    poses and velocities, and whether an oracle's privileged session was served."""
+
+    instance: object
+    gate: LedgerOutcome
+    privileged: bool
+
+
+def settled_pieces(
+    root: Path, ctx, task_id: str, instance, rubric: Rubric, checkpoint: str, findings: Findings
+) -> SettledPieces | VerifierReport:
+    """The protocol of a task of free pieces on the shared table (tower, cantilever): the ledger gate
+    with the card's limits, the instance of the ledger's attempt (``instance(secret)``, its ``pieces``),
+    the replay and the pieces' final state; an invalid report scoring ``checkpoint`` 0 when the ledger
+    fails."""
+    opened = open_ledger(root, ctx.secret, task_id, tabletop_limits(STEP_BUDGET, WALL_TIME_S), ctx.attempt)
+    inst = instance(opened.secret)
+    gate = final_poses(opened, make_env(inst.pieces, images=False), inst.pieces)
+    if not gate.ok:
+        findings.add_error(gate.code, gate.message, LEDGER_FILE)
+        outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
+        return rubric.report({checkpoint: outcome}, valid=False, errors=findings.errors)
+    return SettledPieces(inst, gate, note_privileged(opened, findings))

@@ -2,26 +2,18 @@
 
 from __future__ import annotations
 
-from rle_tasks.core.scoring import CheckpointSpec, Fraction, Rubric
-
 from ..constants import BALANCE_ID
+from ..rubric import ledger_rubric
 
 OPTIMAL_WEIGHINGS = 2
 """ceil(log3 9): the fewest weighings that always find the heavy cube."""
 
-RUBRIC = Rubric(
-    task_id=BALANCE_ID,
-    family="03",
-    workflow="interactive_control",
-    variants=("scene",),
-    checkpoints=(
-        CheckpointSpec(
-            "identified",
-            1.0,
-            "only the heavy cube rests on the mat after robot-free settling; w = weighings in the ledger",
-            Fraction("0 unless only the heavy cube is on the mat; then 1 for w <= 2, else 2/w"),
-        ),
-    ),
+RUBRIC = ledger_rubric(
+    BALANCE_ID,
+    "scene",
+    "identified",
+    "only the heavy cube rests on the mat after robot-free settling; w = weighings in the ledger",
+    "0 unless only the heavy cube is on the mat; then 1 for w <= 2, else 2/w",
 )
 RUBRICS = {BALANCE_ID: RUBRIC}
 

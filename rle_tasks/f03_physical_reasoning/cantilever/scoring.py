@@ -8,25 +8,17 @@ from __future__ import annotations
 
 import math
 
-from rle_tasks.core.scoring import CheckpointSpec, Fraction, Rubric
-
 from ..constants import CANTILEVER_ID
+from ..rubric import ledger_rubric
 
 PZ4 = (15.0 - 4.0 * math.sqrt(2.0)) / 8.0
 """Paterson-Zwick optimal overhang of four blocks, in block lengths (1.16789)."""
 
-RUBRIC = Rubric(
-    task_id=CANTILEVER_ID,
-    family="03",
-    workflow="interactive_control",
-    variants=("scene",),
-    checkpoints=(
-        CheckpointSpec(
-            "overhang",
-            1.0,
-            "settled overhang beyond the table edge along its normal / ((15 - 4 sqrt 2)/8 L) [1]",
-            Fraction("overhang / (1.16789 L), clipped to [0, 1]"),
-        ),
-    ),
+RUBRIC = ledger_rubric(
+    CANTILEVER_ID,
+    "scene",
+    "overhang",
+    "settled overhang beyond the table edge along its normal / ((15 - 4 sqrt 2)/8 L) [1]",
+    "overhang / (1.16789 L), clipped to [0, 1]",
 )
 RUBRICS = {CANTILEVER_ID: RUBRIC}

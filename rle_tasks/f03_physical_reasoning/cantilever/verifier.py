@@ -24,9 +24,9 @@ from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
-from ..constants import CANTILEVER_ID, STEP_BUDGET, WALL_TIME_S
-from ..scene import CONFIG, Piece, make_env, settle
-from ..session import LEDGER_FILE, final_poses, note_privileged, open_ledger, tabletop_limits
+from ..constants import CANTILEVER_ID
+from ..scene import CONFIG, Piece, settle
+from ..session import settled_pieces
 from .scoring import PZ4, RUBRIC
 
 __all__ = ["DENSITY", "Instance", "instance", "measure", "verify"]
@@ -113,16 +113,10 @@ def measure(
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Ledger gate, replay, robot-free settle, overhang / Paterson-Zwick optimum."""
     findings = Findings()
-    opened = open_ledger(
-        root, ctx.secret, CANTILEVER_ID, tabletop_limits(STEP_BUDGET, WALL_TIME_S), ctx.attempt
-    )
-    inst = instance(opened.secret)
-    gate = final_poses(opened, make_env(inst.pieces, images=False), inst.pieces)
-    if not gate.ok:
-        findings.add_error(gate.code, gate.message, LEDGER_FILE)
-        outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
-        return RUBRIC.report({"overhang": outcome}, valid=False, errors=findings.errors)
-    privileged = note_privileged(opened, findings)
+    s = settled_pieces(root, ctx, CANTILEVER_ID, instance, RUBRIC, "overhang", findings)
+    if isinstance(s, VerifierReport):
+        return s
+    inst, gate, privileged = s.instance, s.gate, s.privileged
     m = measure(inst, gate.poses, gate.velocities)
     message = (
         f"overhang {1000 * m['overhang_m']:.1f} mm of the optimum {1000 * m['optimum_m']:.1f} mm "

@@ -18,26 +18,20 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from rle_tasks.core.scoring import Cap, CheckpointSpec, Fraction, Rubric
+from rle_tasks.core.scoring import Cap
 from rle_tasks.f03_physical_reasoning.constants import CUBE_ID
 from rle_tasks.f03_physical_reasoning.cube.turns import Transition
+from rle_tasks.f03_physical_reasoning.rubric import ledger_rubric
 
 UNCLASSIFIED_CAP = 0.5
 
-RUBRIC = Rubric(
-    task_id=CUBE_ID,
-    family="03",
-    workflow="interactive_control",
-    variants=("attempt",),
-    checkpoints=(
-        CheckpointSpec(
-            "solve",
-            1.0,
-            "solved cube held still above the table at the end of the one attempt; turns = quarter turns "
-            "recounted from the replay (a half turn counts 2), opt = the scramble's optimal quarter turns",
-            Fraction("0 unless solved with valid counters and no reset; then min(1, opt/turns)"),
-        ),
-    ),
+RUBRIC = ledger_rubric(
+    CUBE_ID,
+    "attempt",
+    "solve",
+    "solved cube held still above the table at the end of the one attempt; turns = quarter turns "
+    "recounted from the replay (a half turn counts 2), opt = the scramble's optimal quarter turns",
+    "0 unless solved with valid counters and no reset; then min(1, opt/turns)",
     caps=(
         Cap(
             "unclassified",

@@ -17,8 +17,16 @@ from __future__ import annotations
 from pathlib import Path
 
 from rle_design.ledger.testing import cut_seal
+from rle_tasks.core.solutions import Solution
 
 
 def unseal(directory: Path) -> None:
     """Cut the seal (the last record) off ``ledger.jsonl``."""
     cut_seal(directory / "ledger.jsonl")
+
+
+def unsealed(sha256: str) -> Solution:
+    """``baseline/unsealed``: the reference's ledger with its seal cut off (``ledger.unsealed``, score 0)."""
+    return Solution(
+        "baseline/unsealed", sha256=sha256, quick_score=0.0, base="reference", transforms=(unseal,)
+    )

@@ -1,7 +1,7 @@
 """Shipped solutions of 03-cantilever (see the package docstring)."""
 
 from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unseal
+from rle_tasks.f03_physical_reasoning.solutions import unsealed
 
 SOLUTIONS = SolutionSet(
     package="rle_tasks.f03_physical_reasoning",
@@ -18,13 +18,7 @@ SOLUTIONS = SolutionSet(
             quick_score=0.5238966796327215,
             files=((".", "solutions/baseline/overreach/cantilever"),),
         ),
-        Solution(
-            "baseline/unsealed",
-            sha256="5c104a55c9c685332d3a2d5b7ab793ee2f6fa843d3e065b766f8f386d3aa96fe",
-            quick_score=0.0,
-            base="reference",
-            transforms=(unseal,),
-        ),
+        unsealed("5c104a55c9c685332d3a2d5b7ab793ee2f6fa843d3e065b766f8f386d3aa96fe"),
     ),
 )
 

@@ -1,7 +1,7 @@
 """Shipped solutions of 03-tower (see the package docstring)."""
 
 from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unseal
+from rle_tasks.f03_physical_reasoning.solutions import unsealed
 
 SOLUTIONS = SolutionSet(
     package="rle_tasks.f03_physical_reasoning",
@@ -18,13 +18,7 @@ SOLUTIONS = SolutionSet(
             quick_score=0.17362648559204488,
             files=((".", "solutions/baseline/knocked_over/tower"),),
         ),
-        Solution(
-            "baseline/unsealed",
-            sha256="da9955f63daff919378608775b96129e95c4de5fef6b5da8f72f92c4c8ac73f8",
-            quick_score=0.0,
-            base="reference",
-            transforms=(unseal,),
-        ),
+        unsealed("da9955f63daff919378608775b96129e95c4de5fef6b5da8f72f92c4c8ac73f8"),
     ),
 )
 

@@ -27,9 +27,9 @@ from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
-from ..constants import STEP_BUDGET, TOWER_ID, WALL_TIME_S
-from ..scene import CONFIG, Piece, make_env, settle
-from ..session import LEDGER_FILE, final_poses, note_privileged, open_ledger, tabletop_limits
+from ..constants import TOWER_ID
+from ..scene import CONFIG, Piece, settle
+from ..session import settled_pieces
 from .optimum import Block, TowerPlan, optimal_tower
 from .scoring import RUBRIC
 
@@ -122,14 +122,10 @@ def measure(
 def verify(root: Path, ctx: VerifyContext) -> VerifierReport:
     """Ledger gate, replay, robot-free settle, tower height / H*."""
     findings = Findings()
-    opened = open_ledger(root, ctx.secret, TOWER_ID, tabletop_limits(STEP_BUDGET, WALL_TIME_S), ctx.attempt)
-    inst = instance(opened.secret)
-    gate = final_poses(opened, make_env(inst.pieces, images=False), inst.pieces)
-    if not gate.ok:
-        findings.add_error(gate.code, gate.message, LEDGER_FILE)
-        outcome = Outcome({"scene": 0.0}, f"no score: {gate.message}")
-        return RUBRIC.report({"height": outcome}, valid=False, errors=findings.errors)
-    privileged = note_privileged(opened, findings)
+    s = settled_pieces(root, ctx, TOWER_ID, instance, RUBRIC, "height", findings)
+    if isinstance(s, VerifierReport):
+        return s
+    inst, gate, privileged = s.instance, s.gate, s.privileged
     m = measure(inst, gate.poses, gate.velocities)
     message = f"tower {1000 * m['height_m']:.1f} mm of H* = {1000 * m['optimum_m']:.1f} mm"
     outcome = Outcome({"scene": RUBRIC.spec("height").score(m["ratio"])}, message, m)

@@ -18,7 +18,7 @@ import importlib
 from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unseal
+from rle_tasks.f03_physical_reasoning.solutions import unsealed
 from rle_tasks.f03_physical_reasoning.solutions.oracle import reference_program_oracle
 
 PROGRAMS = {"reference": 1.0, "five_weighings": 0.4, "wrong_cube": 0.0}
@@ -61,13 +61,7 @@ SOLUTIONS = SolutionSet(
             quick_score=0.4,
             files=((".", "solutions/balance_coins/ledgers/five_weighings"),),
         ),
-        Solution(
-            "baseline/unsealed",
-            sha256="c692a98faf010684eb2afec1f32395b5da0fb91acb3b997fd8da72fb379442e5",
-            quick_score=0.0,
-            base="reference",
-            transforms=(unseal,),
-        ),
+        unsealed("c692a98faf010684eb2afec1f32395b5da0fb91acb3b997fd8da72fb379442e5"),
     ),
 )
 """Committed public-key ledgers: the reference (two weighings), five weighings (0.4), the reference unsealed (0)."""

@@ -16,7 +16,7 @@ import importlib
 from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unseal
+from rle_tasks.f03_physical_reasoning.solutions import unsealed
 from rle_tasks.f03_physical_reasoning.solutions.oracle import reference_program_oracle
 
 PROGRAMS = ("reference", "random_answers", "late_answers")
@@ -68,13 +68,7 @@ SOLUTIONS = SolutionSet(
             quick_score=1 / 3,
             files=((".", "solutions/hidden_com/ledgers/late_answers"),),
         ),
-        Solution(
-            "baseline/unsealed",
-            sha256="c979e83fa0f0d121abe1a332741e977d52786d939e022f8e4381bf7ff95905b9",
-            quick_score=0.0,
-            base="reference",
-            transforms=(unseal,),
-        ),
+        unsealed("c979e83fa0f0d121abe1a332741e977d52786d939e022f8e4381bf7ff95905b9"),
     ),
 )
 """Committed public-key ledgers: the reference (3/3), seeded random answers, the reference unsealed (0)."""

@@ -25,7 +25,7 @@ import importlib
 from pathlib import Path
 
 from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unseal
+from rle_tasks.f03_physical_reasoning.solutions import unsealed
 
 PROGRAMS = ("reference", "idle", "dropped", "reset", "forced_twist", "top_turns")
 SHIPPED = ("reference", "idle", "dropped", "reset", "forced_twist")
@@ -96,13 +96,7 @@ SOLUTIONS = SolutionSet(
             quick_score=0.0,
             files=_ledgers("forced_twist"),
         ),
-        Solution(
-            "baseline/unsealed",
-            sha256="d5d5e16ca5329742a0922569f4fec5bbb614e83e8182fa442889fcc1006929a7",
-            quick_score=0.0,
-            base="reference",
-            transforms=(unseal,),
-        ),
+        unsealed("d5d5e16ca5329742a0922569f4fec5bbb614e83e8182fa442889fcc1006929a7"),
     ),
 )
 """Committed public-key ledgers: the reference (1.0), four baselines (0 each for its reason), the reference
