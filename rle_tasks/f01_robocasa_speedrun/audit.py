@@ -15,7 +15,8 @@ from rle_tasks.audit.case import Case
 from rle_tasks.audit.ledger_limits import AUDIT_ATTEMPT, LimitCases, limit_cases
 from rle_tasks.core.solutions import materialise
 
-from .kitchens import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, KITCHEN_TASKS, STEP_BUDGET, TRIALS, scenes
+from .constants import ACTIONS_PER_TRIAL, EVAL_WALL_S, STEP_BUDGET, TRIALS, WALL_TIME_S
+from .kitchens import KITCHEN_TASKS, scenes
 
 TASK = "01-turn-on-stove-l3"
 
@@ -32,7 +33,7 @@ def _open_meta() -> dict[str, Any]:
         "scene_set": _scenes().fingerprint(),
         "evaluation": {"trials": TRIALS, "actions_per_trial": ACTIONS_PER_TRIAL, "wall_time_s": EVAL_WALL_S},
         "budget": STEP_BUDGET,
-        "wall_time_s": BUDGET.wall_time_s,
+        "wall_time_s": WALL_TIME_S,
     }
 
 
@@ -58,7 +59,7 @@ SPEC = LimitCases(
     open_meta=_open_meta,
     action_size=12,
     budget=STEP_BUDGET,
-    wall_time_s=BUDGET.wall_time_s,
+    wall_time_s=WALL_TIME_S,
     dev_reset={"scene": "pretrain/0/0", "phase": "development"},
     trials=TRIALS,
     actions_per_trial=ACTIONS_PER_TRIAL,
@@ -92,7 +93,7 @@ def _signed(task_id: str, budget: int):
             "scene_set": scenes(kitchen, 3, AUDIT_SECRET, image_size=None).fingerprint(),
             "evaluation": {"trials": 5, "actions_per_trial": 1000, "wall_time_s": 3600.0},
             "budget": budget,
-            "wall_time_s": BUDGET.wall_time_s,
+            "wall_time_s": WALL_TIME_S,
         }
         w = LedgerWriter(d / "ledger.jsonl", ledger_key(AUDIT_SECRET, task_id), task_id, meta)
         w.append("reset", {"steps": 1, "time": 0.0, "scene": "pretrain/0/0", "phase": "development"})

@@ -1,5 +1,5 @@
-"""The card's numbers of family 01 and its kitchens: the five tasks, the three harness levels, the target
-kitchens each task's evaluation draws from the secret, and the session's scene set."""
+"""The kitchens of family 01: the five tasks, the three harness levels, the target kitchens each task's
+evaluation draws from the secret, and the session's scene set (the card's numbers: ``constants``)."""
 
 from __future__ import annotations
 
@@ -9,15 +9,21 @@ from rle_tasks.core.runtime.secrets import Secret, derive_seed
 from rle_tasks.core.task import Budget
 from rle_tasks.envs.kitchen.sessions import KitchenScenes
 
-STEP_BUDGET = 50_000
-"""Charged development steps (card)."""
-TRIALS = 5
-"""Evaluation trials (card)."""
-ACTIONS_PER_TRIAL = 1000
-"""Actions one evaluation trial may take (card)."""
-EVAL_WALL_S = 3600.0
-"""Wall time of the evaluation phase [s] (card)."""
-BUDGET = Budget(wall_time_s=8 * 3600.0, cpus=4, gpus=1, steps=STEP_BUDGET, verifier_timeout_s=1800.0)
+from .constants import (
+    ACTIONS_PER_TRIAL,
+    CPUS,
+    EVAL_WALL_S,
+    GPUS,
+    STEP_BUDGET,
+    TRIALS,
+    VERIFIER_TIMEOUT_S,
+    WALL_TIME_S,
+)
+
+BUDGET = Budget(
+    wall_time_s=WALL_TIME_S, cpus=CPUS, gpus=GPUS, steps=STEP_BUDGET, verifier_timeout_s=VERIFIER_TIMEOUT_S
+)
+"""The card's budget of every family-01 task."""
 
 
 @dataclass(frozen=True)

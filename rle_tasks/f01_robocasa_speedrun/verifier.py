@@ -32,7 +32,8 @@ from rle_tasks.core.runtime.devenv import ledger_key
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
-from .kitchens import ACTIONS_PER_TRIAL, BUDGET, EVAL_WALL_S, STEP_BUDGET, TRIALS, kitchen_level, scenes
+from .constants import ACTIONS_PER_TRIAL, EVAL_WALL_S, STEP_BUDGET, TRIALS, WALL_TIME_S
+from .kitchens import kitchen_level, scenes
 from .scoring import rubric
 
 LEDGER_FILE = "ledger.jsonl"
@@ -51,7 +52,7 @@ def _invalid(task_id: str, code: str, message: str, findings: Findings, **native
 
 LIMITS = Limits(
     budget=STEP_BUDGET,
-    wall_time_s=BUDGET.wall_time_s,
+    wall_time_s=WALL_TIME_S,
     trials=TRIALS,
     actions_per_trial=ACTIONS_PER_TRIAL,
     evaluation_wall_time_s=EVAL_WALL_S,

@@ -19,6 +19,7 @@ from dataclasses import replace
 
 from rle_tasks.core.scoring import Cap, CheckpointSpec, Deduction, Fraction, Rubric
 
+from .constants import N_SEEDS, QUICK_SEEDS, TASK_IDS
 from .public.evaluate import J_MAX, S_ORI, S_POS, S_WORLD, seed_score
 
 __all__ = [
@@ -34,9 +35,6 @@ __all__ = [
     "seed_score",
 ]
 
-TASK_IDS = ("04-dance", "04-fight", "04-fall-getup", "04-run", "04-sprint")
-N_SEEDS = 8
-QUICK_SEEDS = 2
 JERK_PENALTY, FALL_PENALTY = 0.15, 0.05
 
 

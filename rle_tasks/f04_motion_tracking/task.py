@@ -9,6 +9,7 @@ from pathlib import Path
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
 from .clips import TASK_CLIPS, clip_path
+from .constants import CPUS, GPUS, N_SEEDS, QUICK_SEEDS, VERIFIER_TIMEOUT_S, WALL_TIME_S
 from .verifier import verify
 
 HERE = Path(__file__).resolve().parent
@@ -48,15 +49,13 @@ def make_dev_env(workspace: Path, style: str):
 
 
 def task_spec(task_id: str) -> TaskSpec:
-    from rle_tasks.f04_motion_tracking.scoring import N_SEEDS, QUICK_SEEDS
-
     style, title = TASK_CLIPS[task_id]
     return TaskSpec(
         id=task_id,
         family=4,
         title=f"Whole-body motion tracking: {title}",
         instruction=instruction(task_id),
-        budget=Budget(wall_time_s=4 * 3600.0, cpus=4, gpus=1, verifier_timeout_s=600.0),
+        budget=Budget(wall_time_s=WALL_TIME_S, cpus=CPUS, gpus=GPUS, verifier_timeout_s=VERIFIER_TIMEOUT_S),
         contract=ArtifactContract(
             required=("policy.onnx", "policy_meta.json"),
             description="policy.onnx: obs (1, 160 H) float32 -> actions (1, 29), at most 10 M parameters; "

@@ -24,8 +24,9 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
 from .clips import TASK_CLIPS
+from .constants import N_SEEDS, QUICK_SEEDS
 from .evaluation import SMOKE_STEPS, SeedUnit, load_policy, run_seed
-from .scoring import J_MAX, N_SEEDS, QUICK_SEEDS, rubric, seed_score
+from .scoring import J_MAX, rubric, seed_score
 
 __all__ = ["smoke_inputs", "verify"]
 

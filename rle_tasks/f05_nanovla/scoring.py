@@ -14,20 +14,11 @@ import math
 
 from rle_tasks.core.scoring import Cap, CheckpointSpec, Fraction, PassRule, Rubric
 
-TASK_ID = "05-libero-open"
-EPISODE_SET = 500
+from .constants import COMPLETION, EPISODE_SETS, EPISODES, OPEN_ID
+
+TASK_ID = OPEN_ID
+EPISODE_SET = EPISODES
 """LIBERO-10's official initial states: 10 tasks x 50 [1]."""
-COMPLETION = 475 / 500
-"""Fraction of the episode set that must complete (the card: at least 475 of 500) [1]."""
-EPISODE_SETS = {
-    "05-libero-open": 500,
-    "05-libero-robust": 500,
-    "05-robotwin-open": 300,
-    "05-robotwin-robust": 225,
-}
-"""Episodes of each track's fixed set (the card: LIBERO 500 / 500, RoboTwin 300 / 225; the RoboTwin
-tracks run on the bimanual stand-in); the card's completion thresholds 475, 475, 285 and 214 are
-``required_complete`` of these."""
 
 _ANY = PassRule(at=0.0, strict=True)
 """The success-rate checkpoint counts as passed when any episode succeeded."""

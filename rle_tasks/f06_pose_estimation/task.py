@@ -7,6 +7,7 @@ from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
 
+from .constants import CPUS, GPUS, VERIFIER_TIMEOUT_S, WALL_TIME_S
 from .contract import VARIANTS, Variant
 from .verifier import verify
 
@@ -54,10 +55,10 @@ def task_specs() -> list[TaskSpec]:
                 title=v.title,
                 instruction=instruction(v),
                 budget=Budget(
-                    wall_time_s=2 * 3600.0,
-                    cpus=16 if v.letter == "c" else 4,
-                    gpus=1 if v.letter in "cd" else 0,
-                    verifier_timeout_s=1800.0,
+                    wall_time_s=WALL_TIME_S,
+                    cpus=CPUS[v.letter],
+                    gpus=GPUS[v.letter],
+                    verifier_timeout_s=VERIFIER_TIMEOUT_S,
                 ),
                 contract=ArtifactContract(
                     required=(v.artifact,), optional=("*",), description=CONTRACTS[v.learned]

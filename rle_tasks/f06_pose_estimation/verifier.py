@@ -30,6 +30,7 @@ from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
+from .constants import N_GROUPS, N_TRAJ, QUICK_GROUPS, QUICK_TRAJ, QUICK_TRAJ_FRAMES, TRAJ_FRAMES
 from .contract import (
     ESTIMATOR,
     ESTIMATOR_BUDGET,
@@ -45,8 +46,6 @@ HERE = Path(__file__).resolve().parent
 MODEL_RUNNER = HERE / "model_runner.py"
 HIDDEN_KEY = "06-pose"
 """Hidden items derive from HMAC(secret, HIDDEN_KEY | label): the four variants share one hidden set."""
-N_GROUPS, N_TRAJ, TRAJ_FRAMES = 10, 10, 60
-QUICK_GROUPS, QUICK_TRAJ, QUICK_TRAJ_FRAMES = 3, 3, 20
 FPS_STEP = 0.1
 """Resolution of the reported frame rate [frames/s]."""
 SMOKE_SEED = 20260601

@@ -18,12 +18,9 @@ from dataclasses import replace
 
 from rle_tasks.core.scoring import Cap, CheckpointSpec, Deduction, Fraction, Rubric
 
-TASK_ID = "07-bin-clearing"
-N_PILES = 8
-QUICK_PILES = 1
-EPISODE_S = 120.0
-QUICK_EPISODE_S = 30.0
-"""Simulated time of the quick (partial) verification's one pile [s]."""
+from .constants import N_PILES, QUICK_EPISODE_S, QUICK_PILES, TASK_ID
+from .public.env import EPISODE_S
+
 FLOOR_PENALTY, DAMAGE_PENALTY, BIN_PENALTY = 0.03, 0.05, 0.05
 
 

@@ -7,7 +7,8 @@ from functools import partial
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
-from rle_tasks.f07_bin_clearing.verifier import TASK_ID, verify
+from rle_tasks.f07_bin_clearing.constants import CPUS, TASK_ID, VERIFIER_TIMEOUT_S, WALL_TIME_S
+from rle_tasks.f07_bin_clearing.verifier import verify
 
 HERE = Path(__file__).resolve().parent
 CALIBRATION = HERE / "assets" / "calibration.json"
@@ -52,7 +53,7 @@ def task_spec() -> TaskSpec:
         family=7,
         title="Contact-rich bin clearing onto a conveyor",
         instruction=instruction(),
-        budget=Budget(wall_time_s=4 * 3600.0, cpus=4, steps=None, verifier_timeout_s=3600.0),
+        budget=Budget(wall_time_s=WALL_TIME_S, cpus=CPUS, steps=None, verifier_timeout_s=VERIFIER_TIMEOUT_S),
         contract=ArtifactContract(
             required=("policy/__init__.py",),
             optional=("policy/*",),

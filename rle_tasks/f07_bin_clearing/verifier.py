@@ -28,11 +28,12 @@ from rle_tasks.core.runtime.secrets import derive_rng, seed_digest
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 
+from .constants import N_PILES, QUICK_EPISODE_S, QUICK_PILES, TASK_ID
 from .public.contract import FUNCTIONS, HANG_CAP_S
 from .public.env import EPISODE_S, close_cameras, make_env
 from .public.events import EventCounter
 from .public.pile import PUBLIC_SEEDS, PileSpec
-from .scoring import N_PILES, QUICK_EPISODE_S, QUICK_PILES, TASK_ID, pile_score, pile_terms, rubric
+from .scoring import pile_score, pile_terms, rubric
 
 POLICY_FILE = Path("policy") / "__init__.py"
 POLICY_CPU_S = 360.0

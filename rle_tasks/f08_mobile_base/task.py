@@ -9,7 +9,8 @@ from pathlib import Path
 from rle_design.catalog import load_catalog
 from rle_design.paths import CATALOG_DIR, resolve_asset
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
-from rle_tasks.f08_mobile_base.verifier import TASK_ID, verify
+from rle_tasks.f08_mobile_base.constants import CPUS, TASK_ID, WALL_TIME_S
+from rle_tasks.f08_mobile_base.verifier import verify
 
 HERE = Path(__file__).resolve().parent
 SKELETON = HERE / "assets" / "skeleton_robot.xml"
@@ -59,7 +60,7 @@ def task_spec() -> TaskSpec:
         family=8,
         title="Universal mobile-manipulator base",
         instruction=instruction(),
-        budget=Budget(wall_time_s=2 * 3600.0, cpus=4),
+        budget=Budget(wall_time_s=WALL_TIME_S, cpus=CPUS),
         contract=ArtifactContract(
             required=("robot.xml", "controller.py"),
             description="robot.xml: the mecanum base (catalog profiles and immutable parts, arm_mount_site); "

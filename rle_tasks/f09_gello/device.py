@@ -54,13 +54,9 @@ from rle_design.scene import (
     has_element,
 )
 from rle_tasks.f09_gello.assembly import HANDLE_SITE
+from rle_tasks.f09_gello.constants import HARD_MASS_KG, MAX_MASS_KG
 
 ASSET_DIR = Path(__file__).resolve().parent / "assets"
-MAX_MASS_KG = 2.30
-"""The card's device mass cap [kg]: above it the deduction grows linearly with the excess."""
-HARD_MASS_KG = 3.00
-"""Mass at which the over-mass deduction is full (0.10) and beyond which a leader is refused [kg]
-(README: derivation)."""
 STEEL_DENSITY = float(load_catalog("materials").get("steel").density)
 """Nominal steel [kg/m^3] (materials catalog), what the reference's counterweights are made of."""
 TOL = 1e-6

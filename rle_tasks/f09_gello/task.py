@@ -7,7 +7,8 @@ from functools import partial
 from pathlib import Path
 
 from rle_tasks.core.task import ArtifactContract, Budget, TaskSpec
-from rle_tasks.f09_gello.verifier import TASK_ID, verify
+from rle_tasks.f09_gello.constants import CPUS, TASK_ID, VERIFIER_TIMEOUT_S, WALL_TIME_S
+from rle_tasks.f09_gello.verifier import verify
 
 HERE = Path(__file__).resolve().parent
 TRIM_TEMPLATES = HERE / "assets" / "trim_templates"
@@ -47,7 +48,7 @@ def task_spec() -> TaskSpec:
         family=9,
         title="Multi-robot GELLO gravity-compensation co-design",
         instruction=instruction(),
-        budget=Budget(wall_time_s=3 * 3600.0, cpus=4, verifier_timeout_s=600.0),
+        budget=Budget(wall_time_s=WALL_TIME_S, cpus=CPUS, verifier_timeout_s=VERIFIER_TIMEOUT_S),
         contract=ArtifactContract(
             required=(
                 "panda/lead.xml",

@@ -29,11 +29,11 @@ from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.f09_gello import battery, clearance, device, scoring
+from rle_tasks.f09_gello.constants import TASK_ID
 from rle_tasks.f09_gello.leaders import ROBOTS
 from rle_tasks.f09_gello.public import gello_helpers as helpers
 from rle_tasks.f09_gello.trim_runner import TrimRunner
 
-TASK_ID = "09-gello"
 CROSSCHECK_TOL = 1e-6
 REFERENCE_FF_BOUND = 2.0
 """Feedforward bound on the reference arm [N m]: not a servo limit (about 2x its peak gravity torque),
