@@ -135,19 +135,28 @@ def _mlp(n_in: int, hidden: tuple[int, ...], mean: np.ndarray, std: np.ndarray):
     return Student()
 
 
-def fit(x: np.ndarray, y: np.ndarray, hidden: tuple[int, ...], epochs: int, seed: int, lr: float = 1e-3):
-    """A fresh student fitted to (x, y) by MSE; returns it and its final epoch's mean loss."""
+def fit(
+    x: np.ndarray,
+    y: np.ndarray,
+    hidden: tuple[int, ...],
+    epochs: int,
+    seed: int,
+    lr: float = 1e-3,
+    device: str = "cpu",
+):
+    """A fresh student fitted to (x, y) by MSE on ``device`` (``cpu``; ``cuda`` where a GPU is lent:
+    faster, not bit-reproducible); returns it, on the CPU, and its final epoch's mean loss."""
     import torch
 
     torch.manual_seed(seed)
     mean, std = x.mean(axis=0), x.std(axis=0) + 1e-3
-    net = _mlp(x.shape[1], hidden, mean, std)
+    net = _mlp(x.shape[1], hidden, mean, std).to(device)
     opt = torch.optim.Adam(net.parameters(), lr=lr)
-    xt, yt = torch.as_tensor(x), torch.as_tensor(y)
+    xt, yt = torch.as_tensor(x, device=device), torch.as_tensor(y, device=device)
     gen = torch.Generator().manual_seed(seed)
     batch, loss_sum = 512, 0.0
     for _ in range(epochs):
-        perm = torch.randperm(len(xt), generator=gen)
+        perm = torch.randperm(len(xt), generator=gen).to(device)
         loss_sum, count = 0.0, 0
         for i in range(0, len(xt), batch):
             idx = perm[i : i + batch]
@@ -157,7 +166,7 @@ def fit(x: np.ndarray, y: np.ndarray, hidden: tuple[int, ...], epochs: int, seed
             opt.step()
             loss_sum, count = loss_sum + loss.item() * len(idx), count + len(idx)
         loss_sum /= max(count, 1)
-    return net, loss_sum
+    return net.cpu(), loss_sum
 
 
 def _weights(net) -> list:
@@ -183,10 +192,19 @@ def main(argv: list[str] | None = None) -> None:
     p.add_argument("--epochs", type=int, default=30)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--eval-seeds", type=int, nargs="*", default=[200, 201])
+    p.add_argument("--fit-threads", type=int, default=1, help="torch threads of the fit (collection idles)")
+    p.add_argument("--device", default="cpu", help="where the fit runs: cpu, or cuda where a GPU is lent")
+    p.add_argument(
+        "--deadline-s",
+        type=float,
+        default=0.0,
+        help="start no iteration that would end past this [s] (0: none)",
+    )
     a = p.parse_args(argv)
     import torch
 
-    torch.set_num_threads(1)
+    torch.set_num_threads(a.fit_threads)
+    start, last = time.time(), 0.0
     a.out.mkdir(parents=True, exist_ok=True)
     clip = str(a.clip.resolve())
     ctx = mp.get_context("spawn")
@@ -200,6 +218,11 @@ def main(argv: list[str] | None = None) -> None:
         log.writerow(["iteration", "samples", "mean_steps", "loss", "U", "T", "score", "seconds"])
         for it in range(a.iterations):
             t0 = time.time()
+            if a.deadline_s and it > 0 and t0 - start + 1.2 * last > a.deadline_s:
+                print(
+                    f"iteration {it}: not started, the next would end past {a.deadline_s:.0f} s", flush=True
+                )
+                break
             beta = 1.0 if it == 0 else a.beta**it
             jobs = [
                 Episode(
@@ -217,7 +240,7 @@ def main(argv: list[str] | None = None) -> None:
             xs += [r[0] for r in results if len(r[0])]
             ys += [r[1] for r in results if len(r[1])]
             x, y = np.concatenate(xs), np.concatenate(ys)
-            net, loss = fit(x, y, tuple(a.hidden), a.epochs, a.seed * 1000 + it)
+            net, loss = fit(x, y, tuple(a.hidden), a.epochs, a.seed * 1000 + it, device=a.device)
             weights = _weights(net)
             evals = (
                 run(_evaluate, [(clip, weights, s, a.history) for s in a.eval_seeds]) if a.eval_seeds else []
@@ -247,11 +270,14 @@ def main(argv: list[str] | None = None) -> None:
                 f"iteration {it}: {len(x)} samples, episode {steps:.0f} steps, loss {loss:.4f}, U {u:.3f} T {t:.3f} score {score:.3f}",
                 flush=True,
             )
+            export_policy(
+                net, a.out / "policy", default_meta(a.history)
+            )  # the latest student, every iteration
+            last = time.time() - t0
     if pool is not None:
         pool.close()
         pool.join()
     torch.save(net.state_dict(), a.out / "student.pt")
-    export_policy(net, a.out / "policy", default_meta(a.history))
 
 
 def _init_worker() -> None:
