@@ -84,6 +84,24 @@ SPRING_OPTIONS = tuple(
 balance does not depend on them, ``design.exact_design``) and the anchor post's route: None, a
 straight post from the nearest material of link 1; a drop d [m], an L-post that leaves link 1's tube
 at d below joint 2 and rises parallel to link 1, beside the shoulder servo rather than through it."""
+SPRING_DESCENT = tuple(
+    (s * za, s * zb, drop, side)
+    for side in (1, -1)
+    for s in (1, -1)
+    for za, zb in ((0.03, 0.03), (0.045, 0.025), (0.055, 0.03), (0.07, 0.035), (0.09, 0.035), (0.09, 0.05))
+    for drop in ((None, 0.0, 0.03) if side > 0 else (None,))
+)
+"""Further spring mounts the coordinate descent (``clear_fastened``'s ``descent``) tries: a fourth
+number -1 puts the anchor below joint 2 and the attachment opposite link 2's centre of mass
+(``design.exact_design``'s ``spring_side``: the same balance), on a straight post from link 1's side,
+out of the folded forearm's sweep; and anchors farther out along joint 2's axis (90 mm)."""
+DESCENT_INSIDE = 100.0
+"""What the coordinate descent counts per unit fraction of poses with a part inside the next link,
+on top of those poses' collisions [1]: 0.1 for one pose in 1024, what 5 % of the poses colliding
+cost; the reference must have no part inside another at any pose (issue 45)."""
+DESCENT_SHORTLIST = 12
+"""Candidates per coordinate (best on a quarter of the coarse poses first) the descent scores on the
+fine grid."""
 SEARCH_ABOVE = 0.02
 """The joint search (``clear_fastened``) replaces the greedy's later passes on an arm whose first pass
 leaves added parts colliding at more than this fraction of the fine public poses, or a part inside
@@ -288,9 +306,12 @@ def fasten(
     return Fastened(tuple(cws), spring, tuple(posts), elbow)
 
 
-def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple[Fastened, float]:
+def optimise(
+    robot: str, design: Fastened, grid: np.ndarray, tmp: Path, box: float = BOX
+) -> tuple[Fastened, float]:
     """Re-balance ``design`` with its rods and posts counted: counterweight masses and centres (within
-    ``BOX``) and the spring stiffness, minimising the worst holding residual on ``grid``.
+    ``box`` across the joint axis, ``BOX`` by default) and the spring stiffness, minimising the worst
+    holding residual on ``grid``.
 
     Returns:
         The balanced design and its worst residual on the grid [N m].
@@ -323,9 +344,11 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
     for i, (link, centre, mass, start) in enumerate(design.counterweights):
         jid, c = to_joint(link, centre)
         _, s = to_joint(link, start)
-        box = np.array([BOX, BOX, 0.0])  # axial height kept: it is what clears the neighbouring links
+        half = np.array([box, box, 0.0])  # axial height kept: it is what clears the neighbouring links
         cw_slots.append(
-            CounterweightSlot(f"cw{i}", jid, tuple(c - box), tuple(c + box), 3.0 * mass + 0.05, tuple(s), lam)
+            CounterweightSlot(
+                f"cw{i}", jid, tuple(c - half), tuple(c + half), 3.0 * mass + 0.05, tuple(s), lam
+            )
         )
     sp_slots = []
     if design.spring is not None:
@@ -333,9 +356,9 @@ def optimise(robot: str, design: Fastened, grid: np.ndarray, tmp: Path) -> tuple
         j1, a = to_joint(l1, p1)
         j2, b = to_joint(l2, p2)
         rate = catalog_spring(m, grid, k).rate
-        box = np.full(3, ATTACH_BOX)
+        near = np.full(3, ATTACH_BOX)
         sp_slots.append(
-            SpringSlot("spring", j1, tuple(a), tuple(a), j2, tuple(b - box), tuple(b + box), rate, rate)
+            SpringSlot("spring", j1, tuple(a), tuple(a), j2, tuple(b - near), tuple(b + near), rate, rate)
         )
     res = optimise_balance(
         km, grid, counterweights=tuple(cw_slots), springs=tuple(sp_slots), mass_weight=1e-3
@@ -542,6 +565,8 @@ def clear_fastened(
     verbose: bool = False,
     search: bool = True,
     start: tuple[dict, dict] | None = None,
+    descent: int = 0,
+    box: float = BOX,
 ) -> Fastened:
     """The fastened, re-balanced reference of ``robot``, with placements chosen for clearance.
 
@@ -573,7 +598,14 @@ def clear_fastened(
        the first pass's design; otherwise they run as before. (The greedy alone cannot get there:
        beyond the 5 % fail value each joint's collisions are hidden by the others', so ur5e's
        weights moved out to r = 0.15 m, 12.8 % of the hidden poses.)
-    3. The chosen design is re-balanced by ``optimise``.
+    2c. Coordinate descent (``descent`` rounds, xarm7 only: ``build.BUILD_OPTIONS``): each joint's
+       placement and mount, then the spring mount (``SPRING_OPTIONS`` and ``SPRING_DESCENT``), re-chosen
+       with the others fixed on the whole design, by ``_search_loss`` plus ``DESCENT_INSIDE`` per
+       fraction of poses with a part inside the next link; candidates are ranked on a quarter of the
+       coarse poses plus every fine pose the design then fails (a per-pose penalty), the best
+       ``DESCENT_SHORTLIST`` scored on the fine grid; no candidate may leave more gravity moment
+       to the servos.
+    3. The chosen design is re-balanced by ``optimise`` (centres within ``box`` of the placement).
     """
     import tempfile
 
@@ -596,10 +628,10 @@ def clear_fastened(
     spring_order = list(SPRING_OPTIONS)
 
     def fastened(pl, mounts, sp=None) -> Fastened:
-        za, zb, drop = sp or spring
+        za, zb, drop, *side = sp or spring  # (a fourth number: ``exact_design``'s spring side)
         servo = frozenset(link for link, (on_servo, _) in mounts.items() if on_servo)
         bracket = {link: post for link, (_, post) in mounts.items() if post is not None}
-        return fasten(robot, exact_design(robot, pl, (za, zb)), servo, bracket, drop)
+        return fasten(robot, exact_design(robot, pl, (za, zb), *side), servo, bracket, drop)
 
     def link_of(lm, b: int) -> str:
         while (name := mujoco.mj_id2name(lm, mujoco.mjtObj.mjOBJ_BODY, b)) not in stock:
@@ -763,6 +795,69 @@ def clear_fastened(
                 )
         return found
 
+    def coordinate_descent(rounds: int) -> None:
+        # each joint's placement and mount, then the spring mount, re-chosen with the others fixed
+        # on the whole design (every part counted, clearance at its full slope, ``DESCENT_INSIDE``
+        # per pose with a part inside the next link), the balance kept; rounds until nothing moves
+        nonlocal placement, mount, spring
+
+        def key(pl, mo, sp, poses) -> tuple:
+            loss, mass, frac, inside = cost(pl, mo, poses, detail=True, mount_of_spring=sp)
+            return (loss + DESCENT_INSIDE * inside / len(poses), mass), frac, inside
+
+        def failing(pl, mo, sp) -> np.ndarray:
+            # the fine poses the design fails (what the verifier counts, pose by pose)
+            with tempfile.TemporaryDirectory() as tmp:
+                path = write_leader(robot, fastened(pl, mo, sp), Path(tmp) / robot)
+                leader = load_design(path.parent, entry="lead.xml")
+                lm = leader.compile()
+                names = [mujoco.mj_id2name(lm, mujoco.mjtObj.mjOBJ_BODY, b) for b in range(1, lm.nbody)]
+                counted, hit = part_collisions(leader, stock, [b for b in names if b not in stock], fine)
+                return np.flatnonzero(counted & hit)
+
+        here, frac, inside = key(placement, mount, spring, fine)
+        options = [(opt, kind) for opt in PLACEMENTS if opt is not None for kind in kinds]
+        options.append((None, (False, None)))
+        springs = list(dict.fromkeys((*SPRING_OPTIONS, *SPRING_DESCENT)))
+        if verbose:
+            print(f"  {robot} descent from {here} ({frac:.4f} of the fine grid, {inside} inside)", flush=True)
+        for _ in range(rounds):
+            moved = False
+            for k in [*range(m.nv, 2, -1), 0]:
+                if k == 0:
+                    cands = [(placement, mount, sp) for sp in springs]
+                elif any(
+                    c[0] == f"link{k}"
+                    for c in exact_design(robot, {**placement, k: PLACEMENTS[0]}).counterweights
+                ):
+                    # the balance is kept: no candidate leaves more gravity moment to the servos
+                    held = sum(exact_design(robot, placement).unbalanced.values()) + 1e-9
+                    cands = [
+                        ({**placement, k: o}, {**mount, f"link{k}": kd}, spring)
+                        for o, kd in options
+                        if sum(exact_design(robot, {**placement, k: o}).unbalanced.values()) <= held
+                    ]
+                else:
+                    continue  # the subtree's centre of mass is on the axis: nothing to place
+                # ranked on a quarter of the coarse poses and every fine pose the design now fails
+                # (a per-pose penalty: a candidate is ranked by which of those it clears)
+                poses = np.concatenate([grid[::4], fine[failing(placement, mount, spring)]])
+                rough = sorted(range(len(cands)), key=lambda i: key(*cands[i], poses)[0])
+                for i in rough[:DESCENT_SHORTLIST]:
+                    new, f, ins = key(*cands[i], fine)
+                    if new < here:
+                        here, frac, inside = new, f, ins
+                        placement, mount, spring = dict(cands[i][0]), dict(cands[i][1]), cands[i][2]
+                        moved = True
+                if verbose:
+                    print(
+                        f"  {robot} descent {'spring' if k == 0 else f'joint {k}'}: {placement} {mount} "
+                        f"{spring} -> {here} ({frac:.4f} of the fine grid, {inside} inside)",
+                        flush=True,
+                    )
+            if not moved:
+                break
+
     if start is not None:  # a first pass's placements and mounts (diagnostics): go on from there
         placement, mount = dict(start[0]), dict(start[1])
 
@@ -805,8 +900,10 @@ def clear_fastened(
                 )
                 print(f"  {robot} joint {k}: {what} -> {cost(placement, mount, fine)}", flush=True)
     choose_spring()
+    if descent:
+        coordinate_descent(descent)
     with tempfile.TemporaryDirectory() as tmp:
-        design, worst = optimise(robot, fastened(placement, mount), grid, Path(tmp))
+        design, worst = optimise(robot, fastened(placement, mount), grid, Path(tmp), box)
         if verbose:  # what the verifier will count on the public fine grid, after the re-balance
             path = write_leader(robot, design, Path(tmp) / robot)
             leader = load_design(path.parent, entry="lead.xml")

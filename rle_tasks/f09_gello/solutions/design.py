@@ -74,6 +74,7 @@ def exact_design(
     robot: str,
     placement: dict[int, tuple | None] | None = None,
     spring_axial: tuple[float, float] = (SPRING_OFFSET, SPRING_OFFSET),
+    spring_side: int = 1,
 ) -> Design:
     """Exact static balance: counterweights tip-first on joints 3..n, zero-length spring on joint 2.
 
@@ -101,6 +102,10 @@ def exact_design(
             zero-length spring's torque about the axis does not depend on them (its energy
             k |a - R b|^2 / 2 changes by a constant), so they only move the posts clear of the links
             and of each other.
+        spring_side: +1, the anchor above joint 2 and the attachment along the centre-of-mass
+            direction; -1, the anchor below joint 2 and the attachment opposite it (the same
+            k a . R b, so the same balance), which keeps the anchor's post out of the folded
+            forearm's sweep.
     """
     placement = placement or {}
     m = mujoco.MjModel.from_xml_path(str(ASSET_DIR / robot / "lead.xml"))
@@ -140,8 +145,10 @@ def exact_design(
             axis1 = _rot(m.body_quat[b2])[:, 2]
             up = np.array([0.0, 0.0, 1.0]) - axis1 * axis1[2]
             up /= np.linalg.norm(up)
-            anchor = m.body_pos[b2] + SPRING_ARM * up + spring_axial[0] * axis1
-            attach = SPRING_ARM * np.array([d[0], d[1], 0.0]) / off + np.array([0.0, 0.0, spring_axial[1]])
+            anchor = m.body_pos[b2] + spring_side * SPRING_ARM * up + spring_axial[0] * axis1
+            attach = spring_side * SPRING_ARM * np.array([d[0], d[1], 0.0]) / off + np.array(
+                [0.0, 0.0, spring_axial[1]]
+            )
             stiffness = mass * g * off / (SPRING_ARM * SPRING_ARM)
             spring = (
                 "link1",
