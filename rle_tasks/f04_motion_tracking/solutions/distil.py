@@ -204,7 +204,7 @@ def main(argv: list[str] | None = None) -> None:
     import torch
 
     torch.set_num_threads(a.fit_threads)
-    start, last = time.time(), 0.0
+    start, last, best = time.time(), 0.0, (-1.0, -1.0)
     a.out.mkdir(parents=True, exist_ok=True)
     clip = str(a.clip.resolve())
     ctx = mp.get_context("spawn")
