@@ -12,8 +12,10 @@ Torch runs on the CPU with one thread per process.
 
     python -m rle_tasks.f04_motion_tracking.solutions.distil CLIP.npz OUT --workers 16 --iterations 10
 
-writes ``OUT/policy`` (``policy.onnx`` + ``policy_meta.json``, via ``public.export``), ``OUT/student.pt``
-and ``OUT/log.csv`` (per iteration: samples, loss, the student's design-seed U, T and score).
+writes ``OUT/policy`` (``policy.onnx`` + ``policy_meta.json``, via ``public.export``) and ``OUT/student.pt``
+of the best student so far on the design seeds ``--eval-seeds`` (by score, then survival; the latest
+without them), and ``OUT/log.csv`` (per iteration: samples, loss, the student's design-seed U, T and
+score).
 """
 
 from __future__ import annotations
@@ -270,14 +272,14 @@ def main(argv: list[str] | None = None) -> None:
                 f"iteration {it}: {len(x)} samples, episode {steps:.0f} steps, loss {loss:.4f}, U {u:.3f} T {t:.3f} score {score:.3f}",
                 flush=True,
             )
-            export_policy(
-                net, a.out / "policy", default_meta(a.history)
-            )  # the latest student, every iteration
+            if not a.eval_seeds or (score, u) >= best:  # the best student on the design seeds so far
+                best = (score, u)
+                export_policy(net, a.out / "policy", default_meta(a.history))
+                torch.save(net.state_dict(), a.out / "student.pt")
             last = time.time() - t0
     if pool is not None:
         pool.close()
         pool.join()
-    torch.save(net.state_dict(), a.out / "student.pt")
 
 
 def _init_worker() -> None:
