@@ -62,6 +62,9 @@ class StepParams:
     """COM weight factor during the step."""
     cooldown: int = 5
     """Policy steps after a touchdown before another capture step [1]."""
+    adjust: float = 0.0
+    """Largest displacement of the clip's own swing foothold by the capture-point error [m] (0: off;
+    0.2 on the dance's seeds 200-207: mean score 0.422 against 0.483 without)."""
     max_lean: float = 0.3
     """No step when the COM is further than this from the stance sole's centre (xy) [m]."""
 
@@ -127,6 +130,7 @@ class Expert:
         self.step: dict | None = None
         self.steps_taken: list[int] = []
         self.cooldown = 0
+        self.adjusted = False
         self.prev_target: np.ndarray | None = None
         self.solve_s: list[float] = []
         self.last = None
@@ -137,6 +141,7 @@ class Expert:
         self.prev_target, self.last = None, None
         self.solve_s = []
         self.offset, self.step, self.steps_taken, self.cooldown = np.zeros(3), None, [], 0
+        self.adjusted = False
 
     def _balance_scales(self, qpos: np.ndarray, qvel: np.ndarray, frame: int) -> dict[str, float] | None:
         """Balance emphasis from the divergent component of motion (capture point) error: with
@@ -203,14 +208,20 @@ class Expert:
             self.offset = np.zeros(3)
             self.offset[:2] = (np.mean([d.xpos[b] for b in feet], axis=0) - ref_mean)[:2]
             self.cooldown = f + sp.cooldown
-        if not (stance[0] and stance[1]) or f < self.cooldown:
-            return stance, None, scales
         jc = np.zeros((3, m.nv))
         mujoco.mj_jacSubtreeCom(m, d, jc, 1)
         c = d.subtree_com[1].copy()
         omega = math.sqrt(9.81 / max(c[2], 0.3))
         xi = (c + jc @ qvel / omega)[:2]
         xi_ref = (r.com[f] + self.offset + r.com_vel[f] / omega)[:2]
+        if stance[0] != stance[1]:
+            return self._adjust_swing(f, stance, scales, xi - xi_ref, omega)
+        if self.adjusted and stance[0] and stance[1]:  # a clip step with a moved foothold landed
+            self.adjusted = False
+            ref_mean = np.mean([r.body_pos[b][f] for b in G1.feet], axis=0)
+            self.offset[:2] = (np.mean([d.xpos[b] for b in feet], axis=0) - ref_mean)[:2]
+        if not (stance[0] and stance[1]) or f < self.cooldown:
+            return stance, None, scales
         centres, verts = [], []
         for i, b in enumerate(feet):
             rot = d.xmat[b].reshape(3, 3)
@@ -249,6 +260,48 @@ class Expert:
         }
         self.steps_taken.append(f)
         return self._capture_step(qpos, qvel, f, stance, scales)
+
+    def _adjust_swing(self, f, stance, scales, e, omega):
+        """The clip's own swing foot lands displaced by the capture-point error extrapolated to its
+        touchdown, ``e exp(omega (t_td - t))`` (at most ``sp.adjust`` [m], no nearer the stance foot's
+        centre line than ``sp.width[0]``), blended in along the swing by a minimum-jerk profile."""
+        sp, r, d = self.stepping, self.qp.ref, self.qp.data
+        if sp.adjust <= 0 or np.linalg.norm(e) < sp.error:
+            return stance, None, scales
+        foot = 0 if not stance[0] else 1
+        col = self.schedule[:, foot]
+        lo = f
+        while lo > 0 and not col[lo - 1]:
+            lo -= 1
+        td = f
+        while td < len(col) - 1 and not col[td]:
+            td += 1
+        if td - lo < 3:
+            return stance, None, scales
+        shift = e * math.exp(omega * (td - f) * POLICY_DT)
+        n = np.linalg.norm(shift)
+        if n > sp.adjust:
+            shift *= sp.adjust / n
+        name = G1.feet[foot]
+        other = self.model.body(G1.feet[1 - foot]).id
+        land = r.body_pos[name][td][:2] + self.offset[:2] + shift
+        lateral = d.xmat[other].reshape(3, 3)[:2, 1]
+        lateral /= np.linalg.norm(lateral)
+        side = 1.0 if foot == 0 else -1.0
+        gap = side * ((land - d.xpos[other][:2]) @ lateral)
+        if gap < sp.width[0]:
+            shift += side * (sp.width[0] - gap) * lateral
+        T = (td - lo) * POLICY_DT
+        u = (f - lo) / (td - lo)
+        sm = 10 * u**3 - 15 * u**4 + 6 * u**5
+        ds = (30 * u**2 - 60 * u**3 + 30 * u**4) / T
+        dds = (60 * u - 180 * u**2 + 120 * u**3) / T**2
+        delta = np.array([*shift, 0.0])
+        pos = r.body_pos[name][f] + self.offset + delta * sm
+        vel = r.body_vel[name][f] + np.concatenate([delta * ds, np.zeros(3)])
+        acc = r.body_acc[name][f] + np.concatenate([delta * dds, np.zeros(3)])
+        self.adjusted = True
+        return stance, {name: (pos, r.body_quat[name][f], vel, acc)}, scales
 
     def targets(self, qpos: np.ndarray, qvel: np.ndarray, frame: int) -> np.ndarray:
         """Servo targets (29) for the true state at reference ``frame``."""
