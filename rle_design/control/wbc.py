@@ -46,6 +46,16 @@ __all__ = [
 ]
 
 GRAVITY = 9.81
+OSQP_SETTINGS = {
+    "verbose": False,
+    "eps_abs": 1e-5,
+    "eps_rel": 1e-5,
+    "max_iter": 4000,
+    "polishing": False,
+    "warm_starting": True,
+    "adaptive_rho": True,
+    "check_termination": 10,
+}
 
 
 @dataclass(frozen=True)
@@ -57,6 +67,8 @@ class FrameTask:
     ori: float = 0.0
     kp: float = 100.0
     kd: float = 20.0
+    lead: int = 0
+    """Track the reference this many frames ahead (a lag the plant cannot avoid: latency, saturation)."""
 
 
 @dataclass(frozen=True)
@@ -75,6 +87,9 @@ class WbcGains:
     posture: float = 0.5
     posture_kp: float = 100.0
     posture_kd: float = 20.0
+    posture_lead: int = 0
+    """Frames ahead the posture reference of ``lead_joints`` (indices into ``joints``) is taken."""
+    lead_joints: tuple[int, ...] = ()
     reg_qdd: float = 1e-4
     reg_lam: float = 1e-4
     reg_tau: float = 1e-3
@@ -197,7 +212,9 @@ class WholeBodyQP:
         *,
         mu: float = 0.6,
         gains: WbcGains | None = None,
+        settings: dict | None = None,
     ) -> None:
+        self.settings = {**OSQP_SETTINGS, **(settings or {})}
         self.model, self.data = model, mujoco.MjData(model)
         self.g = gains or WbcGains()
         self.ref = reference
@@ -242,10 +259,8 @@ class WholeBodyQP:
         self.l, self.u = self._l0.copy(), self._u0.copy()
         self.solver = osqp.OSQP()
         self.solver.setup(
-            self._p0.copy(), np.zeros(self.n), self._a0.copy(), self.l.copy(), self.u.copy(),
-            verbose=False, eps_abs=1e-5, eps_rel=1e-5, max_iter=4000, polishing=False,
-            warm_starting=True, adaptive_rho=True, check_termination=10,
-        )  # fmt: skip
+            self._p0.copy(), np.zeros(self.n), self._a0.copy(), self.l.copy(), self.u.copy(), **self.settings
+        )
         self.prev: np.ndarray | None = None
 
     @staticmethod
@@ -302,10 +317,11 @@ class WholeBodyQP:
         for t in g.frames:
             b = self.frame_ids[t.body]
             j, jd = _body_jac(m, d, b)
+            ft = min(f + t.lead, r.frames - 1)
             e = np.concatenate(
-                [r.body_pos[t.body][f] + off - d.xpos[b], _ori_error(r.body_quat[t.body][f], d.xquat[b])]
+                [r.body_pos[t.body][ft] + off - d.xpos[b], _ori_error(r.body_quat[t.body][ft], d.xquat[b])]
             )
-            a = r.body_acc[t.body][f] + t.kp * e + t.kd * (r.body_vel[t.body][f] - j @ v) - jd @ v
+            a = r.body_acc[t.body][ft] + t.kp * e + t.kd * (r.body_vel[t.body][ft] - j @ v) - jd @ v
             add(j, a, sc["frames"] * np.array([t.pos] * 3 + [t.ori] * 3))
         # feet: stance damped to rest, swing tracks the reference
         cols = np.zeros((nv, nl))
@@ -341,6 +357,13 @@ class WholeBodyQP:
         qerr = np.zeros(nv)
         mujoco.mj_differentiatePos(m, qerr, 1.0, qpos, r.qpos[f])
         a = r.qacc[f] + g.posture_kp * qerr + g.posture_kd * (r.qvel[f] - v)
+        if g.posture_lead and len(g.lead_joints):
+            fl = min(f + g.posture_lead, r.frames - 1)
+            ql = np.zeros(nv)
+            mujoco.mj_differentiatePos(m, ql, 1.0, qpos, r.qpos[fl])
+            lead = r.qacc[fl] + g.posture_kp * ql + g.posture_kd * (r.qvel[fl] - v)
+            idx = self.dofs[list(g.lead_joints)]
+            a[idx] = lead[idx]
         H[self.dofs, self.dofs] += g.posture * sc["posture"]
         c[self.dofs] -= g.posture * sc["posture"] * a[self.dofs]
         H[np.arange(nv), np.arange(nv)] += g.reg_qdd

@@ -10,6 +10,7 @@ friction act on it as on a policy). ``python -m rle_tasks.f04_motion_tracking.so
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -28,7 +29,7 @@ from ..public.g1 import FOOT_FRICTION, g1_model
 from ..public.g1_constants import G1
 from ..public.perturb import NOMINAL, Perturbation, sample_perturbation
 
-__all__ = ["DEFAULT_GAINS", "Expert", "expert_rollout"]
+__all__ = ["DEFAULT_GAINS", "STEPPING", "Expert", "StepParams", "expert_rollout", "with_arm_lead"]
 
 HANDS = ("left_wrist_yaw_link", "right_wrist_yaw_link")
 DEFAULT_GAINS = WbcGains(
@@ -81,6 +82,15 @@ def _outside(points: np.ndarray, x: np.ndarray) -> float:
     return float(np.max(hull.equations[:, :2] @ x + hull.equations[:, 2]))
 
 
+def with_arm_lead(gains: WbcGains, lead: int) -> WbcGains:
+    """``gains`` with the arms' posture and the wrists' positions tracked ``lead`` frames ahead (the
+    fight's punches saturate the shoulders; with one or two steps of latency the wrist lags past the
+    termination bound)."""
+    arms = tuple(i for i, j in enumerate(G1.joints) if any(k in j for k in ("shoulder", "elbow", "wrist")))
+    frames = tuple(dataclasses.replace(t, lead=lead) if t.body in HANDS else t for t in gains.frames)
+    return dataclasses.replace(gains, frames=frames, posture_lead=lead, lead_joints=arms)
+
+
 class Expert:
     """The QP tracker of one clip on the nominal G1.
 
@@ -105,6 +115,7 @@ class Expert:
         sole_scale: float = 1.0,
         balance: tuple[float, float, float, float] | None = None,
         stepping: StepParams | None = STEPPING,
+        settings: dict | None = None,
     ) -> None:
         self.model = g1_model(floor=False)
         qpos = clip_qpos(clip).astype(np.float64)
@@ -117,7 +128,14 @@ class Expert:
             centre = poly.mean(axis=0)
             soles[f] = centre + sole_scale * (poly - centre)
         self.qp = WholeBodyQP(
-            self.model, G1.joints, np.asarray(G1.effort), soles, ref, mu=FOOT_FRICTION, gains=gains
+            self.model,
+            G1.joints,
+            np.asarray(G1.effort),
+            soles,
+            ref,
+            mu=FOOT_FRICTION,
+            gains=gains,
+            settings=settings,
         )
         self.schedule = np.asarray(clip.contacts if schedule is None else schedule, dtype=bool)
         self.kp, self.kd = np.asarray(G1.kp), np.asarray(G1.kd)
@@ -412,10 +430,14 @@ def main() -> None:
     p.add_argument("--seeds", type=int, nargs="+", default=[0])
     p.add_argument("--strength", type=float, default=0.0)
     p.add_argument("--every-substep", action="store_true", help="recompute every physics step (nominal only)")
+    p.add_argument("--arm-lead", type=int, default=0, help="frames the arms track ahead (fight: 2)")
     a = p.parse_args()
     clip = Clip.load(a.clip)
     for seed in a.seeds:
-        r = expert_rollout(clip, seed, a.strength, every_substep=a.every_substep)
+        expert = Expert(
+            clip, with_arm_lead(DEFAULT_GAINS, a.arm_lead), period=0.0 if a.every_substep else POLICY_DT
+        )
+        r = expert_rollout(clip, seed, a.strength, expert=expert, every_substep=a.every_substep)
         print(
             f"seed {seed} strength {a.strength}: U {r['U']:.3f} T {r['T']:.3f} MPJPE {r['mpjpe_mm']:.0f} mm "
             f"J {r['J']:.4f} fell {r['fell']} ({r['reason']}) {r['ms_per_step']:.1f} ms/step",
