@@ -1,11 +1,12 @@
 """Shipped solutions of the family-04 tasks, materialised by ``rle_tasks.core.solutions`` (one
 ``SolutionSet`` per registered task).
 
-- ``reference``: the model-based tracking prior of the task's clip (``prior.py``: inverse-dynamics
-  feedforward fitted by a small MLP, feedback gains tuned by the cross-entropy method on design seeds),
-  exported to ONNX; its build command and curve are in the README. Committed as
-  ``solutions/reference/<style>/policy.onnx`` beside one shared ``solutions/reference/policy_meta.json``
-  (history 1, the G1's action scale and default pose).
+- ``reference``: for ``04-dance``, the whole-body QP expert (``expert.py``) distilled by DAgger into an
+  MLP of four observation frames (``distil.py``) with an output low-pass (``smooth.py``), its own
+  ``policy_meta.json`` beside it (history 4); for the other clips, the model-based tracking prior of
+  the clip (``prior.py``: inverse-dynamics feedforward fitted by a small MLP, feedback gains tuned by
+  the cross-entropy method on design seeds), beside one shared ``solutions/reference/policy_meta.json``
+  (history 1, the G1's action scale and default pose). Build commands and curves are in the README.
 - ``baseline/open_loop``: replays the reference joint angles of the observation as PD targets.
 - ``baseline/zero_action``: PD targets at the default pose.
 - ``baseline/nan_output``: every output NaN: smoke failure, cap 0.1.
@@ -59,15 +60,15 @@ BASELINES = (
 clip (they fall within about a second)."""
 
 
-def _task(style: str, sha256: str, quick_score: float) -> SolutionSet:
+def _task(style: str, sha256: str, quick_score: float, own_meta: bool = False) -> SolutionSet:
+    """The task's solutions; the reference's ``policy_meta.json`` is the shared one unless ``own_meta``
+    (its folder holds one)."""
+    meta = () if own_meta else (("policy_meta.json", "solutions/reference/policy_meta.json"),)
     reference = Solution(
         "reference",
         sha256=sha256,
         quick_score=quick_score,
-        files=(
-            (".", f"solutions/reference/{style}"),
-            ("policy_meta.json", "solutions/reference/policy_meta.json"),
-        ),
+        files=((".", f"solutions/reference/{style}"), *meta),
     )
     return SolutionSet(package=PACKAGE, solutions=(reference, *BASELINES))
 
@@ -85,8 +86,9 @@ SOLUTIONS = {
     ),
     "04-dance": _task(
         "dance",
-        sha256="00fc934540590b00507b06c834e9540e87f6cd73aa45a3a650684b5f2d6fd416",
-        quick_score=0.00930766004043651,
+        sha256="3d7d27a7c02a906178a61c694b27b150fc4f994ea9afd2bdbe60839265fc3bf4",
+        quick_score=0.0289311438964,
+        own_meta=True,
     ),
 }
 """Task id -> its solutions (the registered tasks)."""
