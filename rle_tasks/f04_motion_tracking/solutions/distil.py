@@ -32,7 +32,7 @@ import numpy as np
 
 from ..public.clip import Clip
 from ..public.env import TrackingEnv
-from ..public.evaluate import EVAL_TIMESTEP, rollout, seed_score
+from ..public.evaluate import EVAL_TIMESTEP, MAX_ACTION, rollout, seed_score
 from ..public.export import default_meta, export_policy
 from ..public.g1 import g1_model
 from ..public.perturb import NOMINAL, sample_perturbation
@@ -99,6 +99,8 @@ def collect(job: Episode) -> tuple[np.ndarray, np.ndarray, int]:
     for k in range(min(job.steps, clip.frames - 1 - start)):
         x = np.concatenate(list(hist)).astype(np.float32)
         label = expert.action(env)
+        if not np.all(np.isfinite(label)) or np.abs(label).max() > MAX_ACTION:
+            break  # the expert lost the robot (its QP far from the reference): no label, episode over
         xs.append(x)
         ys.append(label.astype(np.float32))
         a = label if student is None or rng.random() < job.beta else student(x)
