@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from rle_design.sandbox import SandboxLimits
-from rle_tasks.core.runtime.policy import Budget, FunctionSpec, Protocol
+from rle_tasks.core.runtime.protocol import Budget, FunctionSpec, Protocol
 
 ESTIMATOR = Protocol(
     "estimator",

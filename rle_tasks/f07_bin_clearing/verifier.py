@@ -22,7 +22,8 @@ import numpy as np
 from rle_design.rollout.env import ActionError
 from rle_design.sandbox import ParticipantFault, SandboxLimits, excerpt
 from rle_tasks.core.report import Findings, VerifierReport
-from rle_tasks.core.runtime.policy import HANG_CODES, Budget, FunctionSpec, PolicyRunner, Protocol
+from rle_tasks.core.runtime.policy import HANG_CODES, PolicyRunner
+from rle_tasks.core.runtime.protocol import Budget, FunctionSpec, Protocol
 from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_rng, seed_digest
 from rle_tasks.core.scoring import Outcome

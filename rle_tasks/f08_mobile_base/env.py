@@ -18,7 +18,7 @@ from rle_design.catalog import load_catalog
 from rle_design.rollout import ContactBetween, HoldAtTarget, SimulationWarnings, TiltLimit, run_episode
 from rle_design.sandbox import ParticipantFault
 from rle_design.stability import SupportLoad, SupportLost
-from rle_tasks.core.runtime.policy import Budget, FunctionSpec, Protocol
+from rle_tasks.core.runtime.protocol import Budget, FunctionSpec, Protocol
 from rle_tasks.f08_mobile_base.batteries import LOSS_DURATION_S, LOSS_FRACTION, TILT_MAX_DEG
 from rle_tasks.f08_mobile_base.public.scene import Scene
 

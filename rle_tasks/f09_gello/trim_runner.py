@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from rle_design.sandbox import ParticipantFault, SandboxLimits
-from rle_tasks.core.runtime.policy import Budget, FunctionSpec, PolicyRunner, Protocol
+from rle_tasks.core.runtime.policy import PolicyRunner
+from rle_tasks.core.runtime.protocol import Budget, FunctionSpec, Protocol
 
 N_PLANNED = 15
 PLAN_TIMEOUT_S = 5.0

@@ -10,14 +10,8 @@ import pytest
 
 from rle_design.errors import MissingElement, RleError
 from rle_design.sandbox import ParticipantFault
-from rle_tasks.core.runtime.policy import (
-    Budget,
-    FunctionSpec,
-    PolicyFault,
-    PolicyRunner,
-    Protocol,
-    distinct,
-)
+from rle_tasks.core.runtime.policy import PolicyFault, PolicyRunner, distinct
+from rle_tasks.core.runtime.protocol import Budget, FunctionSpec, Protocol
 
 PROTOCOL = Protocol(
     module="policy",

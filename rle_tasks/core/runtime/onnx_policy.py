@@ -24,7 +24,8 @@ import numpy as np
 
 from rle_design.errors import RleError
 from rle_design.excerpt import excerpt
-from rle_tasks.core.runtime.policy import Dim, PolicyFault
+from rle_tasks.core.runtime.policy import PolicyFault
+from rle_tasks.core.runtime.protocol import Dim
 
 INSTALL_HINT = "pip install 'rle-bench[learn]'"
 _DTYPES = {"tensor(float)": np.float32, "tensor(double)": np.float64}
