@@ -46,6 +46,8 @@ __all__ = [
 ]
 
 GRAVITY = 9.81
+MAX_QACC = 1e3
+"""A solution with a larger generalised acceleration [m/s^2, rad/s^2] is rejected (previous kept)."""
 OSQP_SETTINGS = {
     "verbose": False,
     "eps_abs": 1e-5,
@@ -388,7 +390,13 @@ class WholeBodyQP:
         res = self.solver.solve(raise_error=False)
         status = str(res.info.status)
         x = res.x
-        if x is None or not np.all(np.isfinite(x)):
+        # an unconverged or infeasible iterate can be finite but huge: keep the previous solution then
+        if (
+            x is None
+            or not np.all(np.isfinite(x))
+            or np.abs(x[nv + nl :]).max() > 1.05 * g.torque_fraction
+            or np.abs(x[:nv]).max() > MAX_QACC
+        ):
             x = self.prev if self.prev is not None else np.zeros(self.n)
             status += " (previous kept)"
         self.prev = x
