@@ -32,19 +32,10 @@ from rle_tasks.core.task import ArtifactContract, Budget, ImageData, TaskSpec, V
 
 from .constants import AGENT_STEPS, AGENT_WALL_S, TRIALS
 from .groups import GROUPS, Group
+from .harness import FRESH_INSTRUCTION, HARNESS_DIR, HarnessError, copy_harness
 from .scoring import fresh_rubric as rubric
 from .scoring import rubric as group_rubric
-from .transfer import (
-    _INSTRUCTION,
-    HARNESS_DIR,
-    HarnessError,
-    TransferUnit,
-    _env,
-    _stages,
-    copy_harness,
-    stage_score,
-    targets,
-)
+from .transfer import TransferUnit, _env, _stages, stage_score, targets
 
 FRESH_ID = re.compile(r"^(02-group-\d\d)-fresh-(\d)$")
 HARNESS_ENV = "RLE_F02_HARNESS"
@@ -119,7 +110,7 @@ def make_dev_env(workspace: Path, group: Group, trial: int, harness: Path | None
         raise RleError(str(exc), code="f02.harness_unusable") from None
     env = _env(_unit(group, trial, current_secret()), images=True)
     (workspace / "instruction.md").write_text(
-        _INSTRUCTION.read_text().format(
+        FRESH_INSTRUCTION.read_text().format(
             instruction=env.scene.episode.instruction, steps=AGENT_STEPS, minutes=AGENT_WALL_S / 60
         )
     )

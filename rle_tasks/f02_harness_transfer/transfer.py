@@ -44,23 +44,19 @@ from rle_tasks.envs.kitchen.scene import build_scene
 
 from .constants import TRIALS
 from .groups import Group
+from .harness import FRESH_INSTRUCTION, HARNESS_DIR, HarnessError, copy_harness
 
 __all__ = [
     "AGENT_ENV",
-    "HARNESS_DIR",
     "TransferResult",
     "TransferUnit",
-    "copy_harness",
     "run_unit",
     "stage_score",
     "targets",
 ]
 
-HARNESS_DIR = "agent_harness"
 AGENT_ENV = "RLE_F02_AGENT"
 """Environment variable naming the operator's fresh-agent command (unset: the scripted agent)."""
-MAX_FILES = 500
-MAX_BYTES = 32 << 20
 FRESH_AGENT = Path(__file__).resolve().parent / "public" / "fresh_agent.py"
 AGENT_STATUSES = ("ran", "no_manual", "no_entry_point", "missing_function")
 """How the scripted fresh agent may say it ended; any other reply is ``bad_reply``."""
@@ -75,46 +71,6 @@ def connect():
 
     return LedgerClient(ADDRESS)
 '''
-_INSTRUCTION = Path(__file__).parent / "assets" / "fresh_instruction.md"
-"""A fresh agent's ``instruction.md`` (``str.format`` fields: instruction, steps, minutes)."""
-
-
-class HarnessError(Exception):
-    """The submitted harness cannot be staged (missing, a link, too many files or bytes)."""
-
-
-def copy_harness(src: Path, dest: Path) -> int:
-    """Copy ``src`` (the submitted ``agent_harness/``) to ``dest``: regular files and directories only.
-
-    Returns:
-        Files copied.
-
-    Raises:
-        HarnessError: ``src`` is missing or a link, holds a link, or more than ``MAX_FILES`` files or
-            ``MAX_BYTES`` bytes.
-    """
-    if src.is_symlink() or not src.is_dir():
-        raise HarnessError(f"{HARNESS_DIR}/ is missing or not a directory")
-    n = size = 0
-    for path in sorted(src.rglob("*")):
-        rel = path.relative_to(src)
-        if path.is_symlink():
-            raise HarnessError(f"{HARNESS_DIR}/{rel} is a symbolic link")
-        if "__pycache__" in rel.parts:
-            continue
-        if path.is_dir():
-            (dest / rel).mkdir(parents=True, exist_ok=True)
-        elif path.is_file():
-            n += 1
-            size += path.stat().st_size
-            if n > MAX_FILES or size > MAX_BYTES:
-                raise HarnessError(
-                    f"{HARNESS_DIR}/ holds more than {MAX_FILES} files or {MAX_BYTES >> 20} MiB"
-                )
-            (dest / rel).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(path, dest / rel)
-    dest.mkdir(parents=True, exist_ok=True)
-    return n
 
 
 @dataclass(frozen=True)
@@ -347,7 +303,7 @@ def run_unit(unit: TransferUnit) -> TransferResult:
                 _CLIENT.format(address=str(server.socket_path), steps=unit.steps)
             )
             (stage / "instruction.md").write_text(
-                _INSTRUCTION.read_text().format(
+                FRESH_INSTRUCTION.read_text().format(
                     instruction=env.scene.episode.instruction, steps=unit.steps, minutes=unit.wall_time_s / 60
                 )
             )

@@ -25,8 +25,9 @@ from rle_tasks.core.task import VerifyContext
 
 from .constants import AGENT_STEPS, AGENT_WALL_S, TRIALS
 from .groups import Group, group_of
+from .harness import HARNESS_DIR
 from .scoring import rubric
-from .transfer import AGENT_ENV, HARNESS_DIR, TransferUnit, run_unit, targets
+from .transfer import AGENT_ENV, TransferUnit, run_unit, targets
 
 QUICK_TRIALS = 2
 """Fresh agents run in quick mode (tests, the demo's baselines); the report says ``partial``."""
