@@ -14,6 +14,10 @@ Interface (what tasks and agents use):
   it only calls ``step(action)``, so with a ``LedgerClient`` every motion is a metered action.
   ``ArmGroup(step, obs, n_arms)`` gives one helper per arm of the same session; an arm holding a
   part keeps its gripper command while another moves.
+- ``WholeBodyQP(model, joints, effort, contacts, reference)`` (``wbc``): whole-body QP of a floating-base
+  robot on position servos (MuJoCo dynamics, OSQP): ``solve(qpos, qvel, frame, stance)`` gives
+  accelerations, torques and contact forces in friction pyramids tracking a ``motion_reference``;
+  ``servo_targets`` turns the torques into PD targets.
 - ``replay(env, ledger_path)``: rebuilds the final state of a ledger's session by replaying its
   recorded resets and actions on the same environment definition (``replay.other_scene`` when the
   ledger's model digest differs, ``replay.diverged`` when the simulation time does not match).
@@ -29,6 +33,7 @@ from rle_design.control.helper import ArmGroup, CartesianHelper, MoveResult
 from rle_design.control.layout import ACTION_SIZE, POS_STEP, ROT_STEP, gripper_action, zero_action
 from rle_design.control.osc import OperationalSpaceController, OscGains, orientation_error
 from rle_design.control.replay import ReplayError, replay
+from rle_design.control.wbc import WholeBodyQP, motion_reference, servo_targets
 
 __all__ = [
     "ACTION_SIZE",
@@ -42,9 +47,12 @@ __all__ = [
     "OscGains",
     "ReplayError",
     "TabletopEnv",
+    "WholeBodyQP",
     "free_body_poses",
     "gripper_action",
+    "motion_reference",
     "orientation_error",
     "replay",
+    "servo_targets",
     "zero_action",
 ]
