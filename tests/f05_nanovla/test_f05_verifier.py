@@ -16,7 +16,7 @@ from rle_tasks.core.runtime.secrets import PUBLIC_KEY, Secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify
-from rle_tasks.f05_nanovla import verifier
+from rle_tasks.f05_nanovla import datasets, verifier
 from rle_tasks.f05_nanovla.scoring import EPISODE_SET, required_complete, rubric
 
 TASK = get_task("05-libero-open")
@@ -38,7 +38,7 @@ def demos(tmp_path, monkeypatch):
     text = json.dumps({"files": files, "views": False})
     (d / "manifest.json").write_text(text)
     (d / "manifest.sha256").write_text(hashlib.sha256(text.encode()).hexdigest() + "\n")
-    monkeypatch.setenv(verifier.DATASET_ENV, str(d))
+    monkeypatch.setenv(datasets.DATASET_ENV, str(d))
     return d
 
 
@@ -124,7 +124,7 @@ def test_an_oversized_recipe_is_refused_before_anything_runs():
 
 
 def test_a_missing_dataset_is_the_operators_fault(tmp_path, monkeypatch):
-    monkeypatch.setenv(verifier.DATASET_ENV, str(tmp_path / "nothing"))
+    monkeypatch.setenv(datasets.DATASET_ENV, str(tmp_path / "nothing"))
     with pytest.raises(VerifierSetupError, match="make libero-demos"):
         run_verify(TASK, materialise(TASK, "baseline/mean_action"), _ctx(quick=True))
 
@@ -177,13 +177,13 @@ def test_the_reference_recipe_trains_on_sparse_views_and_serves_in_the_sandbox(
     from rle_tasks.envs.libero.demos import build_demos
 
     d = tmp_path / "demos"
-    every = verifier.DATASET_VIEW_EVERY
+    every = datasets.DATASET_VIEW_EVERY
     build_demos(d, tasks=[5], per_task=1, views=True, view_every=every, progress=lambda _: None)
     ep = np.load(d / "task05_init00.npz")
     frames = ep["view_frames"]
     assert list(frames) == list(range(0, len(ep["actions"]) + 1, every))
     assert ep["agentview"].shape == (len(frames), 128, 128, 3) == ep["wrist"].shape
-    monkeypatch.setenv(verifier.DATASET_ENV, str(d))
+    monkeypatch.setenv(datasets.DATASET_ENV, str(d))
     sub = short_reference(TASK)
     report = verifier.verify(sub, _ctx(episodes=1), max_steps=8)
     nm = report.native_metrics
