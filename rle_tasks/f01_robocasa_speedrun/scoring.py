@@ -43,10 +43,6 @@ def rubric(task_id: str) -> Rubric:
     )
 
 
-RUBRIC = rubric("01-open-fridge-l1")
-"""The family's rubric as the family-shape test reads it (every task's has the same table)."""
-
-
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric, for every task of the family."""
     from .kitchens import KITCHEN_TASKS, LEVELS

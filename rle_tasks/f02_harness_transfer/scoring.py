@@ -55,10 +55,6 @@ def fresh_rubric(task_id: str) -> Rubric:
     )
 
 
-RUBRIC = rubric("02-group-01")
-"""The family's rubric as the family-shape test reads it (every group's has the same table)."""
-
-
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric, for every task of the family."""
     from .groups import GROUPS

@@ -64,10 +64,6 @@ def rubric(task_id: str, n_episodes: int) -> Rubric:
     )
 
 
-RUBRIC = rubric(TASK_ID, EPISODE_SET)
-"""The rubric of the full episode set (instruction and README)."""
-
-
 def rubrics() -> dict[str, Rubric]:
     """Task id -> rubric of its full episode set, for every task of the family."""
     return {tid: rubric(tid, n) for tid, n in EPISODE_SETS.items()}

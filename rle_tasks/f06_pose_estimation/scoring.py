@@ -137,8 +137,6 @@ def make_rubric(task_id: str) -> Rubric:
 
 RUBRICS = {tid: make_rubric(tid) for tid in TASK_IDS}
 """Rubric per task id."""
-RUBRIC = RUBRICS[TASK_IDS[0]]
-"""The rubric of ``06-pose-a-rgb``; the four tasks share its checkpoints and table."""
 
 
 def rubrics() -> dict[str, Rubric]:
