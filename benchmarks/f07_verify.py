@@ -1,7 +1,7 @@
 """Family 07: verification time of the eight hidden piles beside its physics floor.
 
 The verification is timed as the verifier runs it (load and smoke test, then every pile through the
-core runner). The floor is plain ``mujoco.mj_step`` of each pile's scene for the same simulated
+core fan-out). The floor is plain ``mujoco.mj_step`` of each pile's scene for the same simulated
 seconds (C loop, no Python per step) plus rendering the same frames (both cameras every 0.1 s); the
 piles' construction (dump and settle) is reported apart. The reference policy's own compute (CPU time
 of its sandboxed child) is excluded from the ratio. Targets: ratio <= 1.5 and the eight piles under
@@ -19,7 +19,7 @@ from pathlib import Path
 
 import mujoco
 
-from rle_tasks.core.runtime.runner import run_parallel
+from rle_tasks.core.runtime.parallel import run_parallel
 from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext

@@ -1,6 +1,6 @@
-"""``rle audit-verifiers``: the adversarial artifact corpus (``corpus.py``) and its runner (``runner.py``)."""
+"""``rle audit-verifiers``: the adversarial artifact corpus (``corpus.py``) and its check of one case (``check.py``)."""
 
-from rle_tasks.audit.runner import (
+from rle_tasks.audit.check import (
     AUDIT_SECRET,
     Case,
     CaseResult,

@@ -1,7 +1,7 @@
 """Transfer evaluation: one fresh agent, one unseen kitchen, the submitted harness and nothing else.
 
 A ``TransferUnit`` is one of the five independent evaluation units (``run_unit``, fanned out by the
-core runner):
+core fan-out):
 
 1. A metered session of the group's held-out task in a kitchen from the secret is served by a ledger
    server (5,000 steps, 1 h; its key derived from the secret for this trial), on a socket the agent

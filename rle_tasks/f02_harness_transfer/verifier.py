@@ -2,7 +2,7 @@
 
 1. ``agent_harness/MANUAL.md`` must exist (the contract); otherwise score 0 with ``f02.no_manual``.
 2. Five ``TransferUnit``s (one per fresh agent: an unseen kitchen and episode from the secret, its own
-   ledger key) run through the core runner (``ctx.jobs`` workers, local pool or Ray); quick mode runs
+   ledger key) run through the core fan-out (``run_units``) (``ctx.jobs`` workers, local pool or Ray); quick mode runs
    the first two and marks the report ``partial``; its score is then the mean over the agents it ran
    (an estimate of the full score, as family 05's partial episode sets are), never an official score.
 3. Score: the mean of the five s_trial (``transfer.stage_score``); a trial that could not be scored
@@ -19,7 +19,7 @@ from pathlib import Path
 
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runtime.devenv import ledger_key
-from rle_tasks.core.runtime.runner import run_units
+from rle_tasks.core.runtime.parallel import run_units
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
 

@@ -1,6 +1,6 @@
 """Hidden evaluation of one seed: ``public.evaluate.rollout`` with the submitted graph loaded by the core
 ONNX loader (one onnxruntime thread, declared signature, no agent code). The worker loads the graph
-itself and returns plain numbers, so seeds fan out through the core runner."""
+itself and returns plain numbers, so seeds fan out through the core fan-out (``run_units``)."""
 
 from __future__ import annotations
 

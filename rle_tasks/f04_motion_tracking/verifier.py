@@ -5,7 +5,7 @@
 2. Smoke: the graph gives bit-identical outputs for the same input twice (three fixed inputs) and
    finite outputs; in the episodes, no NaN output and no explosion in the first second. A failure caps
    the score at 0.1.
-3. Each hidden seed (derived from the secret) runs ``evaluation.run_seed`` through the core runner;
+3. Each hidden seed (derived from the secret) runs ``evaluation.run_seed`` through the core fan-out (``run_units``);
    per seed s = 0.7 T + 0.3 U - 0.15 min(J/J_max, 1) - 0.05 F; the reward is the mean.
 """
 
@@ -17,8 +17,8 @@ import numpy as np
 
 from rle_design.errors import RleError
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.parallel import run_units
 from rle_tasks.core.runtime.policy import PolicyFault
-from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_seed, seed_digest
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext

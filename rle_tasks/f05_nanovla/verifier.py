@@ -16,7 +16,7 @@ from the demonstrations' seeds); robust, 225 (3 x 75) scenes whose look is pertu
    500 episodes; robust, 500 episodes of LIBERO-PRO's perturbed LIBERO-10 suites (``PERTURBATIONS``)
    drawn from the secret, 12 or 13 per (perturbation, task). The recipe is trained on the same
    clean demonstrations for both; there is no standard-performance gate on the robust track. Episodes are
-   independent units for the core runner (``run_units``, ``--jobs``, Ray): each unit serves the
+   independent units for the core fan-out (``run_units``) (``run_units``, ``--jobs``, Ray): each unit serves the
    trained checkpoint in its own sandboxed process and runs up to ``UNIT_EPISODES`` episodes of one
    task. Units carry the recipe and its checkpoint as bytes, so Ray workers need no shared disk.
 4. The score: successes over the set; zero when step 1 or 2 fails (``replay_failed``) or fewer than
@@ -43,7 +43,7 @@ import numpy as np
 
 from rle_design.policy_socket import ProtocolError
 from rle_tasks.core.report import ErrorEntry, VerifierReport
-from rle_tasks.core.runtime.runner import run_units
+from rle_tasks.core.runtime.parallel import run_units
 from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext

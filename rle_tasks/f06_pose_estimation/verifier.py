@@ -1,4 +1,4 @@
-"""Verifier of the ``06-pose-*`` tasks: hidden frame groups and push trajectories, run through the core runner.
+"""Verifier of the ``06-pose-*`` tasks: hidden frame groups and push trajectories, run through the core fan-out (``run_units``).
 
 Evaluation units are the ten frame groups and the ten push trajectories (quick mode: three of each,
 trajectories of 20 frames; the report marks it ``partial``). Each unit, in a worker of
@@ -24,8 +24,8 @@ import numpy as np
 
 from rle_design.sandbox import ParticipantFault
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.parallel import run_units
 from rle_tasks.core.runtime.policy import PolicyRunner, distinct
-from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import Secret, derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext

@@ -5,7 +5,7 @@ imported in the sandbox and ``make_policy()`` called (a fault: cap ``unloadable`
 plays ``reset()`` and one ``act()`` on public pile 101 (a fault: cap ``smoke``, 0.1; a hang there
 ends the verification, since every pile would start with the same call). Then every
 hidden pile (drawn from the secret: ``PileSpec.draw(derive_rng(secret, task, "pile/<i>"))``) runs for
-120 s simulated in a fresh sandbox child with 360 s of policy CPU time, through the core runner
+120 s simulated in a fresh sandbox child with 360 s of policy CPU time, through the core fan-out (``run_units``)
 (``--jobs``). Quick mode (``--quick``, marked ``partial``) plays the first hidden pile for 30 s. A fault of the policy (exception, 30 s hang, CPU budget, bad action) ends that pile
 where it stands: what was cleared counts, the fault is reported.
 """
@@ -22,9 +22,9 @@ import numpy as np
 from rle_design.rollout.env import ActionError
 from rle_design.sandbox import ParticipantFault, SandboxLimits, excerpt
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.parallel import run_units
 from rle_tasks.core.runtime.policy import HANG_CODES, PolicyRunner
 from rle_tasks.core.runtime.protocol import Budget, FunctionSpec, Protocol
-from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_rng, seed_digest
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext

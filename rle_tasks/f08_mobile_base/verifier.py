@@ -20,8 +20,8 @@ from rle_design.mjcf import load_design, match_profiles
 from rle_design.sandbox import ParticipantFault, SandboxLimits, wake_poll_for
 from rle_design.scene import Variation, element_id
 from rle_tasks.core.report import Findings, VerifierReport
+from rle_tasks.core.runtime.parallel import run_units
 from rle_tasks.core.runtime.policy import PolicyRunner
-from rle_tasks.core.runtime.runner import run_units
 from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext

@@ -115,7 +115,7 @@ def test_a_fresh_agent_reply_is_reduced_to_known_statuses_and_an_excerpt(tmp_pat
 @pytest.mark.physics
 def test_a_policy_fault_on_a_hidden_pile_reaches_a_private_report_as_code_only(tmp_path):
     """07: a policy raises on the hidden pile with what it saw; audit secret (private), quick mode."""
-    from rle_tasks.audit.runner import EXFIL_MARK, run_case
+    from rle_tasks.audit.check import EXFIL_MARK, run_case
     from rle_tasks.f07_bin_clearing.audit import cases
 
     case = next(c for c in cases() if c.name == "code/07_exfiltrating_fault")

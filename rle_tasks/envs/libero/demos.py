@@ -79,11 +79,11 @@ def build_demos(
     """Build (or complete) the dataset in ``out``; returns the manifest. Episodes already present
     with their recorded checksum are kept, so an interrupted build resumes; ``views`` records both
     camera views of every step (a dataset built otherwise is rebuilt); ``jobs`` builds that many
-    tasks at once in worker processes (``rle_tasks.core.runtime.runner``; each prints its own progress);
+    tasks at once in worker processes (``rle_tasks.core.runtime.parallel``; each prints its own progress);
     ``noise`` injects N(0, noise) into the executed motion actions (``experts.run_expert``), stores
     the expert's clean actions as ``actions`` and the executed ones as ``executed_actions``;
     ``view_every`` records the views of every K-th frame only."""
-    from rle_tasks.core.runtime.runner import run_parallel
+    from rle_tasks.core.runtime.parallel import run_parallel
 
     out.mkdir(parents=True, exist_ok=True)
     old = json.loads((out / "manifest.json").read_text()) if (out / "manifest.json").is_file() else {}

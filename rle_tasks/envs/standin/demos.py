@@ -96,7 +96,7 @@ def _build_task(item: tuple) -> dict:
 
 def build_demos(out: Path, per_task: int = 50, jobs: int = 1, noise: float = 0.0, tasks=None) -> Path:
     """Build the dataset into ``out`` (created); returns ``out``. Progress goes to stdout."""
-    from rle_tasks.core.runtime.runner import run_parallel
+    from rle_tasks.core.runtime.parallel import run_parallel
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

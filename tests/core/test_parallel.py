@@ -6,7 +6,7 @@ import time
 
 import pytest
 
-from rle_tasks.core.runtime.runner import RunnerError, run_parallel
+from rle_tasks.core.runtime.parallel import RunnerError, run_parallel
 
 
 def slow_square(x: int) -> tuple[int, int]:
@@ -91,7 +91,7 @@ def test_ray_workers_get_the_drivers_blas_kernel_family(monkeypatch):
     import sys
     import types
 
-    from rle_tasks.core.runtime.runner import ray_runtime_env
+    from rle_tasks.core.runtime.parallel import ray_runtime_env
 
     calls = []
     fake = types.SimpleNamespace(
