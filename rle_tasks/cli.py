@@ -350,7 +350,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true", help="entries, units and source as JSON")
     s.set_defaults(fn=_cmd_catalog)
 
-    s = sub.add_parser("audit-verifiers", help="run the adversarial artifact battery and print its table")
+    s = sub.add_parser("audit-verifiers", help="run the adversarial artifact corpus and print its table")
     s.add_argument("--filter", default=None, help="only cases whose name contains this")
     s.add_argument("--json", default=None)
     s.set_defaults(fn=_cmd_audit)

@@ -1,4 +1,4 @@
-"""``rle audit-verifiers``: the adversarial artifact battery.
+"""``rle audit-verifiers``: the adversarial artifact corpus.
 
 The corpus is ``rle_tasks/audit/corpus.py`` (installed with the package; no checkout needed): each case
 builds one bad artifact (broken or hostile XML, meshes, physics cheats, hostile submitted code, tampered ledgers) and

@@ -1,4 +1,4 @@
-"""The adversarial artifact battery (issue: verifiers that never crash, never leak, never lose data).
+"""The adversarial artifact corpus (issue: verifiers that never crash, never leak, never lose data).
 
 Every case of ``corpus.py`` is verified with a private secret; the report must name the expected code,
 the score must stay within its bound, and neither the report nor the artifact may contain the secret
