@@ -146,8 +146,10 @@ def _fmt(v) -> str:
     return " ".join(f"{float(x):.9g}" for x in np.ravel(v))
 
 
-def nearest_on_body(xml: Path, body: str, point: np.ndarray, shell_only: bool = True) -> np.ndarray:
-    """Nearest point of ``body``'s material to ``point`` (body frame, qpos0), ``EMBED`` inside [m].
+def nearest_on_body(
+    xml: Path, body: str, point: np.ndarray, shell_only: bool = True, embed: float = EMBED
+) -> np.ndarray:
+    """Nearest point of ``body``'s material to ``point`` (body frame, qpos0), ``embed`` inside [m].
 
     With ``shell_only`` (and a ``*_shell`` geom on the body) only the printed shell counts; otherwise
     any geom of the body (the servo housing too)."""
@@ -181,7 +183,7 @@ def nearest_on_body(xml: Path, body: str, point: np.ndarray, shell_only: bool = 
     local = rot.T @ (best_pt - d.xpos[bid])
     approach = local - np.asarray(point, float)
     n = np.linalg.norm(approach)
-    return local + (EMBED * approach / n if n > 1e-9 else 0.0)
+    return local + (embed * approach / n if n > 1e-9 else 0.0)
 
 
 def write_leader(robot: str, design: Fastened, out_dir: Path, *, with_counterweights: bool = True) -> Path:
@@ -258,13 +260,15 @@ def fasten(
     servo_mount: frozenset[str] = frozenset(),
     bracket: dict[str, tuple[float, float]] | None = None,
     anchor_drop: float | None = None,
+    flush: frozenset[str] = frozenset(),
 ) -> Fastened:
     """Mounts for an ``exact_design``: rods to each counterweight, posts under each spring end.
 
     A rod starts on its link's printed shell, or on any of the link's geoms (the servo housing) for
     the links in ``servo_mount``; for the links in ``bracket`` (link -> ``BRACKETS`` entry) it
     starts on the top of an L-bracket's post that rises from the link's nearest material. The
-    spring anchor's post is straight, or bent ``anchor_drop`` below joint 2 (``SPRING_OPTIONS``). The
+    spring anchor's post is straight, or bent ``anchor_drop`` below joint 2 (``SPRING_OPTIONS``). A
+    straight rod on a link in ``flush`` starts on its link's surface instead of ``EMBED`` inside it. The
     masses and stiffness are still the exact (mid-air) ones; ``optimise`` re-balances them.
     """
     stock = ASSET_DIR / robot / "lead.xml"
@@ -283,7 +287,8 @@ def fasten(
             cws.append((link, centre, float(mass), top))
         else:
             posts.append(None)
-            start = nearest_on_body(stock, link, centre, shell_only=link not in servo_mount)
+            embed = 0.0 if link in flush else EMBED
+            start = nearest_on_body(stock, link, centre, shell_only=link not in servo_mount, embed=embed)
             cws.append((link, centre, float(mass), start))
     spring, elbow = None, None
     if exact.spring is not None:
@@ -567,6 +572,7 @@ def clear_fastened(
     start: tuple[dict, dict] | None = None,
     descent: int = 0,
     box: float = BOX,
+    flush: frozenset[str] = frozenset(),
 ) -> Fastened:
     """The fastened, re-balanced reference of ``robot``, with placements chosen for clearance.
 
@@ -605,7 +611,8 @@ def clear_fastened(
        coarse poses plus every fine pose the design then fails (a per-pose penalty), the best
        ``DESCENT_SHORTLIST`` scored on the fine grid; no candidate may leave more gravity moment
        to the servos.
-    3. The chosen design is re-balanced by ``optimise`` (centres within ``box`` of the placement).
+    3. The chosen design is re-balanced by ``optimise`` (centres within ``box`` of the placement), the
+       straight rods on the links in ``flush`` starting on their link's surface (``fasten``).
     """
     import tempfile
 
@@ -627,11 +634,11 @@ def clear_fastened(
     spring = SPRING_OPTIONS[0]
     spring_order = list(SPRING_OPTIONS)
 
-    def fastened(pl, mounts, sp=None) -> Fastened:
+    def fastened(pl, mounts, sp=None, flush_links=frozenset()) -> Fastened:
         za, zb, drop, *side = sp or spring  # (a fourth number: ``exact_design``'s spring side)
         servo = frozenset(link for link, (on_servo, _) in mounts.items() if on_servo)
         bracket = {link: post for link, (_, post) in mounts.items() if post is not None}
-        return fasten(robot, exact_design(robot, pl, (za, zb), *side), servo, bracket, drop)
+        return fasten(robot, exact_design(robot, pl, (za, zb), *side), servo, bracket, drop, flush_links)
 
     def link_of(lm, b: int) -> str:
         while (name := mujoco.mj_id2name(lm, mujoco.mjtObj.mjOBJ_BODY, b)) not in stock:
@@ -903,7 +910,7 @@ def clear_fastened(
     if descent:
         coordinate_descent(descent)
     with tempfile.TemporaryDirectory() as tmp:
-        design, worst = optimise(robot, fastened(placement, mount), grid, Path(tmp), box)
+        design, worst = optimise(robot, fastened(placement, mount, flush_links=flush), grid, Path(tmp), box)
         if verbose:  # what the verifier will count on the public fine grid, after the re-balance
             path = write_leader(robot, design, Path(tmp) / robot)
             leader = load_design(path.parent, entry="lead.xml")
