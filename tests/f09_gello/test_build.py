@@ -100,3 +100,28 @@ def test_combinations_are_the_union_of_their_candidates_collisions():
 
     assert loss[(1, 1)] == pytest.approx(_search_loss(4 / n, 0.0, np.full(4, ACCEL_REF * 0.01)))
     assert [idx for _, _, idx in out][:2] == [(0, 0), (1, 0)]  # equal loss: the first candidate first
+
+
+def test_a_spring_anchored_below_joint_2_balances_what_one_above_does(tmp_path):
+    """``exact_design(spring_side=-1)``: anchor below joint 2, attachment opposite link 2's centre of
+    mass, the same k a . R b: the same exact balance (a mount the coordinate descent may choose)."""
+    above = exact_design("xarm7", {6: (0.08, None, 0.055)})
+    below = exact_design("xarm7", {6: (0.08, None, 0.055)}, spring_side=-1)
+    assert below.spring[4] == pytest.approx(above.spring[4])
+    assert below.spring[1][2] < above.spring[1][2]  # anchor below the shoulder (link 1's z is up)
+    assert _worst_residual(apply_design("xarm7", below, tmp_path / "below")).max() < 1e-6
+
+
+def test_a_flush_rod_starts_on_its_links_surface():
+    """``attached.fasten(flush=...)``: a straight rod on a flush link starts ``EMBED`` nearer its weight
+    (on the link's surface, not inside it): xarm7's joint-3 rod then stays out of link 4's shell."""
+    from rle_tasks.f09_gello.solutions.attached import EMBED, fasten
+
+    exact = exact_design("xarm7", {6: (0.08, None, 0.055), 4: (0.12, -0.055), 3: (0.10, 0.035)})
+    (j3,) = [i for i, c in enumerate(exact.counterweights) if c[0] == "link3"]
+    inside = fasten("xarm7", exact).counterweights[j3]
+    flush = fasten("xarm7", exact, flush=frozenset({"link3"})).counterweights[j3]
+    step = np.asarray(flush[3]) - np.asarray(inside[3])
+    assert np.linalg.norm(step) == pytest.approx(EMBED)
+    # towards the weight's centre
+    assert np.linalg.norm(flush[1] - flush[3]) < np.linalg.norm(inside[1] - inside[3])

@@ -81,8 +81,8 @@ SOLUTIONS = SolutionSet(
     solutions=(
         Solution(
             "reference",
-            sha256="2ee0619de8378944ea911d4f8eb6f2a6013e6d7dd59899d560d5f1694dfbaedc",
-            quick_score=0.859965733993,
+            sha256="a40d29a9946258ae3e1ad7691dfb0defa8f3c944a5c20afacc6b746888feb1d6",
+            quick_score=0.859969557003,
             files=_per_robot("lead.xml", "solutions/reference/{robot}/lead.xml")
             + _per_robot("meshes", "assets/{robot}/meshes")
             + _per_robot("trim.py", "assets/trim_templates/regressor_trim.py"),
@@ -105,15 +105,15 @@ SOLUTIONS = SolutionSet(
         ),
         Solution(
             "baseline/over_mass",
-            sha256="86f6848fcd4ec17df1611369fed27b8521c1085e5dc59df3d0fc1c96eac4fb1e",
+            sha256="a935e49576471317a03ee66fcc14a5fe7ef69c77a8a4debf383de5b135dd3474",
             quick_score=0.0,
             base="reference",
             transforms=(steel_ballast,),
         ),
         Solution(
             "baseline/hanging_trim",
-            sha256="e7ac5014dab5b7127402bced2328da0e86791607cd530f46dd6f293fa5aa6c27",
-            quick_score=0.424393359121,
+            sha256="4cf8b437fbc9e62e36704fb1c3bb5f7d05a67df4471f5b4bdb1154310973af91",
+            quick_score=0.424395481164,
             base="reference",
             files=_per_robot("trim.py", "solutions/baseline/hanging_trim/trim.py"),
         ),
