@@ -1,10 +1,10 @@
 """Shipped solutions of the family-04 tasks, materialised by ``rle_tasks.core.solutions`` (one
 ``SolutionSet`` per registered task).
 
-- ``reference``: for ``04-dance``, the whole-body QP expert (``expert.py``) distilled by DAgger into an
-  MLP of four observation frames (``distil.py``) with an output low-pass (``smooth.py``), its own
-  ``policy_meta.json`` beside it (history 4); for the other clips, the model-based tracking prior of
-  the clip (``prior.py``: inverse-dynamics feedforward fitted by a small MLP, feedback gains tuned by
+- ``reference``: for ``04-dance`` and ``04-fall-getup``, the whole-body QP expert (``expert.py``)
+  distilled by DAgger into an MLP of four observation frames (``distil.py``) with an output low-pass
+  (``smooth.py``), its own ``policy_meta.json`` beside it (history 4); for ``04-fight``, the
+  model-based tracking prior of the clip (``prior.py``: inverse-dynamics feedforward fitted by a small MLP, feedback gains tuned by
   the cross-entropy method on design seeds), beside one shared ``solutions/reference/policy_meta.json``
   (history 1, the G1's action scale and default pose). Build commands and curves are in the README.
 - ``baseline/open_loop``: replays the reference joint angles of the observation as PD targets.
@@ -76,8 +76,9 @@ def _task(style: str, sha256: str, quick_score: float, own_meta: bool = False) -
 SOLUTIONS = {
     "04-fall-getup": _task(
         "fall-getup",
-        sha256="d35b8a8da92b364560d504adb4f8bf5eddb6f5fb77a4a3e179dbccbbd8368228",
-        quick_score=0.10931874098609837,
+        sha256="25dfc8a838650d619a86176558bce25f708b83f89cf104e9b6d6fce3e8745e0c",
+        quick_score=0.326501897692,
+        own_meta=True,
     ),
     "04-fight": _task(
         "fight",
