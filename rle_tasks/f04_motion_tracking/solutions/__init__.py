@@ -3,7 +3,7 @@
 
 - ``reference``: for ``04-dance`` and ``04-fall-getup``, the whole-body QP expert (``expert.py``)
   distilled by DAgger into an MLP of four observation frames (``distil.py``) with an output low-pass
-  (``smooth.py``), its own ``policy_meta.json`` beside it (history 4); for ``04-fight``, the
+  (``smooth.py``), with ``solutions/reference/policy_meta_h4.json`` (history 4); for ``04-fight``, the
   model-based tracking prior of the clip (``prior.py``: inverse-dynamics feedforward fitted by a small MLP, feedback gains tuned by
   the cross-entropy method on design seeds), beside one shared ``solutions/reference/policy_meta.json``
   (history 1, the G1's action scale and default pose). Build commands and curves are in the README.
@@ -60,15 +60,14 @@ BASELINES = (
 clip (they fall within about a second)."""
 
 
-def _task(style: str, sha256: str, quick_score: float, own_meta: bool = False) -> SolutionSet:
-    """The task's solutions; the reference's ``policy_meta.json`` is the shared one unless ``own_meta``
-    (its folder holds one)."""
-    meta = () if own_meta else (("policy_meta.json", "solutions/reference/policy_meta.json"),)
+def _task(style: str, sha256: str, quick_score: float, meta: str = "policy_meta.json") -> SolutionSet:
+    """The task's solutions; the reference's ``policy_meta.json`` is ``solutions/reference/<meta>``
+    (history 1 for the priors, ``policy_meta_h4.json``, history 4, for the distilled students)."""
     reference = Solution(
         "reference",
         sha256=sha256,
         quick_score=quick_score,
-        files=((".", f"solutions/reference/{style}"), *meta),
+        files=((".", f"solutions/reference/{style}"), ("policy_meta.json", f"solutions/reference/{meta}")),
     )
     return SolutionSet(package=PACKAGE, solutions=(reference, *BASELINES))
 
@@ -78,7 +77,7 @@ SOLUTIONS = {
         "fall-getup",
         sha256="25dfc8a838650d619a86176558bce25f708b83f89cf104e9b6d6fce3e8745e0c",
         quick_score=0.326501897692,
-        own_meta=True,
+        meta="policy_meta_h4.json",
     ),
     "04-fight": _task(
         "fight",
@@ -89,7 +88,7 @@ SOLUTIONS = {
         "dance",
         sha256="3d7d27a7c02a906178a61c694b27b150fc4f994ea9afd2bdbe60839265fc3bf4",
         quick_score=0.0289311438964,
-        own_meta=True,
+        meta="policy_meta_h4.json",
     ),
 }
 """Task id -> its solutions (the registered tasks)."""
