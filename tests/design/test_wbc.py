@@ -9,7 +9,6 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
-import pytest
 
 from rle_design.control.wbc import FrameTask, WbcGains, WholeBodyQP, motion_reference, servo_targets
 
@@ -25,9 +24,8 @@ GAINS = WbcGains(frames=(FrameTask("torso_link", ori=5.0), FrameTask("pelvis", o
 
 
 def _g1_xml() -> Path:
-    spec = importlib.util.find_spec("mjlab")
-    if spec is None or not spec.submodule_search_locations:
-        pytest.skip("mjlab (the G1 MJCF's package) is not installed")
+    spec = importlib.util.find_spec("mjlab")  # installed by the Makefile (asset source, --no-deps)
+    assert spec is not None and spec.submodule_search_locations, "mjlab is not installed: run `make venv`"
     return Path(
         list(spec.submodule_search_locations)[0], "asset_zoo", "robots", "unitree_g1", "xmls", "g1.xml"
     )
@@ -80,7 +78,8 @@ def test_static_torques_equal_pinocchio_rnea() -> None:
     """Static pose (v = 0, reference at rest): the QP's torques are tau = rnea(q, 0, qdd)_joints -
     (sum_c J_c^T f_c)_joints with Pinocchio's RNEA and contact Jacobians (qdd ~ 0), and the contact
     wrench is the static one: sum f = (0, 0, m g), centre of pressure under the COM."""
-    pin = pytest.importorskip("pinocchio")
+    import pinocchio as pin  # a project dependency (pyproject: pin)
+
     model = _model(floor=False)
     q = _standing(model)
     q[7 + 15] = 0.3  # waist yaw: an asymmetric pose (still identity base orientation)
