@@ -75,7 +75,7 @@ def _task(style: str, sha256: str, quick_score: float, meta: str = "policy_meta.
 SOLUTIONS = {
     "04-fall-getup": _task(
         "fall-getup",
-        sha256="25dfc8a838650d619a86176558bce25f708b83f89cf104e9b6d6fce3e8745e0c",
+        sha256="af4e29fc60e2ed4bab2e06cdf71141c6c47ce9bb081e374101ce2bd7ab670554",
         quick_score=0.326501897692,
         meta="policy_meta_h4.json",
     ),

@@ -196,6 +196,9 @@ def main(argv: list[str] | None = None) -> None:
     p.add_argument("--epochs", type=int, default=30)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--eval-seeds", type=int, nargs="*", default=[200, 201])
+    p.add_argument(
+        "--low-pass", type=float, default=0.0, help="output low-pass weight s of the export (public.export)"
+    )
     p.add_argument("--fit-threads", type=int, default=1, help="torch threads of the fit (collection idles)")
     p.add_argument("--device", default="cpu", help="where the fit runs: cpu, or cuda where a GPU is lent")
     p.add_argument(
@@ -276,7 +279,7 @@ def main(argv: list[str] | None = None) -> None:
             )
             if not a.eval_seeds or (score, u) >= best:  # the best student on the design seeds so far
                 best = (score, u)
-                export_policy(net, a.out / "policy", default_meta(a.history))
+                export_policy(net, a.out / "policy", default_meta(a.history), smoothing=1.0 - a.low_pass)
                 torch.save(net.state_dict(), a.out / "student.pt")
             last = time.time() - t0
     if pool is not None:

@@ -1,4 +1,6 @@
-"""An output low-pass for an exported family-04 policy, added to its ONNX graph:
+"""An output low-pass for an already exported family-04 policy whose torch module is gone (the shipped
+dance student: the device run kept only its ONNX), added to its ONNX graph; a policy still in torch
+gets the same filter from ``public.export.export_policy(smoothing=1 - s)`` (``distil.py --low-pass``):
 ``actions = (1 - s) net(obs) + s a_prev``, with ``a_prev`` the previous action the latest observation
 frame carries (its last 29 entries, ``public/tracking.py``). The policy stays stateless (the history is
 its input); s = 0 leaves the actions unchanged. It halves the action jerk J at s = 0.5 at the price of
