@@ -182,16 +182,41 @@ digits)."""
 
 
 def golden_differences(results, modes: dict[tuple[str, str], bool]) -> dict[tuple[str, str], float]:
-    """(task, solution) -> golden score, for the reports made in quick mode with the public development
-    key whose score differs from the solution's golden score by more than ``GOLDEN_TOLERANCE``."""
+    """(task, solution) -> golden score, for the reports made with the public development key whose
+    score differs from the solution's golden score by more than ``GOLDEN_TOLERANCE``: a quick report
+    against ``Solution.quick_score``, a full one against ``Solution.full_score`` where that is pinned."""
     tasks = {t.id: t for t in all_tasks()}
     out = {}
     for task_id, name, _, rep in results:
-        if not modes.get((task_id, name)) or rep.secret != "public":
+        if rep.secret != "public":
             continue
-        golden = declaration(tasks[task_id]).get(name).quick_score
-        if abs(rep.score - golden) > GOLDEN_TOLERANCE:
+        sol = declaration(tasks[task_id]).get(name)
+        golden = sol.quick_score if modes.get((task_id, name)) else sol.full_score
+        if golden is not None and abs(rep.score - golden) > GOLDEN_TOLERANCE:
             out[(task_id, name)] = golden
+    return out
+
+
+def unpinned_full(results, modes: dict[tuple[str, str], bool]) -> list[tuple[str, str]]:
+    """(task, solution) of the full-mode reports whose solution pins no full golden score."""
+    tasks = {t.id: t for t in all_tasks()}
+    return [
+        (t, n)
+        for t, n, _, _ in results
+        if not modes.get((t, n)) and declaration(tasks[t]).get(n).full_score is None
+    ]
+
+
+def retrainings(results) -> list[tuple[str, str, bool | None]]:
+    """(task, solution, reproduced) of the reports that trained a recipe: ``reproduced`` says whether
+    the checkpoint is byte-identical to the earlier training of the same recipe on the same data (the
+    shipped checkpoint pinned by sha256 on a machine whose training cache is empty), None where there
+    was none to compare with."""
+    out = []
+    for t, n, _, rep in results:
+        native = rep.native_metrics or {}
+        if native.get("training") == "trained":
+            out.append((t, n, native.get("ckpt_reproduced")))
     return out
 
 
@@ -225,6 +250,11 @@ def write_html(
         training = rep.native_metrics.get("training")
         if training in ("reused", "shipped"):
             mode += ", cached training" if training == "reused" else ", shipped checkpoint"
+        elif training == "trained":
+            same = rep.native_metrics.get("ckpt_reproduced")
+            mode += {True: ", retrained: checkpoint reproduced", None: ", trained"}.get(
+                same, ", retrained: <span style='color:#b00'>checkpoint differs</span>"
+            )
         golden = differs.get((task_id, name))
         note = "" if golden is None else f" <span style='color:#b00'>(golden {golden:.3f})</span>"
         reasons = "; ".join(f"{e.code}" for e in rep.errors[:4])
@@ -362,9 +392,15 @@ def run_demo(
         print(f"  {key:<50} {score:.3f}  ({'quick' if modes[(t, n)] else 'full'}){note}")
     for t, n, why in not_run:
         print(f"  {t}:{n:<{49 - len(t)}} not run: {why}")
+    for t, n, same in retrainings(results):
+        said = {True: "reproduced", False: "DIFFERS from", None: "nothing to compare with"}[same]
+        print(f"  {t}:{n:<{49 - len(t)}} retrained checkpoint: {said} the pinned one")
+    unpinned = unpinned_full(results, modes)
+    if unpinned:
+        print(f"  {len(unpinned)} full-mode report(s) have no pinned full golden score to compare with")
     if differs:
         print(
-            f"{len(differs)} quick-mode score(s) differ from their golden scores: this machine or checkout "
+            f"{len(differs)} score(s) differ from their golden scores: this machine or checkout "
             "does not reproduce the pinned results (see the reports' native metrics)"
         )
     print(f"open {page}")

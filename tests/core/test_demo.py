@@ -96,6 +96,47 @@ def test_demo_marks_quick_scores_that_differ_from_their_golden_scores(tmp_path):
     assert page.count("(golden ") == 1 and f"(golden {uncompensated:.3f})" in page
 
 
+def test_the_full_demo_compares_full_reports_with_pinned_full_scores_and_names_retrainings(
+    tmp_path, monkeypatch
+):
+    """A full report is compared with ``Solution.full_score`` where one is pinned (counted as unpinned
+    otherwise); a report that trained a recipe says whether its checkpoint reproduced the pinned one."""
+    import dataclasses
+
+    task = get_task("09-gello")
+    real = declaration(task)
+    ref = real.get("reference")
+    pinned = {"reference": dataclasses.replace(ref, full_score=0.8)}
+
+    class Decl:
+        def get(self, name):
+            return pinned.get(name) or real.get(name)
+
+    monkeypatch.setattr(demo, "declaration", lambda t: Decl())
+
+    def report(score, **native):
+        return VerifierReport(task.id, "09", task.workflow, score=score, valid=True, native_metrics=native)
+
+    path = tmp_path / "r.json"
+    results = [
+        (task.id, "reference", path, report(0.8 + 2e-6, training="trained", ckpt_reproduced=True)),
+        (task.id, "baseline/uncompensated", path, report(0.1, training="trained", ckpt_reproduced=False)),
+        (task.id, "baseline/over_mass", path, report(0.0, training="trained")),
+        (task.id, "baseline/hanging_trim", path, report(0.5, training="shipped")),
+    ]
+    modes = {(task.id, n): False for _, n, _, _ in results}
+    assert demo.golden_differences(results, modes) == {(task.id, "reference"): 0.8}  # |2e-6| > 1e-6
+    results[0] = (task.id, "reference", path, report(0.8 + 5e-7))
+    assert demo.golden_differences(results, modes) == {}
+    assert demo.unpinned_full(results, modes) == [(task.id, n) for _, n, _, _ in results[1:]]
+    assert demo.retrainings(results) == [
+        (task.id, "baseline/uncompensated", False),
+        (task.id, "baseline/over_mass", None),
+    ]
+    page = demo.write_html(tmp_path, results, [], None, 1.0, modes, {}).read_text()
+    assert page.count("checkpoint differs") == 1 and page.count("shipped checkpoint") == 1
+
+
 def test_demo_runs_the_tasks_it_is_given_by_id_or_family_number(tmp_path, monkeypatch):
     import pytest
 
