@@ -31,6 +31,8 @@ from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import TaskSpec, VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify
+from rle_tasks.demo_checks import golden_differences, retrainings, unpinned_full
+from rle_tasks.demo_progress import Estimate
 
 TEST_BASE = Path(__file__).parent / "demo_assets" / "test_base.xml"
 
@@ -137,87 +139,6 @@ def _verify_all(
         clock.done(task, name, time.perf_counter() - started)
     clock.write(out / "times.json")
     return results
-
-
-DEMO_TIMES = Path(__file__).with_name("demo_times.json")
-"""Seconds each artifact of ``rle demo`` took on the 2-core reference machine (``times.json`` of a
-demo run copied here), for the progress bar's estimates; keys ``quick|full:task:solution``."""
-
-
-class Estimate:
-    """Time left per family and in total, from ``DEMO_TIMES`` scaled by how this machine has compared
-    with them so far (an artifact not listed counts the listed mean)."""
-
-    def __init__(self, runs: Sequence[tuple[TaskSpec, str]], full: bool) -> None:
-        try:
-            known = json.loads(DEMO_TIMES.read_text())
-        except (OSError, ValueError):
-            known = {}
-        self.mode = "full" if full else "quick"
-        mean = sum(known.values()) / len(known) if known else 30.0
-        self.expected = {(t.id, n): float(known.get(f"{self.mode}:{t.id}:{n}", mean)) for t, n in runs}
-        self.family = {(t.id, n): t.family for t, n in runs}
-        self.spent: dict[str, float] = {}
-        self.scale_num = self.scale_den = 0.0
-
-    def done(self, task: TaskSpec, name: str, seconds: float) -> None:
-        self.spent[f"{self.mode}:{task.id}:{name}"] = round(seconds, 1)
-        self.scale_num += seconds
-        self.scale_den += self.expected.pop((task.id, name), seconds)
-
-    def left(self, family: int) -> str:
-        scale = self.scale_num / self.scale_den if self.scale_den > 0 else 1.0
-        fam = scale * sum(v for k, v in self.expected.items() if self.family[k] == family)
-        total = scale * sum(self.expected.values())
-        return f"F{family:02d} ~{fam / 60:.1f} min left, all ~{total / 60:.1f} min"
-
-    def write(self, path: Path) -> None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(self.spent, indent=1) + "\n")
-
-
-GOLDEN_TOLERANCE = 1e-6
-"""Largest difference from a golden score that still counts as reproduced (scores are written to 12
-digits)."""
-
-
-def golden_differences(results, modes: dict[tuple[str, str], bool]) -> dict[tuple[str, str], float]:
-    """(task, solution) -> golden score, for the reports made with the public development key whose
-    score differs from the solution's golden score by more than ``GOLDEN_TOLERANCE``: a quick report
-    against ``Solution.quick_score``, a full one against ``Solution.full_score`` where that is pinned."""
-    tasks = {t.id: t for t in all_tasks()}
-    out = {}
-    for task_id, name, _, rep in results:
-        if rep.secret != "public":
-            continue
-        sol = declaration(tasks[task_id]).get(name)
-        golden = sol.quick_score if modes.get((task_id, name)) else sol.full_score
-        if golden is not None and abs(rep.score - golden) > GOLDEN_TOLERANCE:
-            out[(task_id, name)] = golden
-    return out
-
-
-def unpinned_full(results, modes: dict[tuple[str, str], bool]) -> list[tuple[str, str]]:
-    """(task, solution) of the full-mode reports whose solution pins no full golden score."""
-    tasks = {t.id: t for t in all_tasks()}
-    return [
-        (t, n)
-        for t, n, _, _ in results
-        if not modes.get((t, n)) and declaration(tasks[t]).get(n).full_score is None
-    ]
-
-
-def retrainings(results) -> list[tuple[str, str, bool | None]]:
-    """(task, solution, reproduced) of the reports that trained a recipe: ``reproduced`` says whether
-    the checkpoint is byte-identical to the earlier training of the same recipe on the same data (the
-    shipped checkpoint pinned by sha256 on a machine whose training cache is empty), None where there
-    was none to compare with."""
-    out = []
-    for t, n, _, rep in results:
-        native = rep.native_metrics or {}
-        if native.get("training") == "trained":
-            out.append((t, n, native.get("ckpt_reproduced")))
-    return out
 
 
 not_run: list[tuple[str, str, str]] = []

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import html
 
-from rle_tasks import demo
+from rle_tasks import demo, demo_checks, demo_progress
 from rle_tasks.core.registry import all_tasks, get_task
 from rle_tasks.core.report import VerifierReport, artifact_sha256
 from rle_tasks.core.solutions import declaration
@@ -89,7 +89,7 @@ def test_demo_marks_quick_scores_that_differ_from_their_golden_scores(tmp_path):
         (task.id, "baseline/hanging_trim", path, report(0.999)),
     ]
     modes = {(task.id, n): True for _, n, _, _ in results} | {(task.id, "baseline/hanging_trim"): False}
-    differs = demo.golden_differences(results, modes)
+    differs = demo_checks.golden_differences(results, modes)
     uncompensated = declaration(task).get("baseline/uncompensated").quick_score
     assert differs == {(task.id, "baseline/uncompensated"): uncompensated}
     page = demo.write_html(tmp_path, results, [], None, 1.0, modes, differs).read_text()
@@ -112,7 +112,7 @@ def test_the_full_demo_compares_full_reports_with_pinned_full_scores_and_names_r
         def get(self, name):
             return pinned.get(name) or real.get(name)
 
-    monkeypatch.setattr(demo, "declaration", lambda t: Decl())
+    monkeypatch.setattr(demo_checks, "declaration", lambda t: Decl())
 
     def report(score, **native):
         return VerifierReport(task.id, "09", task.workflow, score=score, valid=True, native_metrics=native)
@@ -125,11 +125,11 @@ def test_the_full_demo_compares_full_reports_with_pinned_full_scores_and_names_r
         (task.id, "baseline/hanging_trim", path, report(0.5, training="shipped")),
     ]
     modes = {(task.id, n): False for _, n, _, _ in results}
-    assert demo.golden_differences(results, modes) == {(task.id, "reference"): 0.8}  # |2e-6| > 1e-6
+    assert demo_checks.golden_differences(results, modes) == {(task.id, "reference"): 0.8}  # |2e-6| > 1e-6
     results[0] = (task.id, "reference", path, report(0.8 + 5e-7))
-    assert demo.golden_differences(results, modes) == {}
-    assert demo.unpinned_full(results, modes) == [(task.id, n) for _, n, _, _ in results[1:]]
-    assert demo.retrainings(results) == [
+    assert demo_checks.golden_differences(results, modes) == {}
+    assert demo_checks.unpinned_full(results, modes) == [(task.id, n) for _, n, _, _ in results[1:]]
+    assert demo_checks.retrainings(results) == [
         (task.id, "baseline/uncompensated", False),
         (task.id, "baseline/over_mass", None),
     ]
@@ -204,9 +204,9 @@ def test_progress_estimates_the_time_left_per_family_from_the_measured_times(tmp
     its time), what is left is scaled by 2: F09 2 x (120 + 90) s = 7 min."""
     times = tmp_path / "times.json"
     times.write_text('{"quick:08-mobile-base:reference": 60, "quick:09-gello:reference": 120}')
-    monkeypatch.setattr(demo, "DEMO_TIMES", times)
+    monkeypatch.setattr(demo_progress, "DEMO_TIMES", times)
     t08, t09 = get_task("08-mobile-base"), get_task("09-gello")
-    clock = demo.Estimate([(t08, "reference"), (t09, "reference"), (t09, "baseline/x")], full=False)
+    clock = demo_progress.Estimate([(t08, "reference"), (t09, "reference"), (t09, "baseline/x")], full=False)
     assert clock.left(9) == "F09 ~3.5 min left, all ~4.5 min"  # 120 + 90 s of F09; 270 s in all
     clock.done(t08, "reference", 120.0)
     assert clock.left(9) == "F09 ~7.0 min left, all ~7.0 min"  # (120 + 90) x 2
