@@ -8,24 +8,17 @@ opening and closing doors and drawers; turning knobs. Family 02 groups them into
 
 from __future__ import annotations
 
-from rle_tasks.envs.kitchen.composition import (
-    Burner,
+from rle_tasks.envs.kitchen.composition import Burner, CompositeTask, Fx, In, Into, Joint, Obj, On
+from rle_tasks.envs.kitchen.goals import (
     BurnerOff,
     BurnerOn,
-    CompositeTask,
-    Fx,
     GripperFar,
-    In,
     InReceptacle,
     Inside,
-    Into,
     IsClosed,
     IsOpen,
-    Joint,
     NotInReceptacle,
     NotInside,
-    Obj,
-    On,
     OnBurner,
     OnCounter,
 )

@@ -23,10 +23,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rle_tasks.envs.kitchen import predicates as pr
 from rle_tasks.envs.kitchen.fixture import BURNERS, Fixture
+from rle_tasks.envs.kitchen.goals import FIXTURE_WORDS, Predicate, Roles
 from rle_tasks.envs.kitchen.tasks import (
-    FLAT_KINDS,
     STANDOFF,
     Condition,
     Episode,
@@ -38,27 +37,14 @@ from rle_tasks.envs.kitchen.tasks import (
 
 __all__ = [
     "Burner",
-    "BurnerOff",
-    "BurnerOn",
     "CompositeTask",
     "Fx",
-    "GripperFar",
     "In",
-    "InReceptacle",
-    "Inside",
     "Into",
-    "IsClosed",
-    "IsOpen",
     "Joint",
-    "NotInReceptacle",
-    "NotInside",
     "Obj",
     "On",
-    "OnBurner",
-    "OnCounter",
 ]
-
-FLAT = FLAT_KINDS
 
 
 @dataclass(frozen=True)
@@ -116,185 +102,6 @@ class Joint:
 
     fixture: str
     fraction: float
-
-
-# -- predicates over roles ----------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class _Ctx:
-    fixtures: dict[str, Fixture]
-    bind: dict[str, str]
-    objects: dict[str, str]
-    names: object
-
-    def fx(self, role: str) -> Fixture:
-        return self.fixtures[self.bind[role]]
-
-
-@dataclass(frozen=True)
-class Inside:
-    obj: str
-    fixture: str
-
-    def words(self, ep: Episode) -> str:
-        return f"{_cat(ep, self.obj)} inside the {_fix_word(ep, self.fixture)}"
-
-    def condition(self, c: _Ctx) -> Condition:
-        f, name, cat = c.fx(self.fixture), c.bind[self.obj], c.objects[self.obj]
-        return Condition("", lambda m, d: pr.inside(m, d, name, cat, f.interior))
-
-
-@dataclass(frozen=True)
-class NotInside(Inside):
-    def words(self, ep: Episode) -> str:
-        return f"{_cat(ep, self.obj)} out of the {_fix_word(ep, self.fixture)}"
-
-    def condition(self, c: _Ctx) -> Condition:
-        inner = super().condition(c).fn
-        return Condition("", lambda m, d: not inner(m, d))
-
-
-@dataclass(frozen=True)
-class InReceptacle:
-    obj: str
-    container: str
-
-    def words(self, ep: Episode) -> str:
-        return f"{_cat(ep, self.obj)} in the {_cat(ep, self.container)}"
-
-    def condition(self, c: _Ctx) -> Condition:
-        o, r, cat = c.bind[self.obj], c.bind[self.container], c.objects[self.container]
-        return Condition("", lambda m, d: pr.in_receptacle(m, d, o, r, cat))
-
-
-@dataclass(frozen=True)
-class NotInReceptacle(InReceptacle):
-    def words(self, ep: Episode) -> str:
-        return f"{_cat(ep, self.obj)} out of the {_cat(ep, self.container)}"
-
-    def condition(self, c: _Ctx) -> Condition:
-        o, r, cat = c.bind[self.obj], c.bind[self.container], c.objects[self.container]
-        return Condition("", lambda m, d: not pr.in_receptacle(m, d, o, r, cat))
-
-
-@dataclass(frozen=True)
-class IsOpen:
-    fixture: str
-
-    def words(self, ep: Episode) -> str:
-        return f"{_fix_word(ep, self.fixture)} open"
-
-    def condition(self, c: _Ctx) -> Condition:
-        f = c.fx(self.fixture)
-        return Condition("", lambda m, d: pr.is_open(m, d, f))
-
-
-@dataclass(frozen=True)
-class IsClosed:
-    fixture: str
-
-    def words(self, ep: Episode) -> str:
-        return f"{_fix_word(ep, self.fixture)} closed"
-
-    def condition(self, c: _Ctx) -> Condition:
-        f = c.fx(self.fixture)
-        return Condition("", lambda m, d: pr.is_closed(m, d, f))
-
-
-@dataclass(frozen=True)
-class BurnerOn:
-    burner: str
-
-    def words(self, ep: Episode) -> str:
-        return f"{ep.target[self.burner].replace('_', ' ')} burner on"
-
-    def condition(self, c: _Ctx) -> Condition:
-        knob = c.fixtures[c.bind["stove"]].burners[c.bind[self.burner]][0]
-        return Condition("", lambda m, d: pr.knob_on(m, d, knob))
-
-
-@dataclass(frozen=True)
-class BurnerOff(BurnerOn):
-    def words(self, ep: Episode) -> str:
-        return f"{ep.target[self.burner].replace('_', ' ')} burner off"
-
-    def condition(self, c: _Ctx) -> Condition:
-        on = super().condition(c).fn
-        return Condition("", lambda m, d: not on(m, d))
-
-
-@dataclass(frozen=True)
-class OnCounter:
-    obj: str
-
-    def words(self, ep: Episode) -> str:
-        return f"{_cat(ep, self.obj)} on a counter"
-
-    def condition(self, c: _Ctx) -> Condition:
-        o = c.bind[self.obj]
-        tops = tuple(g for f in c.fixtures.values() if f.kind in FLAT for g in f.top_geoms)
-        return Condition("", lambda m, d: pr.bodies_touch(m, d, o, {m.geom(g).id for g in tops}))
-
-
-@dataclass(frozen=True)
-class OnBurner:
-    obj: str
-    burner: str
-
-    def words(self, ep: Episode) -> str:
-        return f"{_cat(ep, self.obj)} on the {ep.target[self.burner].replace('_', ' ')} burner"
-
-    def condition(self, c: _Ctx) -> Condition:
-        o, stove, burner = c.bind[self.obj], c.fixtures[c.bind["stove"]], c.bind[self.burner]
-        site = stove.sites[f"{burner}_burner"]
-        cook = stove.top_geoms[0]
-        return Condition("", lambda m, d: pr.on_site(m, d, o, cook, site, 0.09))
-
-
-@dataclass(frozen=True)
-class GripperFar:
-    obj: str
-
-    def words(self, ep: Episode) -> str:
-        return f"gripper away from the {_cat(ep, self.obj)}"
-
-    def condition(self, c: _Ctx) -> Condition:
-        o, names = c.bind[self.obj], c.names
-        return Condition("", lambda m, d: pr.gripper_far(m, d, o, names.finger_pads))
-
-
-Predicate = (
-    Inside
-    | NotInside
-    | InReceptacle
-    | NotInReceptacle
-    | IsOpen
-    | IsClosed
-    | BurnerOn
-    | BurnerOff
-    | OnCounter
-    | OnBurner
-    | GripperFar
-)
-_WORDS = {
-    "drawer_cabinet": "drawer",
-    "hinge_cabinet": "cabinet",
-    "dish_rack": "dish rack",
-    "wall_cabinet": "wall cabinet",
-}
-
-
-def _cat(ep: Episode, role: str) -> str:
-    for p in ep.objects:
-        if p.name == ep.target.get(role, role):
-            return p.category
-    return role
-
-
-def _fix_word(ep: Episode, role: str) -> str:
-    kind = ep.target.get(f"{role}.kind", role)
-    return _WORDS.get(kind, kind)
 
 
 @dataclass(frozen=True)
@@ -394,7 +201,7 @@ class CompositeTask(KitchenTask):
         words = {r: cats.get(r) or target[r].replace("_", " ") for r in target if "." not in r}
         words.update(
             {
-                r.role: _WORDS.get(fixtures[bind[r.role]].kind, fixtures[bind[r.role]].kind)
+                r.role: FIXTURE_WORDS.get(fixtures[bind[r.role]].kind, fixtures[bind[r.role]].kind)
                 for r in self.fixtures
             }
         )
@@ -406,7 +213,7 @@ class CompositeTask(KitchenTask):
     def conditions(self, episode: Episode, fixtures: dict[str, Fixture], names) -> tuple[Condition, ...]:
         bind = {k: v for k, v in episode.target.items() if "." not in k}
         cats = {p.name: p.category for p in episode.objects}
-        ctx = _Ctx(fixtures, bind, {r: cats[bind[r]] for r in bind if bind[r] in cats}, names)
+        ctx = Roles(fixtures, bind, {r: cats[bind[r]] for r in bind if bind[r] in cats}, names)
         out = []
         for p in self.conjuncts:
             c = p.condition(ctx)
