@@ -16,8 +16,9 @@ Interface (what tasks and agents use):
   part keeps its gripper command while another moves.
 - ``WholeBodyQP(model, joints, effort, contacts, reference)`` (``wbc``): whole-body QP of a floating-base
   robot on position servos (MuJoCo dynamics, OSQP): ``solve(qpos, qvel, frame, stance)`` gives
-  accelerations, torques and contact forces in friction pyramids tracking a ``motion_reference``;
-  ``servo_targets`` turns the torques into PD targets.
+  accelerations, torques and contact forces in friction pyramids tracking a ``motion_reference``
+  (``wbc_reference``) with the task weights and gains of ``wbc_tasks``; ``servo_targets`` turns the
+  torques into PD targets.
 - ``replay(env, ledger_path)``: rebuilds the final state of a ledger's session by replaying its
   recorded resets and actions on the same environment definition (``replay.other_scene`` when the
   ledger's model digest differs, ``replay.diverged`` when the simulation time does not match).
@@ -33,7 +34,8 @@ from rle_design.control.helper import ArmGroup, CartesianHelper, MoveResult
 from rle_design.control.layout import ACTION_SIZE, POS_STEP, ROT_STEP, gripper_action, zero_action
 from rle_design.control.osc import OperationalSpaceController, OscGains, orientation_error
 from rle_design.control.replay import ReplayError, replay
-from rle_design.control.wbc import WholeBodyQP, motion_reference, servo_targets
+from rle_design.control.wbc import WholeBodyQP, servo_targets
+from rle_design.control.wbc_reference import motion_reference
 
 __all__ = [
     "ACTION_SIZE",

@@ -25,25 +25,27 @@ the previous solution. A stance body's acceleration is a hard equality, ``J qdd 
 (its rows are free for a swing body). Torques become PD targets of the servos: ``tau = kp (target - q) - kd qd``
 averaged over the hold period ``T`` gives ``target = q_m + (tau + kd v_m) / kp`` with the mean state
 ``q_m = q + v T/2 + qdd T^2/6``, ``v_m = v + qdd T/2`` (``T = 0``: the exact instantaneous form).
+
+The task weights and gains are in ``wbc_tasks``, the reference motion's kinematics in ``wbc_reference``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 import scipy.sparse as sp
 
+from rle_design.control.wbc_reference import MotionReference, _body_jac
+from rle_design.control.wbc_tasks import WbcGains
+
 __all__ = [
-    "FrameTask",
-    "MotionReference",
-    "WbcGains",
     "WbcSolution",
     "WholeBodyQP",
-    "motion_reference",
     "servo_targets",
 ]
+
 
 GRAVITY = 9.81
 MAX_QACC = 1e3
@@ -58,113 +60,6 @@ OSQP_SETTINGS = {
     "adaptive_rho": True,
     "check_termination": 10,
 }
-
-
-@dataclass(frozen=True)
-class FrameTask:
-    """A body task: its position (``pos`` weight) and/or orientation (``ori`` weight)."""
-
-    body: str
-    pos: float = 0.0
-    ori: float = 0.0
-    kp: float = 100.0
-    kd: float = 20.0
-    lead: int = 0
-    """Track the reference this many frames ahead (a lag the plant cannot avoid: latency, saturation)."""
-
-
-@dataclass(frozen=True)
-class WbcGains:
-    """Weights [1] and gains [1/s^2, 1/s] of the QP's tasks."""
-
-    com: tuple[float, float, float] = (10.0, 10.0, 10.0)
-    com_kp: float = 60.0
-    com_kd: float = 15.0
-    frames: tuple[FrameTask, ...] = ()
-    swing_pos: float = 10.0
-    swing_ori: float = 5.0
-    swing_kp: float = 200.0
-    swing_kd: float = 30.0
-    contact_kd: float = 10.0
-    posture: float = 0.5
-    posture_kp: float = 100.0
-    posture_kd: float = 20.0
-    posture_lead: int = 0
-    """Frames ahead the posture reference of ``lead_joints`` (indices into ``joints``) is taken."""
-    lead_joints: tuple[int, ...] = ()
-    reg_qdd: float = 1e-4
-    reg_lam: float = 1e-4
-    reg_tau: float = 1e-3
-    tau_rate: float = 0.0
-    """Weight of |(tau - tau_prev) / effort|^2: smooths the torques (the servo targets) between steps."""
-    torque_fraction: float = 0.95
-
-
-@dataclass
-class MotionReference:
-    """Reference motion sampled per frame: generalised coordinates and the tasks' body quantities."""
-
-    qpos: np.ndarray  # (F, nq)
-    qvel: np.ndarray  # (F, nv)
-    qacc: np.ndarray  # (F, nv)
-    com: np.ndarray  # (F, 3)
-    com_vel: np.ndarray
-    com_acc: np.ndarray
-    body_pos: dict[str, np.ndarray] = field(default_factory=dict)  # (F, 3) world
-    body_quat: dict[str, np.ndarray] = field(default_factory=dict)  # (F, 4) w x y z
-    body_vel: dict[str, np.ndarray] = field(default_factory=dict)  # (F, 6) linear, angular (world)
-    body_acc: dict[str, np.ndarray] = field(default_factory=dict)  # (F, 6)
-
-    @property
-    def frames(self) -> int:
-        return len(self.qpos)
-
-
-def _body_jac(model, data, body: int, point: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(6, nv) Jacobian (linear of ``point`` or the body origin, angular; world) and its time derivative."""
-    p = data.xpos[body] if point is None else point
-    j, jd = np.zeros((6, model.nv)), np.zeros((6, model.nv))
-    mujoco.mj_jac(model, data, j[:3], j[3:], p, body)
-    mujoco.mj_jacDot(model, data, jd[:3], jd[3:], p, body)
-    return j, jd
-
-
-def motion_reference(
-    model: mujoco.MjModel,
-    qpos: np.ndarray,
-    qvel: np.ndarray,
-    qacc: np.ndarray,
-    bodies: tuple[str, ...],
-    dt: float,
-) -> MotionReference:
-    """Forward kinematics of a reference trajectory (``dt``: its frame period [s]): the COM and its
-    rates (velocity ``J_com v``, acceleration by central differences), and per body the pose, velocity
-    ``J v`` and acceleration ``J a + Jdot v``."""
-    data = mujoco.MjData(model)
-    n = len(qpos)
-    ref = MotionReference(qpos, qvel, qacc, np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
-    ids = {b: model.body(b).id for b in bodies}
-    for b in bodies:
-        ref.body_pos[b], ref.body_quat[b] = np.zeros((n, 3)), np.zeros((n, 4))
-        ref.body_vel[b], ref.body_acc[b] = np.zeros((n, 6)), np.zeros((n, 6))
-    jc = np.zeros((3, model.nv))
-    for f in range(n):
-        data.qpos[:], data.qvel[:] = qpos[f], qvel[f]
-        mujoco.mj_kinematics(model, data)
-        mujoco.mj_comPos(model, data)
-        mujoco.mj_comVel(model, data)
-        ref.com[f] = data.subtree_com[1]
-        mujoco.mj_jacSubtreeCom(model, data, jc, 1)
-        ref.com_vel[f] = jc @ qvel[f]
-        for b, i in ids.items():
-            j, jd = _body_jac(model, data, i)
-            ref.body_pos[b][f], ref.body_quat[b][f] = data.xpos[i], data.xquat[i]
-            ref.body_vel[b][f] = j @ qvel[f]
-            ref.body_acc[b][f] = j @ qacc[f] + jd @ qvel[f]
-    if n >= 3:
-        ref.com_acc[1:-1] = (ref.com_vel[2:] - ref.com_vel[:-2]) / (2 * dt)
-        ref.com_acc[0], ref.com_acc[-1] = ref.com_acc[1], ref.com_acc[-2]
-    return ref
 
 
 def _ori_error(q_ref: np.ndarray, q: np.ndarray) -> np.ndarray:

@@ -52,7 +52,8 @@ def _check_clip(args) -> int:
     import numpy as np
 
     from rle_tasks.f04_motion_tracking.public.clip import Clip
-    from rle_tasks.f04_motion_tracking.public.feasibility import FORCE_TOL, MOMENT_TOL, check_clip
+    from rle_tasks.f04_motion_tracking.public.feasibility import check_clip
+    from rle_tasks.f04_motion_tracking.public.inverse_dynamics import FORCE_TOL, MOMENT_TOL
 
     clip = Clip.load(args.clip)
     frames = None

@@ -10,7 +10,9 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from rle_design.control.wbc import FrameTask, WbcGains, WholeBodyQP, motion_reference, servo_targets
+from rle_design.control.wbc import WholeBodyQP, servo_targets
+from rle_design.control.wbc_reference import motion_reference
+from rle_design.control.wbc_tasks import FrameTask, WbcGains
 
 G = 9.81
 FEET = ("left_ankle_roll_link", "right_ankle_roll_link")

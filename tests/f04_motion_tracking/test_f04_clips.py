@@ -8,10 +8,10 @@ import pytest
 
 from rle_design.errors import RleError
 from rle_tasks.f04_motion_tracking.public.clip import Clip, clip_qpos, forward_kinematics
-from rle_tasks.f04_motion_tracking.public.clipgen import GRAVITY
 from rle_tasks.f04_motion_tracking.public.g1 import g1_model
 from rle_tasks.f04_motion_tracking.public.g1_constants import G1
 from rle_tasks.f04_motion_tracking.public.motion_import import import_motion, read_csv
+from rle_tasks.f04_motion_tracking.public.motion_plan import GRAVITY
 from rle_tasks.f04_motion_tracking.public.styles import STYLES
 
 CLIPS = Path(__file__).resolve().parents[2] / "rle_tasks" / "f04_motion_tracking" / "assets" / "clips"
@@ -91,7 +91,8 @@ def test_balanced_clips_keep_the_zero_moment_point_on_the_stance_sole(model, sty
     """The ZMP lies on the stance sole (a 5 cm wide row of capsules) in every single-stance frame: the
     cart-table one p = c - (h / g) c'' of the clip's COM, or the whole body's (``centroidal_zmp``) for
     plans balanced on it; the unbalanced keyed clip leaves it centimetres off."""
-    from rle_tasks.f04_motion_tracking.public.clipgen import _kinematic, centroidal_zmp, sole_centre, zmp_path
+    from rle_tasks.f04_motion_tracking.public.balance import centroidal_zmp, sole_centre, zmp_path
+    from rle_tasks.f04_motion_tracking.public.keying import _kinematic
     from rle_tasks.f04_motion_tracking.public.styles import plan_for
 
     clip = _load(style)
@@ -120,7 +121,7 @@ def test_balanced_clips_keep_the_zero_moment_point_on_the_stance_sole(model, sty
 def test_cart_table_com_plan_meets_the_closed_form():
     """A constant support p gives c = p; a support stepping from 0 to d gives a COM that starts moving
     before the step (preview), ends at d, and whose ZMP c - (h/g) c'' follows the step."""
-    from rle_tasks.f04_motion_tracking.public.clipgen import plan_com
+    from rle_tasks.f04_motion_tracking.public.balance import plan_com
 
     n, dt, h = 301, 0.02, 0.65
     assert plan_com(np.full(n, 0.1), dt, h, np.ones(n)) == pytest.approx(np.full(n, 0.1), abs=1e-9)
@@ -177,10 +178,10 @@ def test_rle_import_motion_command(tmp_path, capsys):
 
 def test_centroidal_zmp_is_the_stance_sole_centre_of_pressure(model):
     """In single stance the whole-body ZMP (COM acceleration and centroidal angular momentum rate) is the
-    centre of pressure of the one foot wrench that inverse dynamics leaves (``feasibility``, mj_inverse):
+    centre of pressure of the one foot wrench that inverse dynamics leaves (``inverse_dynamics``, mj_inverse):
     within 1 mm on the dance clip, where the cart-table ZMP misses it by centimetres (swing leg, arms)."""
-    from rle_tasks.f04_motion_tracking.public import feasibility as F
-    from rle_tasks.f04_motion_tracking.public.clipgen import centroidal_zmp, zmp_path
+    from rle_tasks.f04_motion_tracking.public import inverse_dynamics as F
+    from rle_tasks.f04_motion_tracking.public.balance import centroidal_zmp, zmp_path
 
     clip = _load("dance")
     full, cart = centroidal_zmp(model, clip), zmp_path(model, clip)
@@ -203,7 +204,7 @@ def test_centroidal_zmp_is_the_stance_sole_centre_of_pressure(model):
 def test_matched_swing_meets_the_stance_motion_at_both_ends():
     """The quintic swing takes the stance legs' position, velocity and acceleration at lift-off and
     touchdown: on a quadratic q(k) = c + d k + e k^2 it reproduces the quadratic exactly."""
-    from rle_tasks.f04_motion_tracking.public.clipgen import _quintic, _quintic_ends
+    from rle_tasks.f04_motion_tracking.public.keying import _quintic, _quintic_ends
 
     k = np.arange(40.0)[:, None]
     q = 0.3 + np.array([0.02, -0.01]) * k + np.array([1e-3, 2e-4]) * k**2

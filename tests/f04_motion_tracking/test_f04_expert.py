@@ -1,4 +1,4 @@
-"""The whole-body QP expert (``solutions/expert.py``) on the G1's servos through ``TrackingEnv``, and the
+"""The whole-body QP expert (``solutions/expert_tracker.py``) on the G1's servos through ``TrackingEnv``, and the
 DAgger distillation script's plumbing (``solutions/distil.py``)."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from rle_tasks.f04_motion_tracking.public.clip import Clip, clip_qpos
 from rle_tasks.f04_motion_tracking.public.env import TrackingEnv
 from rle_tasks.f04_motion_tracking.public.evaluate import EVAL_TIMESTEP
 from rle_tasks.f04_motion_tracking.public.g1 import g1_model
-from rle_tasks.f04_motion_tracking.solutions.expert import Expert
+from rle_tasks.f04_motion_tracking.solutions.expert_tracker import Expert
 
 CLIPS = Path(__file__).resolve().parents[2] / "rle_tasks/f04_motion_tracking/assets/clips"
 

@@ -21,10 +21,12 @@ import pinocchio as pin
 import pytest
 
 from rle_tasks.f04_motion_tracking.public import feasibility as fz
+from rle_tasks.f04_motion_tracking.public import inverse_dynamics as idyn
 from rle_tasks.f04_motion_tracking.public.clip import Clip
-from rle_tasks.f04_motion_tracking.public.g1 import g1_model, g1_model_path, standing_qpos
+from rle_tasks.f04_motion_tracking.public.g1 import FOOT_FRICTION, g1_model, g1_model_path, standing_qpos
 from rle_tasks.f04_motion_tracking.public.g1_constants import G1
 from rle_tasks.f04_motion_tracking.public.ik import LegIK
+from rle_tasks.f04_motion_tracking.public.soles import sole_polygon
 
 DT = 0.02
 
@@ -36,7 +38,7 @@ def model():
 
 @pytest.fixture(scope="module")
 def solver(model):
-    return fz.InverseDynamics(model)
+    return idyn.InverseDynamics(model)
 
 
 def _pinocchio():
@@ -81,9 +83,9 @@ def test_static_pose_torques_are_pinocchio_gravity_torques_given_the_contact_wre
     assert res.torque == pytest.approx(g[6:] - contact[6:], abs=1e-6)
     total = sum(w[:3] for w in res.wrenches.values())
     assert total == pytest.approx([0.0, 0.0, mujoco.mj_getTotalmass(model) * 9.81], abs=1e-6)
-    assert abs(fz.MASS - mujoco.mj_getTotalmass(model)) < 1e-3  # the unit of the tolerances
+    assert abs(idyn.MASS - mujoco.mj_getTotalmass(model)) < 1e-3  # the unit of the tolerances
     for w in res.wrenches.values():  # every foot pushes, inside its friction pyramid
-        assert w[2] > 0 and abs(w[0]) + abs(w[1]) <= fz.FOOT_FRICTION * w[2] + 1e-9
+        assert w[2] > 0 and abs(w[0]) + abs(w[1]) <= FOOT_FRICTION * w[2] + 1e-9
 
 
 def test_centre_of_pressure_stays_on_the_sole(solver, model):
@@ -92,7 +94,7 @@ def test_centre_of_pressure_stays_on_the_sole(solver, model):
     d = solver.data
     for i, body in enumerate(G1.feet):
         w, b = res.wrenches[body], model.body(body).id
-        sole = fz.sole_polygon(model, body)
+        sole = sole_polygon(model, body)
         rot = d.xmat[b].reshape(3, 3)
         z = (d.xpos[b] + rot @ sole[0])[2] - d.xpos[b][2]  # sole plane relative to the body origin
         # moment about the origin of a force f at the CoP p (on the sole plane): m = (p - o) x f + m_z e_z
@@ -138,9 +140,9 @@ def test_push_off_at_several_g_is_flagged_naming_the_joint(model):
     # Newton at the push frame: the contact forces add up to m (c'' + g), with c'' the COM acceleration
     # Pinocchio computes from the same q, q', q'' (the pelvis does not rotate, so MuJoCo's world-frame
     # base velocity and Pinocchio's local one coincide)
-    solver = fz.InverseDynamics(model)
+    solver = idyn.InverseDynamics(model)
     qpos = np.concatenate([clip.root_pos, clip.root_quat, clip.joint_pos], 1)
-    qv, qa = fz.finite_differences(solver.model, qpos, DT)
+    qv, qa = idyn.finite_differences(solver.model, qpos, DT)
     assert np.abs(qv[5, 3:6]).max() == 0 and clip.root_quat[5] == pytest.approx([1, 0, 0, 0])
     res = solver.solve(clip.qpos(5), qv[5], qa[5], np.array([True, True]))
     pm, pd = _pinocchio()
@@ -185,7 +187,7 @@ def test_bodies_on_the_floor_push_without_friction(solver, model):
 
 def test_stance_flags_cover_the_frames_next_to_a_contact_change():
     c = np.array([[1, 0], [1, 0], [0, 0], [0, 0], [0, 1]], bool)
-    assert fz.stance_flags(c).astype(int).tolist() == [[1, 0], [1, 0], [1, 0], [0, 1], [0, 1]]
+    assert idyn.stance_flags(c).astype(int).tolist() == [[1, 0], [1, 0], [1, 0], [0, 1], [0, 1]]
 
 
 def test_check_clip_command_writes_a_report(tmp_path, model, capsys):

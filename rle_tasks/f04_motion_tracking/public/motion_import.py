@@ -17,9 +17,9 @@ import numpy as np
 from rle_design.errors import RleError
 
 from .clip import CLIP_FPS, Clip
-from .clipgen import foot_ground_height
 from .g1 import g1_model
 from .g1_constants import G1
+from .keying import foot_ground_height
 
 __all__ = ["CSV_FPS", "import_motion", "read_csv", "resample"]
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .clipgen import CLIP_SECONDS, GRAVITY, HIP_Y, STAND_Z, MotionPlan, Stance, keyed, min_jerk
+from .motion_plan import CLIP_SECONDS, GRAVITY, HIP_Y, STAND_Z, MotionPlan, Stance, keyed, min_jerk
 
 __all__ = ["STYLES", "plan_for"]
 

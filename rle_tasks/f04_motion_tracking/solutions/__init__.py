@@ -1,7 +1,7 @@
 """Shipped solutions of the family-04 tasks, materialised by ``rle_tasks.core.solutions`` (one
 ``SolutionSet`` per registered task).
 
-- ``reference``: for ``04-dance`` and ``04-fall-getup``, the whole-body QP expert (``expert.py``)
+- ``reference``: for ``04-dance`` and ``04-fall-getup``, the whole-body QP expert (``expert_tracker.py``)
   distilled by DAgger into an MLP of four observation frames (``distil.py``) with an output low-pass
   (``smooth.py``), with ``solutions/reference/policy_meta_h4.json`` (history 4); for ``04-fight``, the
   model-based tracking prior of the clip (``prior.py``: inverse-dynamics feedforward fitted by a small MLP, feedback gains tuned by

@@ -1,4 +1,4 @@
-"""DAgger distillation of the whole-body QP expert (``expert.py``) into an ONNX MLP policy.
+"""DAgger distillation of the whole-body QP expert (``expert_tracker.py``) into an ONNX MLP policy.
 
 Iteration i: every episode runs ``TrackingEnv`` (2 ms physics, a ``sample_perturbation`` robot at
 ``--strength``, a random start frame, at most ``--steps`` policy steps); each step the expert labels the
@@ -58,7 +58,7 @@ class Episode:
 
 
 def _expert(clip_path: str):
-    from .expert import Expert
+    from .expert_tracker import Expert
 
     if clip_path not in _EXPERTS:  # per process: the reference is precomputed once
         clip = Clip.load(clip_path)
