@@ -6,6 +6,8 @@ import grp
 import os
 import pwd
 import shutil
+import tempfile
+from collections.abc import Mapping
 from pathlib import Path
 
 #: Environment variables passed to the child; nothing else of the parent's environment crosses.
@@ -64,3 +66,28 @@ def give_to(workdir: Path, uid: int, gid: int) -> None:
     for root, dirs, files in os.walk(workdir):
         for name in dirs + files:
             os.chown(os.path.join(root, name), uid, gid, follow_symlinks=False)
+
+
+def make_workdir(module_dir: Path, files: Mapping[str, Path], ids: tuple[int, int] | None) -> Path:
+    """A fresh working directory for a child: ``module_dir``'s contents, the extra ``files``
+    ``{relative name: source}``, an empty ``tmp/``, owned by ``ids`` (uid, gid) where given.
+
+    Raises:
+        ValueError: an extra file's name escapes the directory.
+    """
+    workdir = Path(tempfile.mkdtemp(prefix="rle-sandbox-"))
+    try:
+        copy_tree(module_dir, workdir)
+        for rel, src in files.items():
+            dest = (workdir / rel).resolve()
+            if not dest.is_relative_to(workdir.resolve()):
+                raise ValueError(f"workdir file name {rel!r} escapes the working directory")
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(src, dest)
+        (workdir / "tmp").mkdir(exist_ok=True)
+        if ids is not None:
+            give_to(workdir, *ids)
+    except BaseException:
+        shutil.rmtree(workdir, ignore_errors=True)
+        raise
+    return workdir

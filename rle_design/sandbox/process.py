@@ -6,12 +6,10 @@ import atexit
 import contextlib
 import json
 import os
-import select
 import shutil
 import signal
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 import weakref
@@ -22,16 +20,15 @@ from typing import Any
 from rle_design.errors import RleError
 from rle_design.excerpt import excerpt
 from rle_design.sandbox import codec
+from rle_design.sandbox.channel import CHUNK, ChildGone, Expired, fill, read_exact, write_all
 from rle_design.sandbox.checks import check_output
+from rle_design.sandbox.death import death_cause, reap
 from rle_design.sandbox.faults import FAULT_CODES, ParticipantFault
-from rle_design.sandbox.isolation import child_env, copy_tree, drop_ids, give_to
+from rle_design.sandbox.isolation import child_env, drop_ids, make_workdir
 from rle_design.sandbox.limits import SandboxLimits
 
 _BOOTSTRAP = Path(__file__).with_name("_bootstrap.py")
 _LIVE: weakref.WeakSet[Sandbox] = weakref.WeakSet()
-_CHUNK = 1 << 16  # bytes read at once for small frames
-_IOV_MAX = 1024  # buffers per writev (Linux UIO_MAXIOV)
-_POLITE_AFTER_S = 1e-4  # a reply poll longer than this yields the CPU between reads
 _WAKE = b"".join(bytes(p) for p in codec.encode_frame({"op": "wake"}))
 _WAKE_POLL_TOTAL = [0.0]
 
@@ -40,14 +37,6 @@ def wake_poll_total_s() -> float:
     """Time the children of this process polled after ``Sandbox.wake`` so far, bounded on the caller's
     side [s]: CPU charged to the submissions that is the platform's (benchmarks subtract it)."""
     return _WAKE_POLL_TOTAL[0]
-
-
-class _ChildGone(Exception):
-    pass
-
-
-class _Expired(Exception):
-    pass
 
 
 class Sandbox:
@@ -151,18 +140,8 @@ class Sandbox:
             raise RleError(
                 f"sandbox interpreter {self.interpreter} is not an executable", code="sandbox.setup"
             )
-        self._workdir = Path(tempfile.mkdtemp(prefix="rle-sandbox-"))
-        copy_tree(self.module_path.parent, self._workdir)
-        for rel, src in self._workdir_files.items():
-            dest = (self._workdir / rel).resolve()
-            if not dest.is_relative_to(self._workdir.resolve()):
-                raise ValueError(f"workdir file name {rel!r} escapes the working directory")
-            dest.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(src, dest)
-        (self._workdir / "tmp").mkdir(exist_ok=True)
         ids = drop_ids()
-        if ids is not None:
-            give_to(self._workdir, *ids)
+        self._workdir = make_workdir(self.module_path.parent, self._workdir_files, ids)
         req_r, self._req_w = os.pipe()
         self._rep_r, rep_w = os.pipe()
         lim = self.limits
@@ -304,10 +283,11 @@ class Sandbox:
         deadline = time.monotonic() + timeout
         try:
             if parts is not None:
-                self._write_all(parts, deadline)
+                write_all(self._req_w, parts, deadline)
             pending, size = self._pending, codec.PREFIX.size
+            spin_s = self.limits.reply_spin_s
             while len(pending) < size:
-                self._fill(deadline)
+                fill(self._rep_r, pending, deadline, spin_s)
             n_header, n_payload = codec.parse_prefix(bytes(pending[:size]))
             if n_header + n_payload > self.limits.max_reply_bytes:
                 self._die(f"reply of {n_header + n_payload} bytes exceeds the cap")
@@ -317,22 +297,22 @@ class Sandbox:
                     f"{self.limits.max_reply_bytes} bytes",
                 )
             end = size + n_header + n_payload
-            if end <= _CHUNK:  # a small frame: one read usually brought all of it
+            if end <= CHUNK:  # a small frame: one read usually brought all of it
                 while len(pending) < end:
-                    self._fill(deadline)
+                    fill(self._rep_r, pending, deadline, spin_s)
                 header, payload = bytes(pending[size : size + n_header]), pending[size + n_header : end]
                 del pending[:end]
             else:
                 del pending[:size]
-                header = bytes(self._read_exact(n_header, deadline))
-                payload = self._read_exact(n_payload, deadline)
+                header = bytes(read_exact(self._rep_r, pending, n_header, deadline, spin_s))
+                payload = read_exact(self._rep_r, pending, n_payload, deadline, spin_s)
             reply, value = codec.decode_frame(header, payload)
-        except _Expired:
+        except Expired:
             self._die(f"timed out after {timeout:g} s")
             raise ParticipantFault(
                 "sandbox.timeout", f"{where}: no reply within {timeout:g} s; the child was killed"
             ) from None
-        except _ChildGone:
+        except ChildGone:
             raise self._death_fault(where) from None
         except codec.CodecError as exc:
             self._die("malformed reply")
@@ -352,74 +332,6 @@ class Sandbox:
         if meta is None or code == "sandbox.exit":  # import failures and exits end the child
             self._die(f"{code}: {message}")
         raise ParticipantFault(code, f"{where}: {message}", detail)
-
-    # -- channel -------------------------------------------------------------------------------------
-    def _write_all(self, parts: list, deadline: float) -> None:
-        """Write a frame's parts with as few ``writev`` calls as the pipe allows."""
-        views = [memoryview(p).cast("B") for p in parts if len(p)]
-        while views:
-            try:
-                k = os.writev(self._req_w, views[:_IOV_MAX])
-            except BlockingIOError:
-                k = 0
-            except OSError:  # BrokenPipeError among them: the child is gone
-                raise _ChildGone from None
-            while views and k >= len(views[0]):
-                k -= len(views.pop(0))
-            if views and k:
-                views[0] = views[0][k:]
-            elif views and not select.select([], [self._req_w], [], max(0.0, deadline - time.monotonic()))[1]:
-                raise _Expired
-
-    def _fill(self, deadline: float) -> None:
-        """Append what the reply pipe holds (at least one byte) to the pending bytes."""
-        while True:
-            try:
-                chunk = os.read(self._rep_r, _CHUNK)
-            except BlockingIOError:
-                self._await_reply(deadline)
-                continue
-            if not chunk:
-                raise _ChildGone
-            self._pending += chunk
-            return
-
-    def _read_exact(self, n: int, deadline: float) -> bytearray:
-        """``n`` bytes of the reply stream (the pending bytes first, then read straight into the buffer)."""
-        buf = bytearray(n)
-        view, got = memoryview(buf), min(n, len(self._pending))
-        if got:
-            view[:got] = self._pending[:got]
-            del self._pending[:got]
-        while got < n:
-            try:
-                k = os.readv(self._rep_r, [view[got:]])
-            except BlockingIOError:
-                self._await_reply(deadline)
-                continue
-            if k == 0:
-                raise _ChildGone
-            got += k
-        return buf
-
-    def _await_reply(self, deadline: float) -> None:
-        """Return once the reply pipe is readable. Polls for up to ``reply_spin_s`` first (a reply read
-        while polling needs no wake-up, which costs more than a short call), yielding the CPU between
-        polls after the first ``_POLITE_AFTER_S`` so that whoever needs it gets it; then sleeps.
-
-        Raises:
-            _Expired: Nothing to read by ``deadline``.
-        """
-        fd, now = self._rep_r, time.monotonic()
-        spin_until, polite_from = now + self.limits.reply_spin_s, now + _POLITE_AFTER_S
-        while now < spin_until:
-            if select.select([fd], [], [], 0)[0]:
-                return
-            if now > polite_from:
-                os.sched_yield()
-            now = time.monotonic()
-        if deadline - now <= 0 or not select.select([fd], [], [], deadline - now)[0]:
-            raise _Expired
 
     def _drain_output(self) -> None:
         proc, cap = self._proc, self.limits.max_output_bytes
@@ -447,31 +359,17 @@ class Sandbox:
 
     # -- death ---------------------------------------------------------------------------------------
     def _kill(self, proc: subprocess.Popen) -> tuple[int, float]:
-        """SIGKILL the process group, reap the child; (exit code, CPU seconds used)."""
         with contextlib.suppress(ProcessLookupError, PermissionError):
             os.killpg(proc.pid, signal.SIGKILL)
         return self._reap(proc, 5.0)
 
     def _reap(self, proc: subprocess.Popen, wait_s: float) -> tuple[int, float]:
-        if proc.returncode is not None:
-            return proc.returncode, getattr(proc, "_rle_cpu", 0.0)
-        deadline = time.monotonic() + wait_s
-        while True:
-            try:
-                pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
-            except ChildProcessError:
-                proc.returncode = proc.returncode if proc.returncode is not None else -signal.SIGKILL
-                return proc.returncode, 0.0
-            if pid:
-                proc.returncode = os.waitstatus_to_exitcode(status)
-                proc._rle_cpu = usage.ru_utime + usage.ru_stime  # type: ignore[attr-defined]
-                self._cpu_s = proc._rle_cpu  # type: ignore[attr-defined]
-                return proc.returncode, proc._rle_cpu  # type: ignore[attr-defined]
-            if time.monotonic() > deadline:
-                with contextlib.suppress(ProcessLookupError, PermissionError):
-                    os.killpg(proc.pid, signal.SIGKILL)
-                deadline = time.monotonic() + 5.0
-            time.sleep(0.002)
+        """``death.reap``; the CPU time of a child reaped now becomes ``cpu_time_s``."""
+        fresh = proc.returncode is None
+        rc, cpu = reap(proc, wait_s)
+        if fresh and hasattr(proc, "_rle_cpu"):
+            self._cpu_s = cpu
+        return rc, cpu
 
     def _die(self, reason: str) -> None:
         if self._death is None:
@@ -482,27 +380,9 @@ class Sandbox:
     def _death_fault(self, where: str) -> ParticipantFault:
         proc = self._proc
         rc, cpu = self._reap(proc, 2.0) if proc is not None else (-signal.SIGKILL, 0.0)
-        cpu_limit = int(self.limits.cpu_seconds + 0.999)
-        if self._flooded:
-            code = "sandbox.output_flood"
-            text = (
-                f"wrote more than {self.limits.max_output_total_bytes} bytes to stdout/stderr and was killed"
-            )
-        elif rc == -signal.SIGXCPU or (rc == -signal.SIGKILL and cpu >= cpu_limit):
-            code, text = "sandbox.cpu", f"CPU-time limit of {cpu_limit} s used up ({cpu:.1f} s)"
-        elif rc < 0:
-            code, text = "sandbox.crash", f"the child was killed by signal {_signal_name(-rc)}"
-        else:
-            code, text = "sandbox.exit", f"the child exited with status {rc}"
+        code, text = death_cause(rc, cpu, self.limits, self._flooded)
         self._die(f"{code}: {text}")
         return ParticipantFault(code, f"{where}: {text}", self.stdout_tail[-4000:])
-
-
-def _signal_name(num: int) -> str:
-    try:
-        return signal.Signals(num).name
-    except ValueError:
-        return str(num)
 
 
 @atexit.register
