@@ -17,7 +17,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from rle_design.ledger.testing import cut_seal
-from rle_tasks.core.solutions import Solution
+from rle_tasks.core.solutions import Solution, SolutionSet
+
+PACKAGE = "rle_tasks.f03_physical_reasoning"
 
 
 def unseal(directory: Path) -> None:
@@ -30,3 +32,13 @@ def unsealed(sha256: str) -> Solution:
     return Solution(
         "baseline/unsealed", sha256=sha256, quick_score=0.0, base="reference", transforms=(unseal,)
     )
+
+
+def committed(name: str, sha256: str, quick_score: float, directory: str) -> Solution:
+    """Solution ``name``: the committed directory ``directory`` (relative to the family package)."""
+    return Solution(name, sha256=sha256, quick_score=quick_score, files=((".", directory),))
+
+
+def solution_set(*solutions: Solution) -> SolutionSet:
+    """A task's shipped solutions, reference first, overlays relative to the family package."""
+    return SolutionSet(package=PACKAGE, solutions=solutions)

@@ -1,25 +1,21 @@
 """Shipped solutions of 03-cantilever (see the package docstring)."""
 
-from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unsealed
+from rle_tasks.f03_physical_reasoning.solutions import committed, solution_set, unsealed
 
-SOLUTIONS = SolutionSet(
-    package="rle_tasks.f03_physical_reasoning",
-    solutions=(
-        Solution(
-            "reference",
-            sha256="475b5ce76c103bb1cc24e63602d5630e03b82273f88a61e7626e86d0c5c1a63b",
-            quick_score=0.8264151512396387,
-            files=((".", "solutions/reference/cantilever"),),
-        ),
-        Solution(
-            "baseline/overreach",
-            sha256="03f7bf68eaa043965947a6cccc9076d99654e34b78da057fa2c0f8598a1b1539",
-            quick_score=0.5238966796327215,
-            files=((".", "solutions/baseline/overreach/cantilever"),),
-        ),
-        unsealed("5c104a55c9c685332d3a2d5b7ab793ee2f6fa843d3e065b766f8f386d3aa96fe"),
+SOLUTIONS = solution_set(
+    committed(
+        "reference",
+        "475b5ce76c103bb1cc24e63602d5630e03b82273f88a61e7626e86d0c5c1a63b",
+        0.8264151512396387,
+        "solutions/reference/cantilever",
     ),
+    committed(
+        "baseline/overreach",
+        "03f7bf68eaa043965947a6cccc9076d99654e34b78da057fa2c0f8598a1b1539",
+        0.5238966796327215,
+        "solutions/baseline/overreach/cantilever",
+    ),
+    unsealed("5c104a55c9c685332d3a2d5b7ab793ee2f6fa843d3e065b766f8f386d3aa96fe"),
 )
 
 

@@ -17,8 +17,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unsealed
+from rle_tasks.f03_physical_reasoning.solutions import committed, solution_set, unsealed
 from rle_tasks.f03_physical_reasoning.solutions.oracle import reference_program_oracle
 
 PROGRAMS = {"reference": 1.0, "five_weighings": 0.4, "wrong_cube": 0.0}
@@ -46,23 +45,20 @@ def record(program: str, secret, dest: Path, **kwargs) -> Path:
     return dest
 
 
-SOLUTIONS = SolutionSet(
-    package="rle_tasks.f03_physical_reasoning",
-    solutions=(
-        Solution(
-            "reference",
-            sha256="b434297a905314e90ad9eaf2a83c6eda078fc40cbaaac0700bbb73df1627321c",
-            quick_score=1.0,
-            files=((".", "solutions/balance_coins/ledgers/reference"),),
-        ),
-        Solution(
-            "baseline/five_weighings",
-            sha256="0197242c019f4d2526639faf0b7e7719ff28340939041475c60c1f614083c193",
-            quick_score=0.4,
-            files=((".", "solutions/balance_coins/ledgers/five_weighings"),),
-        ),
-        unsealed("c692a98faf010684eb2afec1f32395b5da0fb91acb3b997fd8da72fb379442e5"),
+SOLUTIONS = solution_set(
+    committed(
+        "reference",
+        "b434297a905314e90ad9eaf2a83c6eda078fc40cbaaac0700bbb73df1627321c",
+        1.0,
+        "solutions/balance_coins/ledgers/reference",
     ),
+    committed(
+        "baseline/five_weighings",
+        "0197242c019f4d2526639faf0b7e7719ff28340939041475c60c1f614083c193",
+        0.4,
+        "solutions/balance_coins/ledgers/five_weighings",
+    ),
+    unsealed("c692a98faf010684eb2afec1f32395b5da0fb91acb3b997fd8da72fb379442e5"),
 )
 """Committed public-key ledgers: the reference (two weighings), five weighings (0.4), the reference unsealed (0)."""
 

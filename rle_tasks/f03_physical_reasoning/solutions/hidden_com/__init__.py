@@ -15,8 +15,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unsealed
+from rle_tasks.f03_physical_reasoning.solutions import committed, solution_set, unsealed
 from rle_tasks.f03_physical_reasoning.solutions.oracle import reference_program_oracle
 
 PROGRAMS = ("reference", "random_answers", "late_answers")
@@ -47,29 +46,26 @@ def record(program: str, secret, dest: Path, camera_every: int = 10, **kwargs) -
     return dest
 
 
-SOLUTIONS = SolutionSet(
-    package="rle_tasks.f03_physical_reasoning",
-    solutions=(
-        Solution(
-            "reference",
-            sha256="95a391143c6e63b5ab7d99e8b3899372434f55c4b1ee44769601790276daa5fc",
-            quick_score=1.0,
-            files=((".", "solutions/hidden_com/ledgers/reference"),),
-        ),
-        Solution(
-            "baseline/random_answers",
-            sha256="357c35a3ba2e5d562c9d7d4122516196a0574c2eb6b98b286b8af4c8631d670b",
-            quick_score=0.0,
-            files=((".", "solutions/hidden_com/ledgers/random_answers"),),
-        ),
-        Solution(
-            "baseline/late_answers",
-            sha256="c2fcc3b6cb225bb2d3f980ee6ad2577f06c7b886a7c6ca4d7d2760ec1c5595d3",
-            quick_score=1 / 3,
-            files=((".", "solutions/hidden_com/ledgers/late_answers"),),
-        ),
-        unsealed("c979e83fa0f0d121abe1a332741e977d52786d939e022f8e4381bf7ff95905b9"),
+SOLUTIONS = solution_set(
+    committed(
+        "reference",
+        "95a391143c6e63b5ab7d99e8b3899372434f55c4b1ee44769601790276daa5fc",
+        1.0,
+        "solutions/hidden_com/ledgers/reference",
     ),
+    committed(
+        "baseline/random_answers",
+        "357c35a3ba2e5d562c9d7d4122516196a0574c2eb6b98b286b8af4c8631d670b",
+        0.0,
+        "solutions/hidden_com/ledgers/random_answers",
+    ),
+    committed(
+        "baseline/late_answers",
+        "c2fcc3b6cb225bb2d3f980ee6ad2577f06c7b886a7c6ca4d7d2760ec1c5595d3",
+        1 / 3,
+        "solutions/hidden_com/ledgers/late_answers",
+    ),
+    unsealed("c979e83fa0f0d121abe1a332741e977d52786d939e022f8e4381bf7ff95905b9"),
 )
 """Committed public-key ledgers: the reference (3/3), seeded random answers, the reference unsealed (0)."""
 

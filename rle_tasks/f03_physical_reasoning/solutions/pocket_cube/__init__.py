@@ -24,8 +24,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-from rle_tasks.core.solutions import Solution, SolutionSet
-from rle_tasks.f03_physical_reasoning.solutions import unsealed
+from rle_tasks.f03_physical_reasoning.solutions import committed, solution_set, unsealed
 
 PROGRAMS = ("reference", "idle", "dropped", "reset", "forced_twist", "top_turns")
 SHIPPED = ("reference", "idle", "dropped", "reset", "forced_twist")
@@ -59,45 +58,42 @@ def record(program: str, secret, dest: Path, camera_every: int = 100_000, inst=N
     return dest
 
 
-def _ledgers(name: str) -> tuple[tuple[str, str], ...]:
-    return ((".", f"solutions/pocket_cube/ledgers/{name}"),)
+def _ledgers(name: str) -> str:
+    return f"solutions/pocket_cube/ledgers/{name}"
 
 
-SOLUTIONS = SolutionSet(
-    package="rle_tasks.f03_physical_reasoning",
-    solutions=(
-        Solution(
-            "reference",
-            sha256="f3893a89d934f4621f84bf3a93291b49794fc8fef2c86fa06c88a5c3f09f0c47",
-            quick_score=1.0,
-            files=_ledgers("reference"),
-        ),
-        Solution(
-            "baseline/idle",
-            sha256="aa1d032206d67b62a120e9a69b9bd526b7d634ab8acf1331e5ecff3d27a74bfc",
-            quick_score=0.0,
-            files=_ledgers("idle"),
-        ),
-        Solution(
-            "baseline/dropped",
-            sha256="dbb418e71a1576081a3c4422c0c4e8b9666fb557c101d4d69dc49f6cdfeb28f1",
-            quick_score=0.0,
-            files=_ledgers("dropped"),
-        ),
-        Solution(
-            "baseline/reset",
-            sha256="4c5e38c39f8e4288044cb2a0a61be40c368f1c49e7845095468f6e6e7cae9a90",
-            quick_score=0.0,
-            files=_ledgers("reset"),
-        ),
-        Solution(
-            "baseline/forced_twist",
-            sha256="af50a798564aba8d3a84d914ea6f36c587b4375ed5c41f7b3778258fca4975b6",
-            quick_score=0.0,
-            files=_ledgers("forced_twist"),
-        ),
-        unsealed("d5d5e16ca5329742a0922569f4fec5bbb614e83e8182fa442889fcc1006929a7"),
+SOLUTIONS = solution_set(
+    committed(
+        "reference",
+        "f3893a89d934f4621f84bf3a93291b49794fc8fef2c86fa06c88a5c3f09f0c47",
+        1.0,
+        _ledgers("reference"),
     ),
+    committed(
+        "baseline/idle",
+        "aa1d032206d67b62a120e9a69b9bd526b7d634ab8acf1331e5ecff3d27a74bfc",
+        0.0,
+        _ledgers("idle"),
+    ),
+    committed(
+        "baseline/dropped",
+        "dbb418e71a1576081a3c4422c0c4e8b9666fb557c101d4d69dc49f6cdfeb28f1",
+        0.0,
+        _ledgers("dropped"),
+    ),
+    committed(
+        "baseline/reset",
+        "4c5e38c39f8e4288044cb2a0a61be40c368f1c49e7845095468f6e6e7cae9a90",
+        0.0,
+        _ledgers("reset"),
+    ),
+    committed(
+        "baseline/forced_twist",
+        "af50a798564aba8d3a84d914ea6f36c587b4375ed5c41f7b3778258fca4975b6",
+        0.0,
+        _ledgers("forced_twist"),
+    ),
+    unsealed("d5d5e16ca5329742a0922569f4fec5bbb614e83e8182fa442889fcc1006929a7"),
 )
 """Committed public-key ledgers: the reference (1.0), four baselines (0 each for its reason), the reference
 unsealed (0)."""
