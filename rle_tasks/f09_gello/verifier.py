@@ -1,6 +1,6 @@
 """Verifier of 09-gello: three variants (panda, ur5e, xarm7), ten checkpoints each.
 
-Per variant: load and check the submitted leader (``device``), run ``trim.py`` in the sandbox
+Per variant: load and check the submitted leader (``submission``), run ``trim.py`` in the sandbox
 (``trim_runner``), then the batteries (``battery``, ``clearance``) on
 
 * the nominal submitted leader (motion clearance, passive residual/hold/backdrive),
@@ -21,20 +21,25 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from rle_design.errors import MjcfError
-from rle_design.kinematics import GravityMap, model_from_mujoco, springs_from_mujoco
+from rle_design.mjcf.contract import Finding
 from rle_design.scene import element_id, has_element
 from rle_tasks.core.report import Findings, VerifierReport
 from rle_tasks.core.runtime.secrets import derive_rng
 from rle_tasks.core.scoring import Outcome
 from rle_tasks.core.task import VerifyContext
-from rle_tasks.f09_gello import battery, clearance, device, scoring
+from rle_tasks.f09_gello import battery, clearance, device, scoring, submission
 from rle_tasks.f09_gello.constants import TASK_ID
 from rle_tasks.f09_gello.leaders import ROBOTS
+from rle_tasks.f09_gello.measurements import (
+    _adapted_ff,
+    _hold_back_push,
+    _report_warnings,
+    _residuals,
+    _test_poses,
+)
 from rle_tasks.f09_gello.public import gello_helpers as helpers
 from rle_tasks.f09_gello.trim_runner import TrimRunner
 
-CROSSCHECK_TOL = 1e-6
 REFERENCE_FF_BOUND = 2.0
 """Feedforward bound on the reference arm [N m]: not a servo limit (about 2x its peak gravity torque),
 only a guard that keeps the simulation finite for absurd outputs."""
@@ -61,10 +66,6 @@ class Battery:
 
 FULL = Battery()
 QUICK = Battery(grid=256, clearance=48, test_poses=2, copies=1, hold_s=0.5)
-PUSH_N = 1.0
-PUSH_S = 0.05
-PUSH_TOTAL_S = 1.0
-WARNED_MOTION_RAD = float(np.pi)  # drift and creep recorded for a pose whose simulation warned [rad]
 
 
 @dataclass
@@ -73,111 +74,6 @@ class VariantResult:
     measured: dict[str, object] = field(default_factory=dict)
     deduction: float = 0.0
     valid: bool = True
-
-
-def _measure_probes(m: mujoco.MjModel, poses: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """Holding torques of a device copy at settled poses, with static-friction and sensing errors."""
-    tau = battery.residual_mujoco(m, poses)
-    band = helpers.PROBE_FRICTION_BAND * m.dof_frictionloss
-    return tau + rng.uniform(-1.0, 1.0, tau.shape) * band + rng.normal(0.0, helpers.PROBE_NOISE, tau.shape)
-
-
-def _test_poses(ranges: np.ndarray, n: int, rng: np.random.Generator) -> np.ndarray:
-    lo, hi = ranges[:, 0] + 3 * helpers.LIMIT_MARGIN, ranges[:, 1] - 3 * helpers.LIMIT_MARGIN
-    return rng.uniform(lo, hi, size=(n, len(ranges)))
-
-
-def _adapted_ff(
-    trim: TrimRunner,
-    plan: np.ndarray | None,
-    arm: str,
-    dev: mujoco.MjModel,
-    home: np.ndarray,
-    poses: np.ndarray,
-    rng: np.random.Generator,
-) -> np.ndarray | None:
-    """Feedforward at ``poses`` after adapting to device copy ``dev``; None when trim failed."""
-    if plan is None:
-        return None
-    q = np.vstack([home, plan])
-    params = trim.adapt(arm, q, _measure_probes(dev, q, rng))
-    if params is None:
-        return None
-    out = []
-    for p in poses:
-        f = trim.feedforward(p, params)
-        if f is None:
-            return None
-        out.append(f)
-    return np.array(out)
-
-
-def _hold_back_push(
-    dev: mujoco.MjModel,
-    poses: np.ndarray,
-    ff: np.ndarray,
-    net: np.ndarray,
-    hold_s: float,
-    push_dirs: np.ndarray | None,
-    failed: list[str],
-    effort: np.ndarray | None = None,
-) -> dict[str, list[float]]:
-    """Hold drift, backdrive and push creep per pose; a pose whose scenarios raise a MuJoCo warning
-    gets the worst values (score 0) and its warning is appended to ``failed``. ``effort`` (N, nv)
-    [N m] is added per joint to the breakaway torque before the worst joint is taken (the torque to
-    accelerate the design's added inertia)."""
-    bm = device.battery_model(dev)
-    out: dict[str, list[float]] = {"drift": [], "backdrive": [], "push": []}
-    for k, q in enumerate(poses):
-        try:
-            drift = battery.hold_drift(bm, q, ff[k], hold_s)
-            tau = battery.backdrive(bm, q, ff[k], net[k])
-            back = float(np.max(tau + (effort[k] if effort is not None else 0.0)))
-            push = (
-                battery.push_recovery(bm, q, ff[k], PUSH_N * push_dirs[k], PUSH_S, PUSH_TOTAL_S)
-                if push_dirs is not None
-                else None
-            )
-        except battery.SimulationFailed as exc:
-            failed.append(f"test pose {k}: {exc.message}")
-            drift, back, push = WARNED_MOTION_RAD, battery.BACKDRIVE_CAP, WARNED_MOTION_RAD
-        out["drift"].append(drift)
-        out["backdrive"].append(back)
-        if push_dirs is not None:
-            out["push"].append(push)
-    return out
-
-
-def _report_warnings(report: Findings, robot: str, scenario: str, failed: list[str]) -> None:
-    for line in failed:
-        report.add_error(
-            "battery.simulation_warning",
-            f"{robot} {scenario}: {line}; the simulation diverged or overflowed, the pose scores 0",
-            f"{robot}/lead.xml",
-        )
-
-
-def _residuals(
-    m: mujoco.MjModel, poses: np.ndarray, report: Findings, robot: str
-) -> tuple[np.ndarray, float]:
-    """Analytic residual over poses, cross-checked in MuJoCo (MuJoCo wins on disagreement)."""
-    try:
-        km = model_from_mujoco(m)
-        springs = springs_from_mujoco(m, km)
-    except MjcfError as exc:
-        report.add_error(exc.code, f"{exc.message}; residuals taken from MuJoCo", f"{robot}/lead.xml")
-        return battery.residual_mujoco(m, poses), float("nan")
-    r = battery.residual_map(km, springs, poses, GravityMap(km))
-    check = battery.residual_mujoco(m, poses[:16])
-    err = float(np.max(np.abs(check - r[:16])))
-    if err > CROSSCHECK_TOL:
-        report.add_error(
-            "kinematics.crosscheck",
-            f"analytic and MuJoCo residuals differ by {err:.3g} N m; MuJoCo values used",
-            f"{robot}/lead.xml",
-        )
-        return battery.residual_mujoco(m, poses), err
-    return r, err
 
 
 #: Checkpoints whose measurement uses the submitted feedforward (zero when trim.py faults).
@@ -209,17 +105,17 @@ def verify_variant(robot: str, root: Path, ctx: VerifyContext, report: Findings)
     sub_dir = root / robot
     if not sub_dir.is_dir():
         report.add_error("artifact.missing_robot", f"submission has no directory '{robot}/'", robot)
-        sub = device.Submission(robot)
-        sub.structure.append(device.Finding("artifact.missing_robot", f"missing '{robot}/'"))
+        sub = submission.Submission(robot)
+        sub.structure.append(Finding("artifact.missing_robot", f"missing '{robot}/'"))
     else:
-        sub = device.load_submission(robot, sub_dir)
+        sub = submission.load_submission(robot, sub_dir)
     for f in sub.structure + sub.validity:
         report.add_error(f.code, f.message, f.path)
     res.valid = not sub.structure and not sub.validity
-    res.deduction = scoring.RUBRIC.deduction(device.deductions(sub))
+    res.deduction = scoring.RUBRIC.deduction(submission.deductions(sub))
     res.measured["device_mass_kg"] = sub.mass
     if sub.model is not None:
-        res.measured["springs"] = device.springs_summary(sub.model)  # every element adding passive torque
+        res.measured["springs"] = submission.springs_summary(sub.model)  # every element adding passive torque
 
     trim = TrimRunner(sub_dir / "trim.py", dof, hang_cap_s=ctx.hang_cap_s)
     try:

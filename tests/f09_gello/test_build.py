@@ -1,12 +1,12 @@
-"""The reference build's placement rules (``solutions/build.py``, ``solutions/attached.py``), pinned
+"""The reference build's placement rules (``solutions/build.py`` and its modules), pinned
 on closed forms: the passive hold's loss estimate and a counterweight split into a pair."""
 
 import numpy as np
 import pytest
 
 from rle_tasks.f09_gello.public.gello_helpers import load_leader, residual, workspace_grid
-from rle_tasks.f09_gello.solutions.attached import SERVO_FRICTION, hold_failure
 from rle_tasks.f09_gello.solutions.design import apply_design, exact_design
+from rle_tasks.f09_gello.solutions.placement_loss import SERVO_FRICTION, hold_failure
 
 
 def test_hold_failure_is_the_fraction_of_a_turn_where_the_moment_beats_the_friction():
@@ -45,7 +45,7 @@ def test_a_pair_astride_the_axis_balances_what_a_single_weight_does(tmp_path):
 
 
 def test_the_parts_collisions_add_up_to_the_verifiers_count():
-    """``attached.part_collisions`` per rigid group of added parts: their union over a design is
+    """``part_checks.part_collisions`` per rigid group of added parts: their union over a design is
     ``clearance.collision_fraction`` of the whole design (what the joint search adds up)."""
     import mujoco
 
@@ -53,7 +53,7 @@ def test_the_parts_collisions_add_up_to_the_verifiers_count():
     from rle_tasks.core.solutions import materialise
     from rle_tasks.f09_gello.clearance import collision_fraction
     from rle_tasks.f09_gello.device import stock_names
-    from rle_tasks.f09_gello.solutions.attached import part_collisions
+    from rle_tasks.f09_gello.solutions.part_checks import part_collisions
 
     ref = materialise("09-gello", "reference")
     for robot in ("ur5e", "xarm7"):
@@ -72,10 +72,11 @@ def test_the_parts_collisions_add_up_to_the_verifiers_count():
 
 
 def test_combinations_are_the_union_of_their_candidates_collisions():
-    """``attached.best_combinations``: a combination's collisions are the union of its candidates'
+    """``joint_search.best_combinations``: a combination's collisions are the union of its candidates'
     (here disjoint poses add, shared ones count once), its added inertia the current one plus each
     candidate's change, and the mass cap excludes what is too heavy."""
-    from rle_tasks.f09_gello.solutions.attached import _search_loss, best_combinations
+    from rle_tasks.f09_gello.solutions.joint_search import best_combinations
+    from rle_tasks.f09_gello.solutions.placement_loss import _search_loss
 
     n, counted = 20, np.ones(20, bool)
 

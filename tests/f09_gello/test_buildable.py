@@ -17,9 +17,9 @@ from rle_design.catalog import load_catalog
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.buildable import SPRING_CUT_MAX, spring_cut_poses
-from rle_tasks.f09_gello.device import load_submission, springs_summary
 from rle_tasks.f09_gello.leaders import ROBOTS
 from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workspace_grid
+from rle_tasks.f09_gello.submission import load_submission, springs_summary
 
 TASK = get_task("09-gello")
 

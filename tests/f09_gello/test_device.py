@@ -7,18 +7,16 @@ import numpy as np
 import pytest
 
 from rle_design.scene import Variation, element_id
+from rle_tasks.f09_gello.constants import HARD_MASS_KG, MAX_MASS_KG
 from rle_tasks.f09_gello.device import (
     ASSET_DIR,
-    HARD_MASS_KG,
-    MAX_MASS_KG,
     apply_variation,
     battery_model,
-    deductions,
     device_variations,
-    load_submission,
     stock_model,
 )
 from rle_tasks.f09_gello.scoring import RUBRIC
+from rle_tasks.f09_gello.submission import deductions, load_submission
 
 
 def _variant(tmp_path, old: str, new: str, robot: str = "ur5e"):

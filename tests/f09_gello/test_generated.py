@@ -14,7 +14,7 @@ from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import run_verify
 from rle_tasks.f09_gello.audit import BODIES, expected
-from rle_tasks.f09_gello.device import load_submission
+from rle_tasks.f09_gello.submission import load_submission
 
 TASK = get_task("09-gello")
 ADDITIONS = additions(BODIES)

@@ -85,7 +85,7 @@ def test_backdrive_scores_breakaway_plus_effort_on_the_worst_joint():
     """``_hold_back_push`` adds the effort per joint before taking the worst joint: an effort of
     0.2 N m on joint 1 of the balanced stock leader at rest (breakaway = servo friction 0.0128 N m)
     reads 0.2128 N m."""
-    from rle_tasks.f09_gello.verifier import _hold_back_push
+    from rle_tasks.f09_gello.measurements import _hold_back_push
 
     m = stock_model("panda")
     q = np.array([[0.0, 0.0, 0.0, -1.5, 0.0, 1.5, 0.0]])

@@ -18,8 +18,8 @@ from rle_tasks.core.solutions import materialise
 from rle_tasks.core.task import VerifyContext
 from rle_tasks.core.verify import run_verify
 from rle_tasks.f09_gello import battery
-from rle_tasks.f09_gello.device import load_submission, springs_summary
 from rle_tasks.f09_gello.leaders import ROBOTS
+from rle_tasks.f09_gello.submission import load_submission, springs_summary
 
 TASK = get_task("09-gello")
 

@@ -5,8 +5,9 @@ import numpy as np
 from rle_design.sandbox import ParticipantFault
 from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
-from rle_tasks.f09_gello.device import ASSET_DIR, load_submission
+from rle_tasks.f09_gello.device import ASSET_DIR
 from rle_tasks.f09_gello.public.gello_helpers import HOME, load_leader, peak_torque, residual, workspace_grid
+from rle_tasks.f09_gello.submission import load_submission
 from rle_tasks.f09_gello.trim_runner import TrimRunner
 
 
@@ -55,7 +56,7 @@ def test_trim_runner_records_faults_and_returns_none(tmp_path):
 
 def test_reference_trim_recovers_a_hidden_copy_within_the_friction_band():
     from rle_tasks.core.runtime.secrets import load_secret
-    from rle_tasks.f09_gello import battery, device, verifier
+    from rle_tasks.f09_gello import battery, device, measurements
 
     robot = "ur5e"
     sub = load_submission(robot, materialise(get_task("09-gello"), "reference") / robot)
@@ -64,7 +65,7 @@ def test_reference_trim_recovers_a_hidden_copy_within_the_friction_band():
     poses = workspace_grid(sub.model.jnt_range, 5, seed=3)
     with TrimRunner(sub.design.root / "trim.py", 6) as trim:
         plan = trim.plan(sub.model.jnt_range)
-        ff = verifier._adapted_ff(trim, plan, "submitted", dev, np.array(HOME[robot]), poses, rng)
+        ff = measurements._adapted_ff(trim, plan, "submitted", dev, np.array(HOME[robot]), poses, rng)
     assert not trim.faults and load_secret().public
     err = np.abs(battery.residual_mujoco(dev, poses) - ff)
     assert err.max() < sub.model.dof_frictionloss[0]  # holds: below the 0.0128 N m friction

@@ -16,9 +16,10 @@ from rle_tasks.core.registry import get_task
 from rle_tasks.core.solutions import materialise
 from rle_tasks.f09_gello.audit import thin_strut as _thin_strut
 from rle_tasks.f09_gello.clearance import collision_fraction, joint_overlaps
-from rle_tasks.f09_gello.device import ASSET_DIR, load_submission, stock_model
+from rle_tasks.f09_gello.device import ASSET_DIR, stock_model
 from rle_tasks.f09_gello.leaders import ROBOTS
 from rle_tasks.f09_gello.public.gello_helpers import PUBLIC_GRID_SIZE, workshop_check, workspace_grid
+from rle_tasks.f09_gello.submission import load_submission
 
 TASK = get_task("09-gello")
 ROBOT = "ur5e"

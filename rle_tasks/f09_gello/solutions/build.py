@@ -1,6 +1,6 @@
 """Builds the reference leaders: ``python -m rle_tasks.f09_gello.solutions.build [ROBOT ...]`` (build
 time only). The design is ``design`` (exact counterweights and spring, the placements), the fastening
-and the placement search ``attached``.
+``attached`` and the placement search ``placement_search``.
 """
 
 from __future__ import annotations
@@ -13,11 +13,12 @@ from pathlib import Path
 import mujoco
 
 from rle_tasks.f09_gello.leaders import ROBOTS
-from rle_tasks.f09_gello.solutions.attached import clear_fastened, write_leader
+from rle_tasks.f09_gello.solutions.attached import write_leader
 from rle_tasks.f09_gello.solutions.design import PKG
+from rle_tasks.f09_gello.solutions.placement_search import clear_fastened
 
 BUILD_OPTIONS = {"xarm7": {"flush": frozenset({"link3"})}}
-"""Per-robot options of ``attached.clear_fastened`` (panda's and ur5e's leaders are built as before).
+"""Per-robot options of ``placement_search.clear_fastened`` (panda's and ur5e's leaders are built as before).
 xarm7: the joint-3 weight's rod starts on link 3's surface rather than 2 mm inside it, after the
 placement search; 2 mm in, its start lay inside link 4's shell at 7 of 1024 public poses (1.6 mm
 deep). Its coordinate descent (``descent``) and a tighter re-balance (``box``) were tried and are
@@ -27,7 +28,7 @@ off: the descent found no move that keeps the balance, the 5 mm box made the wei
 
 def build_all(target: Path = PKG / "solutions" / "reference", robots: tuple[str, ...] = ROBOTS) -> None:
     """Write the reference leaders (``solutions/reference/<robot>/lead.xml``): the exact design with
-    every part fastened and re-balanced (``attached.clear_fastened``). The rest of every shipped
+    every part fastened and re-balanced (``placement_search.clear_fastened``). The rest of every shipped
     solution is declared in ``solutions/__init__.py`` and materialised by ``rle_tasks.core.solutions``.
     ``robots``: the leaders to write (each is built on its own: the others' files are left as they are)."""
     with tempfile.TemporaryDirectory() as tmp:

@@ -10,13 +10,13 @@ Reference (``solutions/reference/<robot>/lead.xml``), derivation (``exact_design
    zero-length spring (tendon ``springlength="0"``) from ``SPRING_ARM`` above joint 2 on link 1 to
    ``SPRING_ARM`` along the centre-of-mass direction on link 2 with k a b = M g |d| balances it
    exactly at every angle (residual ~1e-8 N m from the 9-digit XML numbers).
-3. Fastening (``attached.py``): each counterweight on an aluminium rod from its link's shell (or
-   servo housing) or on an L-bracket, each spring end on an aluminium post, placements chosen
-   greedily for clearance as the verifier counts it (collisions, spring paths through parts, and
-   parts inside the next link across a joint, ``rle_design.mjcf.interpenetration``); the ideal
-   spring becomes the catalog spring nearest in rate (``rle_design/catalogs/springs.yaml``), then
-   masses, centres and the spring's attachment point re-optimised with the rods and posts counted
-   (``rle_design.kinematics.codesign``, CasADi/IPOPT).
+3. Fastening (``attached.py``, ``placement_search.py``, ``rebalance.py``): each counterweight on an
+   aluminium rod from its link's shell (or servo housing) or on an L-bracket, each spring end on an
+   aluminium post, placements chosen greedily for clearance as the verifier counts it (collisions,
+   spring paths through parts, and parts inside the next link across a joint,
+   ``rle_design.mjcf.interpenetration``); the ideal spring becomes the catalog spring nearest in rate
+   (``rle_design/catalogs/springs.yaml``), then masses, centres and the spring's attachment point
+   re-optimised with the rods and posts counted (``rle_design.kinematics.codesign``, CasADi/IPOPT).
 4. ``trim.py`` (shared by the three robots) fits the identifiable gravity parameters (QR base
    parameters of the Pinocchio regressor) to the 16 probes with a small ridge to the nominal values,
    after a greedy D-optimal probe plan over a candidate grid; hidden link-mass and payload changes
