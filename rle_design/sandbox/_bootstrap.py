@@ -3,7 +3,8 @@
 Trusted code only until the submitted module is imported: it isolates the network (root), sets the
 rlimits, drops to the unprivileged uid (root), sets no_new_privs, installs the audit hook, imports the
 module and then serves requests on the two channel file descriptors. It never imports ``rle_design``
-(isolated mode has no package path); the codec is loaded from its file.
+(isolated mode has no package path); the codec and the Landlock rules (``_landlock.py``) are loaded
+from their files.
 """
 
 import contextlib
@@ -13,7 +14,6 @@ import json
 import os
 import resource
 import select
-import struct
 import sys
 import time
 import traceback
@@ -23,6 +23,9 @@ _CONFIG = json.loads(sys.argv[1])
 _spec = importlib.util.spec_from_file_location("_rle_codec", _CONFIG["codec"])
 codec = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(codec)
+_spec = importlib.util.spec_from_file_location("_rle_landlock", _CONFIG["landlock_module"])
+landlock = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(landlock)
 
 _RFD, _WFD = _CONFIG["rfd"], _CONFIG["wfd"]
 _WORKDIR = os.path.realpath(_CONFIG["workdir"])
@@ -235,100 +238,6 @@ def _reroute_unreachable_paths():
     sys.path_importer_cache.clear()
 
 
-# Landlock (Linux >= 5.13, unprivileged): syscall numbers (the same on every architecture) and rights.
-_LL_CREATE, _LL_ADD_RULE, _LL_RESTRICT = 444, 445, 446
-_LL_VERSION = 1  # landlock_create_ruleset flag: return the ABI version
-_LL_PATH_BENEATH = 1
-_LL_EXECUTE, _LL_WRITE_FILE, _LL_READ_FILE, _LL_READ_DIR = 1, 2, 4, 8
-_LL_TRUNCATE, _LL_IOCTL_DEV = 1 << 14, 1 << 15
-_LL_READ = _LL_EXECUTE | _LL_READ_FILE | _LL_READ_DIR
-_SYSTEM_READABLE = (
-    "/usr",
-    "/lib",
-    "/lib64",
-    "/lib32",
-    "/etc/ld.so.cache",
-    "/etc/localtime",
-    "/proc/self",
-    "/proc/cpuinfo",
-    "/proc/meminfo",
-    "/proc/stat",
-    "/sys/devices/system/cpu",
-    "/sys/fs/cgroup",
-    "/dev/urandom",
-    "/dev/random",
-    "/dev/zero",
-)
-"""Read-only outside the interpreter's own trees: shared libraries and what numeric libraries probe."""
-
-
-def _readable_trees():
-    """The interpreter's library trees and the public toolkit (never the verifier package)."""
-    paths = {sys.prefix, sys.base_prefix, sys.exec_prefix, sys.base_exec_prefix, *_SYSTEM_READABLE}
-    paths.update(p for p in sys.path if p and not p.startswith("/proc/self/fd/"))
-    spec = importlib.util.find_spec("rle_design")  # locates only: nothing is imported
-    if spec is not None and spec.submodule_search_locations:
-        paths.update(spec.submodule_search_locations)
-    paths.update(_CONFIG.get("readable", ()))
-    return sorted(paths)
-
-
-def _landlock_paths():
-    """``(O_PATH descriptor, rights, is_dir)`` per rule, opened now (before any uid drop, so that an
-    interpreter under a private directory can still be named)."""
-    rules = [(p, _LL_READ) for p in _readable_trees()]
-    rules += [(os.devnull, _LL_READ_FILE | _LL_WRITE_FILE), (_WORKDIR, -1)]
-    opened = []
-    for path, rights in rules:
-        try:
-            opened.append((os.open(path, os.O_PATH | os.O_CLOEXEC), rights, os.path.isdir(path)))
-        except OSError:
-            continue  # absent on this system
-    return opened
-
-
-def _landlock(libc, opened):
-    """Restrict this process (and nothing else) to reading its library trees and reading and writing
-    its working directory; with ABI >= 4 no TCP bind or connect, with ABI >= 6 no signal to a
-    process outside the sandbox. Returns whether the restriction is in force."""
-    syscall = libc.syscall
-    syscall.restype = ctypes.c_long
-    try:
-        abi = syscall(ctypes.c_long(_LL_CREATE), None, ctypes.c_size_t(0), ctypes.c_uint32(_LL_VERSION))
-        if abi < 1:
-            return False
-        fs = (1 << 13) - 1 | (1 << 13 if abi >= 2 else 0) | (_LL_TRUNCATE if abi >= 3 else 0)
-        fs |= _LL_IOCTL_DEV if abi >= 5 else 0
-        net = 3 if abi >= 4 and not _CONFIG["network"] else 0
-        scoped = 3 if abi >= 6 else 0
-        attr = struct.pack("=QQQ", fs, net, scoped)[: 8 if abi < 4 else 16 if abi < 6 else 24]
-        ruleset = syscall(
-            ctypes.c_long(_LL_CREATE), ctypes.c_char_p(attr), ctypes.c_size_t(len(attr)), ctypes.c_uint32(0)
-        )
-        if ruleset < 0:
-            return False
-        try:
-            file_rights = _LL_EXECUTE | _LL_WRITE_FILE | _LL_READ_FILE | (fs & (_LL_TRUNCATE | _LL_IOCTL_DEV))
-            for fd, rights, is_dir in opened:
-                rights = fs if rights < 0 else rights & fs
-                rule = struct.pack("=Qi", rights if is_dir else rights & file_rights, fd)
-                added = syscall(
-                    ctypes.c_long(_LL_ADD_RULE),
-                    ctypes.c_int(ruleset),
-                    ctypes.c_int(_LL_PATH_BENEATH),
-                    ctypes.c_char_p(rule),
-                    ctypes.c_uint32(0),
-                )
-                if added != 0:
-                    return False
-            return syscall(ctypes.c_long(_LL_RESTRICT), ctypes.c_int(ruleset), ctypes.c_uint32(0)) == 0
-        finally:
-            os.close(ruleset)
-    finally:
-        for fd, _, _ in opened:
-            os.close(fd)
-
-
 def _isolate():
     layers = {"netns": False, "uid_drop": False, "no_new_privs": False, "nproc": False, "landlock": False}
     libc = ctypes.CDLL(None, use_errno=True)
@@ -343,7 +252,9 @@ def _isolate():
     resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 2))
     resource.setrlimit(resource.RLIMIT_AS, (_CONFIG["memory_bytes"],) * 2)
     resource.setrlimit(resource.RLIMIT_FSIZE, (_CONFIG["file_bytes"],) * 2)
-    opened = _landlock_paths() if _CONFIG.get("landlock", True) else []
+    opened = (
+        landlock.rule_paths(_WORKDIR, _CONFIG.get("readable", ())) if _CONFIG.get("landlock", True) else []
+    )
     if _CONFIG["uid"] is not None:
         _reroute_unreachable_paths()
         with contextlib.suppress(PermissionError):
@@ -353,7 +264,7 @@ def _isolate():
         layers["uid_drop"] = os.getuid() == os.geteuid() == _CONFIG["uid"]
     layers["no_new_privs"] = libc.prctl(_PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) == 0
     if opened and layers["no_new_privs"]:
-        layers["landlock"] = _landlock(libc, opened)
+        layers["landlock"] = landlock.restrict(libc, opened, _CONFIG["network"])
     resource.setrlimit(resource.RLIMIT_NPROC, (_CONFIG["max_processes"],) * 2)
     layers["nproc"] = os.getuid() != 0
     return layers

@@ -28,6 +28,7 @@ from rle_design.sandbox.isolation import child_env, drop_ids, make_workdir
 from rle_design.sandbox.limits import SandboxLimits
 
 _BOOTSTRAP = Path(__file__).with_name("_bootstrap.py")
+_LANDLOCK = Path(__file__).with_name("_landlock.py").resolve()
 _LIVE: weakref.WeakSet[Sandbox] = weakref.WeakSet()
 _WAKE = b"".join(bytes(p) for p in codec.encode_frame({"op": "wake"}))
 _WAKE_POLL_TOTAL = [0.0]
@@ -147,6 +148,7 @@ class Sandbox:
         lim = self.limits
         config = {
             "codec": str(Path(codec.__file__).resolve()),
+            "landlock_module": str(_LANDLOCK),
             "workdir": str(self._workdir),
             "module_file": str(self._workdir / self.module_path.name),
             "module_name": self.name,
