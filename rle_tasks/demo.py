@@ -31,7 +31,7 @@ from rle_tasks.core.runtime.secrets import load_secret
 from rle_tasks.core.solutions import declaration, materialise
 from rle_tasks.core.task import TaskSpec, VerifyContext
 from rle_tasks.core.verify import VerifierSetupError, run_verify
-from rle_tasks.demo_checks import golden_differences, retrainings, unpinned_full
+from rle_tasks.demo_checks import full_scores, golden_differences, retrainings, unpinned_full
 from rle_tasks.demo_progress import Estimate
 
 TEST_BASE = Path(__file__).parent / "demo_assets" / "test_base.xml"
@@ -307,6 +307,8 @@ def run_demo(
     )
     summary = {f"{t}:{n}": round(r.score, 4) for t, n, _, r in results}
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    if full:  # what pins demo_checks.FULL_GOLDENS when copied there
+        (out / "full_scores.json").write_text(json.dumps(full_scores(results, modes), indent=1) + "\n")
     for (t, n, _, _), (key, score) in zip(results, summary.items(), strict=True):
         golden = differs.get((t, n))
         note = "" if golden is None else f"  differs from its golden score {golden:.3f}"

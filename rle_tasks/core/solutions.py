@@ -63,8 +63,6 @@ class Solution:
         transforms: Module-level functions applied in order after the overlay.
         runs_out_s: The solution exists to run out a time limit of this many seconds [s] (None: it
             does not): ``rle demo`` lists it with the limit and runs it only with ``--full``.
-        full_score: Golden score in full mode with the public development key, where a full run was
-            measured (None: not pinned); ``rle demo --full`` compares its full reports with it.
     """
 
     name: str
@@ -74,7 +72,6 @@ class Solution:
     files: tuple[tuple[str, str], ...] = ()
     transforms: tuple[Transform, ...] = ()
     runs_out_s: float | None = None
-    full_score: float | None = None
 
 
 @dataclass(frozen=True)

@@ -99,33 +99,35 @@ def test_demo_marks_quick_scores_that_differ_from_their_golden_scores(tmp_path):
 def test_the_full_demo_compares_full_reports_with_pinned_full_scores_and_names_retrainings(
     tmp_path, monkeypatch
 ):
-    """A full report is compared with ``Solution.full_score`` where one is pinned (counted as unpinned
-    otherwise); a report that trained a recipe says whether its checkpoint reproduced the pinned one."""
-    import dataclasses
+    """A full report is compared with its golden score in ``FULL_GOLDENS`` where one is pinned
+    (counted as unpinned otherwise); a report that trained a recipe says whether its checkpoint
+    reproduced the pinned one; ``full_scores`` is what pins them."""
+    import json
 
     task = get_task("09-gello")
-    real = declaration(task)
-    ref = real.get("reference")
-    pinned = {"reference": dataclasses.replace(ref, full_score=0.8)}
+    goldens = tmp_path / "full_goldens.json"
+    goldens.write_text(json.dumps({f"{task.id}:reference": 0.8}))
+    monkeypatch.setattr(demo_checks, "FULL_GOLDENS", goldens)
 
-    class Decl:
-        def get(self, name):
-            return pinned.get(name) or real.get(name)
-
-    monkeypatch.setattr(demo_checks, "declaration", lambda t: Decl())
-
-    def report(score, **native):
-        return VerifierReport(task.id, "09", task.workflow, score=score, valid=True, native_metrics=native)
+    def report(score, secret="public", **native):
+        return VerifierReport(
+            task.id, "09", task.workflow, score=score, valid=True, secret=secret, native_metrics=native
+        )
 
     path = tmp_path / "r.json"
     results = [
         (task.id, "reference", path, report(0.8 + 2e-6, training="trained", ckpt_reproduced=True)),
         (task.id, "baseline/uncompensated", path, report(0.1, training="trained", ckpt_reproduced=False)),
         (task.id, "baseline/over_mass", path, report(0.0, training="trained")),
-        (task.id, "baseline/hanging_trim", path, report(0.5, training="shipped")),
+        (task.id, "baseline/hanging_trim", path, report(0.5, secret="operator", training="shipped")),
     ]
     modes = {(task.id, n): False for _, n, _, _ in results}
-    assert demo_checks.golden_differences(results, modes) == {(task.id, "reference"): 0.8}  # |2e-6| > 1e-6
+    assert demo_checks.golden_differences(results, modes) == {(task.id, "reference"): 0.8}  # 2e-6 > 1e-6
+    assert demo_checks.full_scores(results, modes) == {
+        f"{task.id}:reference": 0.8 + 2e-6,
+        f"{task.id}:baseline/uncompensated": 0.1,
+        f"{task.id}:baseline/over_mass": 0.0,
+    }  # the operator-secret report pins nothing
     results[0] = (task.id, "reference", path, report(0.8 + 5e-7))
     assert demo_checks.golden_differences(results, modes) == {}
     assert demo_checks.unpinned_full(results, modes) == [(task.id, n) for _, n, _, _ in results[1:]]
@@ -135,6 +137,8 @@ def test_the_full_demo_compares_full_reports_with_pinned_full_scores_and_names_r
     ]
     page = demo.write_html(tmp_path, results, [], None, 1.0, modes, {}).read_text()
     assert page.count("checkpoint differs") == 1 and page.count("shipped checkpoint") == 1
+    goldens.write_text("not json")
+    assert demo_checks.full_goldens() == {}
 
 
 def test_demo_runs_the_tasks_it_is_given_by_id_or_family_number(tmp_path, monkeypatch):
