@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from rle_tasks.envs.libero.demos import build_demos, verify_demos
-from rle_tasks.envs.libero.experts import _axis_angle, _hand_overlap, _rotation, _rz
+from rle_tasks.envs.libero.expert_grasp import _hand_overlap
+from rle_tasks.envs.libero.expert_motion import _axis_angle, _rotation, _rz
 
 
 def test_axis_angle_of_known_rotations():
@@ -69,7 +70,7 @@ def test_a_recorded_episode_keeps_the_views_the_policy_saw(libero10_task0_render
     """With a rendering environment the driver records both views live at every instant it records a
     state (what a policy is served); images rendered afterwards from the stored MuJoCo states differ,
     because an observation lags the stored state by part of a control step."""
-    from rle_tasks.envs.libero.experts import _Driver
+    from rle_tasks.envs.libero.expert_motion import _Driver
 
     env = libero10_task0_rendered
     first = env.reset(0)
@@ -88,7 +89,7 @@ def test_skipped_views_change_neither_the_episode_nor_the_views_asked_for(libero
     """Recording every 3rd frame's views (the other steps not rendered) gives, at frames 0, 3 and 6,
     the very images and states of a run that renders every step, and steps without views carry
     no images."""
-    from rle_tasks.envs.libero.experts import _Driver
+    from rle_tasks.envs.libero.expert_motion import _Driver
 
     env = libero10_task0_rendered
     actions = [np.array([0.3, 0.1 * k, -0.2, 0.0, 0.0, 0.05, -1.0]) for k in range(6)]
@@ -114,7 +115,8 @@ def test_a_stove_knob_is_no_door_and_task_2_is_offered(libero_side_env):
     microwave's door, but it reaches 7.1 cm from its axis, under DOOR_MIN_REACH (15 cm; the door
     reaches 26.7 cm), so the cook region is not behind a door and the builder offers the task."""
     from rle_tasks.envs.libero import LiberoEnv
-    from rle_tasks.envs.libero.experts import DOOR_MIN_REACH, _door_front, _joint_of, supported
+    from rle_tasks.envs.libero.expert_fixtures import DOOR_MIN_REACH, _door_front, _joint_of
+    from rle_tasks.envs.libero.experts import supported
 
     with LiberoEnv("libero_10", 2, render=False) as env:
         env.start()
@@ -138,7 +140,8 @@ def test_the_mug_goes_in_through_the_microwave_door_and_the_door_is_shut(libero_
     reaching 26.7 cm, its outer face (with the handle) 6.4 cm off the hinge line; the opening faces
     the robot (-y)."""
     from rle_tasks.envs.libero import LiberoEnv
-    from rle_tasks.envs.libero.experts import _door_front, _leaf, run_expert, supported
+    from rle_tasks.envs.libero.expert_fixtures import _door_front, _leaf
+    from rle_tasks.envs.libero.experts import run_expert, supported
 
     with LiberoEnv("libero_10", 9, render=False) as env:
         env.start()
