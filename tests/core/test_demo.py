@@ -218,3 +218,18 @@ def test_progress_estimates_the_time_left_per_family_from_the_measured_times(tmp
     assert (
         (tmp_path / "out.json").read_text().strip().startswith('{\n "quick:08-mobile-base:reference": 120.0')
     )
+
+
+def test_every_reference_the_full_demo_verifies_in_full_has_a_pinned_full_golden_score():
+    """``full_goldens.json`` pins exactly the references that ``rle demo --full`` runs in full (the
+    episode-scored tasks run their quick subset there too), each a score in [0, 1]."""
+    goldens = demo_checks.full_goldens()
+    expected = {
+        f"{t.id}:reference"
+        for t in all_tasks()
+        if t.implemented
+        and "reference" in t.solutions
+        and not demo._mode("reference", False, False, t.episode_scored)
+    }
+    assert set(goldens) == expected and len(expected) >= 20
+    assert all(0.0 <= s <= 1.0 for s in goldens.values())
