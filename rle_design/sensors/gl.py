@@ -84,3 +84,22 @@ def create_context(width: int, height: int) -> tuple[Any, str]:
         except Exception as exc:  # the GL stack raises ImportError, OSError, RuntimeError, GLError ...
             failures.append(f"{name}: {type(exc).__name__}: {exc} (install: {_INSTALL_HINT[name]})")
     raise RenderError("no offscreen OpenGL context could be created; " + "; ".join(failures))
+
+
+def release_current(backend: str) -> None:
+    """Leave no context current in the calling thread (EGL), so that another thread can make it current:
+    an EGL context is current in at most one thread. A no-op for OSMesa, whose contexts are not handed
+    between threads here (``parallel_ok``)."""
+    if backend == "egl":
+        import mujoco.egl
+        from mujoco.egl import egl_ext as EGL
+
+        if mujoco.egl.EGL_DISPLAY is not None:
+            EGL.eglMakeCurrent(
+                mujoco.egl.EGL_DISPLAY, EGL.EGL_NO_SURFACE, EGL.EGL_NO_SURFACE, EGL.EGL_NO_CONTEXT
+            )
+
+
+def parallel_ok(backend: str) -> bool:
+    """Whether contexts of ``backend`` may draw in parallel threads (EGL; not OSMesa)."""
+    return backend == "egl"

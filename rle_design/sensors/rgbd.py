@@ -16,10 +16,14 @@ import mujoco
 import numpy as np
 
 from rle_design.sensors.camera import CameraSpec, camera_id, camera_spec
-from rle_design.sensors.gl import RenderError, create_context
+from rle_design.sensors.gl import RenderError, create_context, release_current
 
 BACKGROUND = -1
 """Segmentation id of pixels that show no object."""
+_PLANE = int(mujoco.mjtGeom.mjGEOM_PLANE)
+_CULL_MARGIN = 1e-4
+"""Distance [m] by which a geom's box must clear a face of the frustum to be culled by its corners
+(far above the float32 rounding of the renderer's transforms)."""
 
 
 @dataclass(frozen=True)
@@ -66,8 +70,9 @@ class RgbdSensor:
         max_geom: Scene capacity.
         sites: Draw sites (markers such as a gripper's grip-site line); a physical camera sees
             geoms only, so cameras that stand for real ones pass False.
-        cull: Leave out of the scene the geoms whose bounding sphere lies wholly outside the camera's
-            view frustum (the image is unchanged; a large scene renders faster on a CPU renderer).
+        cull: Leave out of the scene the geoms whose bounding sphere or bounding box lies wholly outside
+            the camera's view frustum (the image is unchanged; a large scene renders faster on a CPU
+            renderer).
         box_quads: Quads along each edge of a box face for this renderer (MuJoCo's
             ``visual/quality/numquads``; None keeps the model's, 4 by default). 1 draws a box face as one
             quad, which a CPU renderer draws about 20 % faster in a scene built of boxes; only the
@@ -181,10 +186,29 @@ class RgbdSensor:
         Returns:
             A ``Frame`` with RGB, metric planar depth, segmentation (if enabled) and validity mask.
         """
-        if self._con is None or self._ctx is None:
-            raise RenderError("render() called on a closed RgbdSensor", code="render.closed")
+        self._check_open()
         self._ctx.make_current()
-        h, w = self.height, self.width
+        self.update_scene(data)
+        rgb, depth = self._draw_rgbd()
+        seg = self._render_segmentation() if self.segmentation else None
+        valid = np.isfinite(depth) & (depth > self.near) & (depth < self.far * (1 - 1e-6))
+        if seg is not None:
+            valid &= seg[..., 0] != BACKGROUND
+        return Frame(rgb, depth, seg, valid, self.camera(data))
+
+    def render_rgbd(self, data: mujoco.MjData) -> tuple[np.ndarray, np.ndarray]:
+        """Colour and metric depth only (the arrays of ``render(data)``'s ``rgb`` and ``depth``), from one
+        draw: no segmentation, validity mask or camera pose."""
+        self._check_open()
+        self._ctx.make_current()
+        self.update_scene(data)
+        return self._draw_rgbd()
+
+    def update_scene(self, data: mujoco.MjData) -> None:
+        """First half of ``render_rgbd``: the sensor's scene of the state in ``data``. Culling hides
+        geoms by writing ``model.geom_rgba`` for the duration of the call, so scenes of one model are
+        updated one at a time (in one thread)."""
+        self._check_open()
         hidden = self._outside(data) if self.cull else None
         if hidden is not None and hidden.size:
             saved = self.model.geom_rgba[hidden, 3].copy()
@@ -196,20 +220,39 @@ class RgbdSensor:
         finally:
             if hidden is not None and hidden.size:
                 self.model.geom_rgba[hidden, 3] = saved
+
+    def draw_rgbd(self) -> tuple[np.ndarray, np.ndarray]:
+        """Second half of ``render_rgbd``: draw the scene of the last ``update_scene`` and read colour and
+        depth. It touches only this sensor's GL context and scene (not the model), so the sensors of one
+        model may draw in parallel threads; the context is left current in no thread, ready for the next
+        thread that draws (EGL; see ``gl.release_current``)."""
+        self._check_open()
+        self._ctx.make_current()
+        try:
+            return self._draw_rgbd()
+        finally:
+            release_current(self.backend)
+
+    def _check_open(self) -> None:
+        if self._con is None or self._ctx is None:
+            raise RenderError("render() called on a closed RgbdSensor", code="render.closed")
+
+    def _draw_rgbd(self) -> tuple[np.ndarray, np.ndarray]:
+        h, w = self.height, self.width
         rgb = np.empty((h, w, 3), np.uint8)
         raw = np.empty((h, w), np.float32)
         mujoco.mjr_render(self._rect, self._scene, self._con)
         mujoco.mjr_readPixels(rgb, raw, self._rect, self._con)
-        depth = (self._d / (raw.astype(np.float64) + self._c)).astype(np.float32)
-        seg = self._render_segmentation() if self.segmentation else None
-        rgb, depth = rgb[::-1].copy(), depth[::-1].copy()
-        valid = np.isfinite(depth) & (depth > self.near) & (depth < self.far * (1 - 1e-6))
-        if seg is not None:
-            valid &= seg[..., 0] != BACKGROUND
-        return Frame(rgb, depth, seg, valid, self.camera(data))
+        # Flip to row 0 at the top, then d / (raw + c) in float64 in place and round once to float32.
+        buf = raw[::-1].astype(np.float64)
+        buf += self._c
+        np.divide(self._d, buf, out=buf)
+        return np.ascontiguousarray(rgb[::-1]), buf.astype(np.float32)
 
     def _outside(self, data: mujoco.MjData) -> np.ndarray:
-        """Ids of the (non-plane) geoms whose bounding sphere lies wholly outside the view frustum."""
+        """Ids of the (non-plane) geoms wholly outside the view frustum: their bounding sphere, or else
+        all eight corners of their bounding box (``geom_aabb``, which holds every drawn vertex), lie
+        beyond one face of the frustum (the box test by a margin of ``_CULL_MARGIN``)."""
         m = self.model
         cam = self.camera_id
         rot = data.cam_xmat[cam].reshape(3, 3)  # columns: camera x (right), y (up), -z (forward)
@@ -222,8 +265,40 @@ class RgbdSensor:
         out = (z + r < self.near) | (z - r > self.far)
         out |= (np.abs(x) - tx * z) * cx > r
         out |= (np.abs(y) - ty * z) * cy > r
-        out &= (m.geom_type != mujoco.mjtGeom.mjGEOM_PLANE) & (r > 0)
-        return np.flatnonzero(out)
+        # _PLANE is an int: comparing an array with the enum goes element by element (~0.2 ms)
+        cullable = (m.geom_type != _PLANE) & (r > 0)
+        rest = np.flatnonzero(cullable & ~out)
+        if rest.size:
+            out[rest] = self._box_outside(data, rest, rot, tx, ty, cx, cy)
+        return np.flatnonzero(out & cullable)
+
+    def _box_outside(
+        self,
+        data: mujoco.MjData,
+        ids: np.ndarray,
+        rot: np.ndarray,
+        tx: float,
+        ty: float,
+        cx: float,
+        cy: float,
+    ) -> np.ndarray:
+        """Whether the bounding box of each geom in ``ids`` lies wholly beyond one face of the frustum
+        (its nearest corner beyond the face: centre distance minus the box's extent along the normal)."""
+        aabb = self.model.geom_aabb[ids]  # centre, half-sizes in the geom frame
+        xmat = data.geom_xmat[ids].reshape(-1, 3, 3)
+        centre = data.geom_xpos[ids] + np.matmul(xmat, aabb[:, :3, None])[..., 0]
+        # The box axes (columns) in the camera frame (x right, y up, -z forward).
+        axes = np.matmul(rot.T, xmat)
+        # Normals of the right, left, top and bottom faces (outside positive), then the camera's -z axis.
+        normals = np.array(
+            [[cx, 0, tx * cx], [-cx, 0, tx * cx], [0, cy, ty * cy], [0, -cy, ty * cy], [0, 0, 1.0]]
+        )
+        dist = ((centre - data.cam_xpos[self.camera_id]) @ rot) @ normals.T  # (n, 5)
+        reach = (np.abs(np.matmul(normals, axes)) * aabb[:, None, 3:]).sum(axis=2)  # (n, 5)
+        e = _CULL_MARGIN
+        out = (dist[:, :4] - reach[:, :4] > e).any(axis=1)
+        z, dz = -dist[:, 4], reach[:, 4]  # depth along the optical axis of the centre, the box's extent
+        return out | (z + dz < self.near - e) | (z - dz > self.far + e)
 
     def _render_segmentation(self) -> np.ndarray:
         h, w = self.height, self.width

@@ -1,5 +1,7 @@
 """Offscreen RGB-D rendering on CPU: metric depth, projection against rendered pixels, lifecycle."""
 
+import os
+
 import mujoco
 import numpy as np
 import pytest
@@ -188,16 +190,48 @@ def test_frustum_culling_leaves_the_image_unchanged():
         <geom name="edge" type="sphere" size="0.3" pos="1 0.75 0.3" rgba="0.2 0.8 0.2 1"/>
         <geom name="behind" type="box" size="0.1 0.1 0.1" pos="-1 0 0.1"/>
         <geom name="aside" type="box" size="0.1 0.1 0.1" pos="0 3 0.1"/>
+        <geom name="rod" type="box" size="1 0.02 0.02" pos="-0.5 0.8 0.1"/>
         <camera name="cam" pos="0 0 0.5" xyaxes="0 -1 0 0.3 0 1" fovy="60"/>""")
     with (
         RgbdSensor(model, "cam", 64, 48, cull=False) as full,
         RgbdSensor(model, "cam", 64, 48, cull=True) as culled,
     ):
         names = {model.geom(g).name for g in culled._outside(data)}
-        assert names == {"behind", "aside"}
+        assert names == {
+            "behind",
+            "aside",
+            "rod",
+        }  # the rod's bounding sphere reaches into the view, its box not
         a, b = full.render(data), culled.render(data)
     assert np.array_equal(a.rgb, b.rgb) and np.array_equal(a.depth, b.depth)
     assert np.array_equal(a.segmentation, b.segmentation)
+
+
+def test_cameras_drawn_in_parallel_threads_give_the_arrays_of_one_after_the_other(monkeypatch):
+    """``render_rgbd`` draws several cameras in parallel threads (each its own GL context): the same
+    colour and depth as drawing them in turn and as ``RgbdSensor.render``; afterwards the contexts can
+    be made current in the main thread again."""
+    from rle_design.control import cameras
+
+    model, data = _setup(SPHERE_XML)
+    views = {}
+    for parallel in (False, True):
+        monkeypatch.setattr(cameras, "PARALLEL", parallel)
+        cameras.close_renderers()
+        views[parallel] = [cameras.render_rgbd(model, data, ("c", "side"), (120, 160), 1) for _ in range(2)]
+    if (os.cpu_count() or 1) > 1 and cameras._sensor(model, "c", (120, 160), 1).backend == "egl":
+        assert cameras._POOL is not None
+    again = cameras._sensor(model, "side", (120, 160), 1).render_rgbd(data)  # main thread, after the workers
+    with RgbdSensor(model, "side", 160, 120, segmentation=False, sites=False, box_quads=1) as one:
+        frame = one.render(data)
+    for rgb, depth in views[False] + views[True]:
+        for cam in ("c", "side"):
+            assert np.array_equal(rgb[cam], views[False][0][0][cam])
+            assert np.array_equal(depth[cam], views[False][0][1][cam])
+            assert rgb[cam].flags.c_contiguous and depth[cam].dtype == np.float32
+    assert np.array_equal(frame.rgb, views[True][0][0]["side"]) and np.array_equal(frame.depth, again[1])
+    assert np.array_equal(frame.depth, views[True][0][1]["side"]) and np.array_equal(frame.rgb, again[0])
+    cameras.close_renderers()
 
 
 def test_one_quad_per_box_face_keeps_geometry_depth_and_segmentation():
