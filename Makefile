@@ -138,11 +138,15 @@ format: $(STAMP)
 TEST_WORKERS ?= 2
 PYTEST_XDIST = $(if $(filter 0,$(TEST_WORKERS)),,-n $(TEST_WORKERS) --dist loadfile --max-worker-restart 0)
 
+# The workers fill the CPUs, so cameras draw in turn (rle_design.control.cameras.PARALLEL): drawing
+# them in parallel threads there doubled the rendering tests' time.
+RENDER_THREADS = $(if $(filter 0 1,$(TEST_WORKERS)),auto,0)
+
 test: $(STAMP) lint libero-venv
-	$(PY) -m pytest -q $(PYTEST_XDIST)
+	RLE_RENDER_THREADS=$(RENDER_THREADS) $(PY) -m pytest -q $(PYTEST_XDIST)
 
 test-full: $(STAMP) lint libero-venv
-	RLE_FULL_BATTERY=1 $(PY) -m pytest -q $(PYTEST_XDIST)
+	RLE_RENDER_THREADS=$(RENDER_THREADS) RLE_FULL_BATTERY=1 $(PY) -m pytest -q $(PYTEST_XDIST)
 
 bench: $(STAMP)
 	$(PY) -m benchmarks

@@ -45,7 +45,7 @@ def measure(task: str, actions: int) -> tuple[float, float, float, float]:
     scene = build_scene(pretrain_seed(0), task, 0)
     out = []
     parallel = cameras.PARALLEL
-    for images, threads in ((None, parallel), ((128, 128), parallel), ((128, 128), False)):
+    for images, threads in ((None, parallel), ((128, 128), parallel), ((128, 128), "0")):
         cameras.PARALLEL = threads
         env = KitchenEnv(xml=scene.xml, scene=scene, level=1, image_size=images)
         model = env.build()

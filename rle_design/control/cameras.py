@@ -5,7 +5,7 @@ with the model's meshes and textures uploaded (about 150 MB for a two-arm tablet
 model alive, so a process that builds a new scene per episode would otherwise grow without bound.
 
 ``render_rgbd`` of several cameras updates their scenes one after the other and then draws them in
-parallel threads (EGL, more than one CPU): on a CPU renderer (Mesa llvmpipe) the vertex work of a draw
+parallel threads (EGL, more than one CPU, a core idle; ``PARALLEL``): on a CPU renderer (Mesa llvmpipe) the vertex work of a draw
 runs in the calling thread, so each camera's own context draws on its own core; the images are those
 of drawing one after the other (each context draws only its own scene).
 """
@@ -50,7 +50,7 @@ def render_rgbd(
 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
     """(camera -> (H, W, 3) uint8 colour, camera -> (H, W) float32 metric depth [m]) of the current
     state, from one draw per camera (geoms only); ``box_quads`` as ``RgbdSensor``'s. Several cameras
-    draw in parallel threads where ``PARALLEL`` allows (the same arrays as one after the other)."""
+    draw in parallel threads where ``PARALLEL`` says so (the same arrays as one after the other)."""
     sensors = [_sensor(model, name, size, box_quads) for name in cameras]
     pool = _pool(len(sensors)) if all(parallel_ok(s.backend) for s in sensors) else None
     if pool is None:
@@ -65,18 +65,39 @@ def render_rgbd(
     return {n: v[0] for n, v in zip(cameras, views)}, {n: v[1] for n, v in zip(cameras, views)}
 
 
-PARALLEL = os.environ.get("RLE_RENDER_THREADS", "1") != "0"
-"""Draw the cameras of ``render_rgbd`` in parallel threads (on more than one CPU); the environment
-variable ``RLE_RENDER_THREADS=0`` turns it off (e.g. where parallel workers already use every core)."""
+PARALLEL = os.environ.get("RLE_RENDER_THREADS", "auto")
+"""When ``render_rgbd`` draws its cameras in parallel threads (on more than one CPU): ``"auto"`` (the
+default) where a core is idle at the call (``_core_idle``), ``"1"`` always, ``"0"`` never; from the
+environment variable ``RLE_RENDER_THREADS``. Idle cores matter: with every core busy (parallel workers,
+the test suite) the threads' context switches cost more than they save (two workers on two cores: 58 s
+against 27 s drawing in turn, 2026-11-28)."""
 
 _POOL: tuple[int, ThreadPoolExecutor] | None = None
 _POOL_LOCK = threading.Lock()
 
 
+def _cpus() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+def _core_idle() -> bool:
+    """Whether fewer threads are runnable now (``/proc/loadavg``'s fourth field, this one included)
+    than this process may use CPUs; False where that is unknown."""
+    try:
+        with open("/proc/loadavg", "rb") as f:
+            running = int(f.read().split()[3].split(b"/")[0])
+    except (OSError, ValueError, IndexError):
+        return False
+    return running < _cpus()
+
+
 def _pool(n: int) -> ThreadPoolExecutor | None:
     """The drawing threads of this process (a forked child makes its own), or None to draw in turn."""
     global _POOL
-    if not PARALLEL or n < 2 or (os.cpu_count() or 1) < 2:
+    if PARALLEL == "0" or n < 2 or _cpus() < 2 or (PARALLEL != "1" and not _core_idle()):
         return None
     with _POOL_LOCK:
         if _POOL is None or _POOL[0] != os.getpid():

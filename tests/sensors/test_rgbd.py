@@ -216,7 +216,7 @@ def test_cameras_drawn_in_parallel_threads_give_the_arrays_of_one_after_the_othe
     model, data = _setup(SPHERE_XML)
     views = {}
     for parallel in (False, True):
-        monkeypatch.setattr(cameras, "PARALLEL", parallel)
+        monkeypatch.setattr(cameras, "PARALLEL", "1" if parallel else "0")
         cameras.close_renderers()
         views[parallel] = [cameras.render_rgbd(model, data, ("c", "side"), (120, 160), 1) for _ in range(2)]
     if (os.cpu_count() or 1) > 1 and cameras._sensor(model, "c", (120, 160), 1).backend == "egl":

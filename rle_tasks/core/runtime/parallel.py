@@ -83,10 +83,21 @@ def _serial(fn: Callable[[T], R], items: list[T], progress: Progress | None) -> 
     return out
 
 
+def _worker_init(workers: int) -> None:
+    """In each worker of a pool of ``workers`` processes: cameras drawn in turn, not in parallel threads
+    (``rle_design.control.cameras.PARALLEL``), unless the operator chose otherwise, where the workers
+    alone can fill the CPUs."""
+    if workers >= (os.cpu_count() or 1):
+        os.environ.setdefault("RLE_RENDER_THREADS", "0")
+
+
 def _local(fn: Callable[[T], R], items: list[T], jobs: int, progress: Progress | None) -> list[R]:
     _check_picklable(fn)
     ctx = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=min(jobs, len(items)), mp_context=ctx) as pool:
+    workers = min(jobs, len(items))
+    with ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=_worker_init, initargs=(workers,)
+    ) as pool:
         futures: list[Future] = [pool.submit(fn, item) for item in items]
         index = {f: i for i, f in enumerate(futures)}
         pending = set(futures)
