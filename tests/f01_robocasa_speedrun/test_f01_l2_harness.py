@@ -90,3 +90,29 @@ def test_turn_on_stove_l2_in_a_pretrain_kitchen() -> None:
     assert "target" not in obs and "fixtures" not in obs
     assert solver("TurnOnStove", 2)(robot, Motion(robot))
     assert session.info()["steps_used"] <= 200
+
+
+def test_programs_below_l3_import_without_the_world_module():
+    """An L1/L2 program runs in a workspace without ``harness.world`` (L3 only): importing it, and what
+    it imports from other programs, must not need that module (a Harbor oracle of 01-turn-on-stove-l2
+    failed with ImportError when the L3 program it borrows ``twist`` from imported ``world`` at the top)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import rle_tasks.f01_robocasa_speedrun.solutions.agents as agents
+
+    names = sorted(p.stem for p in Path(agents.__file__).parent.glob("*_l[12].py"))
+    assert names, "no L1/L2 program found"
+    blocker = (
+        "import sys, importlib.abc\n"
+        "class Block(importlib.abc.MetaPathFinder):\n"
+        "    def find_spec(self, name, path=None, target=None):\n"
+        "        if name == 'rle_tasks.envs.kitchen.harness.world':\n"
+        "            raise ImportError('no world module below L3')\n"
+        "sys.meta_path.insert(0, Block())\n"
+    )
+    for name in names:
+        code = blocker + f"import rle_tasks.f01_robocasa_speedrun.solutions.agents.{name}\n"
+        run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+        assert run.returncode == 0, (name, run.stderr[-2000:])

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from rle_tasks.envs.kitchen.harness import world
 from rle_tasks.envs.kitchen.harness.geometry import quat_mul
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
@@ -21,6 +20,8 @@ TWIST = 0.7
 
 
 def solve(robot: Robot, motion: Motion) -> bool:
+    from rle_tasks.envs.kitchen.harness import world  # L3 only: the L2 program imports twist() from here
+
     obs = robot.observe()
     target = world.target(obs)
     knob = np.asarray(world.fixture(obs, target["fixture"])["sites"][target["burner"] + "_knob"])
