@@ -7,8 +7,6 @@ import mujoco
 
 from .fixture import (
     BURNERS,
-    COUNTER_DEPTH,
-    COUNTER_HEIGHT,
     KNOB_RANGE,
     KNOB_X,
     PANEL,
@@ -60,19 +58,19 @@ def add_fridge(
 
 def add_stove(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style) -> Fixture:
     """A range: oven body, a glass cooktop with four burners, four knobs on the front panel."""
-    d = COUNTER_DEPTH
+    d = style.counter_depth
     body = root(world, name, x, d)
     box(
         body,
         f"{name}_body",
-        (0, 0.0, (COUNTER_HEIGHT - 0.03) / 2),
-        (w / 2, d / 2, (COUNTER_HEIGHT - 0.03) / 2),
+        (0, 0.0, (style.counter_height - 0.03) / 2),
+        (w / 2, d / 2, (style.counter_height - 0.03) / 2),
         style.appliance,
     )
     cook = box(
         body,
         f"{name}_cooktop",
-        (0, 0, COUNTER_HEIGHT - 0.015),
+        (0, 0, style.counter_height - 0.015),
         (w / 2, d / 2, 0.015),
         (0.08, 0.08, 0.09, 1.0),
     )
@@ -87,7 +85,7 @@ def add_stove(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style
     )
     burners: dict[str, tuple[str, str]] = {}
     sites: dict[str, str] = {}
-    panel_z = COUNTER_HEIGHT - 0.12
+    panel_z = style.counter_height - 0.12
     box(body, f"{name}_panel", (0, -d / 2 - 0.01, panel_z), (w / 2, 0.01, 0.06), (0.2, 0.2, 0.22, 1.0))
     for burner in BURNERS:
         bx = (-1 if "left" in burner else 1) * w * 0.22
@@ -95,7 +93,7 @@ def add_stove(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style
         ring = cyl(
             body,
             f"{name}_{burner}_burner",
-            (bx, by, COUNTER_HEIGHT + 0.001),
+            (bx, by, style.counter_height + 0.001),
             0.09,
             0.001,
             (0.25, 0.25, 0.27, 1.0),
@@ -143,7 +141,7 @@ def add_stove(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style
         )
         body.add_site(
             name=f"{name}_{burner}_site",
-            pos=[bx, by, COUNTER_HEIGHT + 0.002],
+            pos=[bx, by, style.counter_height + 0.002],
             size=[0.01, 0, 0],
             rgba=[1, 0, 0, 0],
             group=5,
@@ -155,9 +153,9 @@ def add_stove(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style
         name,
         "stove",
         (x, -d / 2, 0.0),
-        (w, d, COUNTER_HEIGHT),
+        (w, d, style.counter_height),
         joints=tuple(j for j, _ in burners.values()),
-        top=COUNTER_HEIGHT,
+        top=style.counter_height,
         sites=sites,
         top_geoms=(cook.name,),
         burners=burners,
@@ -166,14 +164,14 @@ def add_stove(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style
 
 def add_sink(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style) -> Fixture:
     """A base cabinet whose counter top holds a basin (0.5 x 0.38 x 0.2 m) and a faucet."""
-    d = COUNTER_DEPTH
+    d = style.counter_depth
     body = root(world, name, x, d)
-    zt = COUNTER_HEIGHT - TOP_THICKNESS
+    zt = style.counter_height - TOP_THICKNESS
     box(body, f"{name}_body", (0, 0.01, zt / 2 - 0.12), (w / 2, d / 2 - 0.01, zt / 2 - 0.12), style.cabinet)
     bw, bd, bh = 0.25, 0.19, 0.2
     yc = -0.03
     rim = style.counter
-    tz = COUNTER_HEIGHT - TOP_THICKNESS / 2
+    tz = style.counter_height - TOP_THICKNESS / 2
     box(
         body,
         f"{name}_top_front",
@@ -197,7 +195,7 @@ def add_sink(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style)
             rim,
         )
     steel = (0.75, 0.76, 0.78, 1.0)
-    zb = COUNTER_HEIGHT - bh
+    zb = style.counter_height - bh
     box(body, f"{name}_basin_bottom", (0, yc, zb - 0.005), (bw, bd, 0.005), steel)
     box(
         body,
@@ -221,16 +219,24 @@ def add_sink(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style)
             (0.005, bd, bh / 2 - TOP_THICKNESS / 2),
             steel,
         )
-    cyl(body, f"{name}_faucet", (0, d / 2 - 0.06, COUNTER_HEIGHT + 0.15), 0.015, 0.15, steel)
-    cyl(body, f"{name}_spout", (0, d / 2 - 0.14, COUNTER_HEIGHT + 0.29), 0.012, 0.08, steel, quat=ALONG_Y)
+    cyl(body, f"{name}_faucet", (0, d / 2 - 0.06, style.counter_height + 0.15), 0.015, 0.15, steel)
+    cyl(
+        body,
+        f"{name}_spout",
+        (0, d / 2 - 0.14, style.counter_height + 0.29),
+        0.012,
+        0.08,
+        steel,
+        quat=ALONG_Y,
+    )
     interior = Interior(name, (0, yc, zb + bh / 2), (bw, bd, bh / 2))
     return Fixture(
         name,
         "sink",
         (x, -d / 2, 0.0),
-        (w, d, COUNTER_HEIGHT),
+        (w, d, style.counter_height),
         interior=interior,
-        top=COUNTER_HEIGHT,
+        top=style.counter_height,
         top_geoms=(f"{name}_top_front", f"{name}_top_back", f"{name}_top_side0", f"{name}_top_side1"),
     )
 
@@ -239,7 +245,7 @@ def add_microwave(world: mujoco.MjsBody, name: str, x: float, y_back: float, sty
     """A microwave (0.5 x 0.38 x 0.3 m) standing on a counter top, its back at ``y_back``: a
     turntable plate inside and a door hinged on its left edge."""
     w, d, h = 0.5, 0.38, 0.3
-    body = world.add_body(name=name, pos=[x, y_back - d / 2, COUNTER_HEIGHT])
+    body = world.add_body(name=name, pos=[x, y_back - d / 2, style.counter_height])
     dark = (0.12, 0.12, 0.13, 1.0)
     carcass(body, name, w, d, h, 0.0, style.appliance, top=True)
     panel_w = 0.12
@@ -269,11 +275,11 @@ def add_microwave(world: mujoco.MjsBody, name: str, x: float, y_back: float, sty
     return Fixture(
         name,
         "microwave",
-        (x, y_back - d / 2, COUNTER_HEIGHT),
+        (x, y_back - d / 2, style.counter_height),
         (w, d, h),
         joints=(joint,),
         interior=interior,
-        top=COUNTER_HEIGHT + PANEL + 0.008,
+        top=style.counter_height + PANEL + 0.008,
         sites={"handle": handle},
         parts={"door": door.name},
         top_geoms=(plate.name,),
@@ -281,10 +287,10 @@ def add_microwave(world: mujoco.MjsBody, name: str, x: float, y_back: float, sty
     )
 
 
-def add_dish_rack(world: mujoco.MjsBody, name: str, x: float, y: float) -> Fixture:
+def add_dish_rack(world: mujoco.MjsBody, name: str, x: float, y: float, style: Style) -> Fixture:
     """A dish rack (0.4 x 0.3 m tray with tines) on a counter top centred at (x, y)."""
     w, d = 0.4, 0.3
-    body = world.add_body(name=name, pos=[x, y, COUNTER_HEIGHT])
+    body = world.add_body(name=name, pos=[x, y, style.counter_height])
     wire = (0.85, 0.86, 0.88, 1.0)
     box(body, f"{name}_tray", (0, 0, 0.005), (w / 2, d / 2, 0.005), wire)
     for k in range(5):
@@ -301,9 +307,9 @@ def add_dish_rack(world: mujoco.MjsBody, name: str, x: float, y: float) -> Fixtu
     return Fixture(
         name,
         "dish_rack",
-        (x, y, COUNTER_HEIGHT),
+        (x, y, style.counter_height),
         (w, d, 0.12),
         interior=interior,
-        top=COUNTER_HEIGHT + 0.01,
+        top=style.counter_height + 0.01,
         top_geoms=(f"{name}_tray",),
     )

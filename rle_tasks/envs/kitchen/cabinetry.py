@@ -6,8 +6,6 @@ from __future__ import annotations
 import mujoco
 
 from .fixture import (
-    COUNTER_DEPTH,
-    COUNTER_HEIGHT,
     DRAWER_DAMPING,
     GAP,
     PANEL,
@@ -17,25 +15,31 @@ from .fixture import (
     Interior,
     Style,
 )
-from .geometry import bar_handle, box, carcass, counter_top, hinged_door, root
+from .geometry import box, carcass, counter_top, hinged_door, root
+from .geometry import handle as make_handle
 
-__all__ = ["add_counter", "add_drawer_cabinet", "add_hinge_cabinet", "add_wall_cabinet"]
+__all__ = ["add_corner", "add_counter", "add_drawer_cabinet", "add_hinge_cabinet", "add_wall_cabinet"]
 
 
 def add_counter(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style) -> Fixture:
     """A solid base cabinet with a counter top."""
-    d = COUNTER_DEPTH
+    d = style.counter_depth
     body = root(world, name, x, d)
     box(
         body,
         f"{name}_body",
-        (0, 0.01, (COUNTER_HEIGHT - TOP_THICKNESS) / 2),
-        (w / 2, d / 2 - 0.01, (COUNTER_HEIGHT - TOP_THICKNESS) / 2),
+        (0, 0.01, (style.counter_height - TOP_THICKNESS) / 2),
+        (w / 2, d / 2 - 0.01, (style.counter_height - TOP_THICKNESS) / 2),
         style.cabinet,
     )
     top = counter_top(body, name, w, d, style)
     return Fixture(
-        name, "counter", (x, -d / 2, 0.0), (w, d, COUNTER_HEIGHT), top=COUNTER_HEIGHT, top_geoms=(top,)
+        name,
+        "counter",
+        (x, -d / 2, 0.0),
+        (w, d, style.counter_height),
+        top=style.counter_height,
+        top_geoms=(top,),
     )
 
 
@@ -43,9 +47,9 @@ def add_hinge_cabinet(
     world: mujoco.MjsBody, name: str, x: float, w: float, hinge_left: bool, style: Style
 ) -> Fixture:
     """A base cabinet with one hinged door, a shelf and a counter top."""
-    d = COUNTER_DEPTH
+    d = style.counter_depth
     body = root(world, name, x, d)
-    h = COUNTER_HEIGHT - TOP_THICKNESS - TOE_KICK
+    h = style.counter_height - TOP_THICKNESS - TOE_KICK
     box(body, f"{name}_plinth", (0, 0.03, TOE_KICK / 2), (w / 2, d / 2 - 0.03, TOE_KICK / 2), style.cabinet)
     carcass(body, name, w, d, h, TOE_KICK, style.cabinet)
     box(
@@ -68,16 +72,17 @@ def add_hinge_cabinet(
         style,
         handle_z=h * 0.8,
         front_pivot=True,
+        styled_handle=True,
     )
     interior = Interior(name, (0, 0.0, TOE_KICK + h / 2), (w / 2 - PANEL, d / 2 - PANEL, h / 2 - PANEL))
     return Fixture(
         name,
         "hinge_cabinet",
         (x, -d / 2, 0.0),
-        (w, d, COUNTER_HEIGHT),
+        (w, d, style.counter_height),
         joints=(joint,),
         interior=interior,
-        top=COUNTER_HEIGHT,
+        top=style.counter_height,
         sites={"handle": handle},
         parts={"door": door.name},
         top_geoms=(top,),
@@ -87,13 +92,13 @@ def add_hinge_cabinet(
 
 def add_drawer_cabinet(world: mujoco.MjsBody, name: str, x: float, w: float, style: Style) -> Fixture:
     """A base cabinet whose top drawer slides out along -y (below it a fixed front) and a counter top."""
-    d = COUNTER_DEPTH
+    d = style.counter_depth
     body = root(world, name, x, d)
-    h = COUNTER_HEIGHT - TOP_THICKNESS - TOE_KICK
+    h = style.counter_height - TOP_THICKNESS - TOE_KICK
     box(body, f"{name}_plinth", (0, 0.03, TOE_KICK / 2), (w / 2, d / 2 - 0.03, TOE_KICK / 2), style.cabinet)
     carcass(body, name, w, d, h, TOE_KICK, style.cabinet)
     front_h = 0.2
-    z_drawer = COUNTER_HEIGHT - TOP_THICKNESS - front_h
+    z_drawer = style.counter_height - TOP_THICKNESS - front_h
     lower_h = z_drawer - TOE_KICK - GAP
     box(
         body,
@@ -153,7 +158,7 @@ def add_drawer_cabinet(world: mujoco.MjsBody, name: str, x: float, w: float, sty
             rgba,
             mass=0.3,
         )
-    handle = bar_handle(
+    handle_site = make_handle(
         drawer, f"{name}_handle", (0, -d / 2 - PANEL - GAP, front_h / 2), min(0.3, w * 0.5), False, style
     )
     interior = Interior(drawer.name, (0, yc, 0.02 + ih / 2), (iw - 0.01, idp - 0.01, ih / 2))
@@ -161,11 +166,11 @@ def add_drawer_cabinet(world: mujoco.MjsBody, name: str, x: float, w: float, sty
         name,
         "drawer_cabinet",
         (x, -d / 2, 0.0),
-        (w, d, COUNTER_HEIGHT),
+        (w, d, style.counter_height),
         joints=(joint.name,),
         interior=interior,
-        top=COUNTER_HEIGHT,
-        sites={"handle": handle},
+        top=style.counter_height,
+        sites={"handle": handle_site},
         parts={"drawer": drawer.name},
         top_geoms=(top,),
     )
@@ -186,8 +191,9 @@ def add_wall_cabinet(
         style.cabinet,
     )
     door, joint, handle = hinged_door(
-        body, name, hinge_left, w, h, -d / 2, 0.0, style.cabinet, style, handle_z=0.12, front_pivot=True
-    )
+        body, name, hinge_left, w, h, -d / 2, 0.0, style.cabinet, style, handle_z=0.12, front_pivot=True,
+        styled_handle=True,
+    )  # fmt: skip
     interior = Interior(name, (0, 0, h / 2), (w / 2 - PANEL, d / 2 - PANEL, h / 2 - PANEL))
     return Fixture(
         name,
@@ -200,3 +206,28 @@ def add_wall_cabinet(
         parts={"door": door.name},
         hinge_left=hinge_left,
     )
+
+
+def add_corner(
+    world: mujoco.MjsBody, name: str, x: float, w: float, leg: float, side: int, style: Style
+) -> Fixture:
+    """A blind corner piece: a solid base unit with a counter top at the end of a run where another
+    run meets it, plus a leg ``leg`` deep in front of its ``side`` end (+1: the run's +x end) as wide as
+    the counter is deep, on which the other run's first unit abuts. It fills the corner square and
+    keeps the units on both sides of the corner ``leg`` apart (doors and handles clear each other)."""
+    d, top_h = style.counter_depth, style.counter_height
+    body = root(world, name, x, d)
+    zc = (top_h - TOP_THICKNESS) / 2
+    box(body, f"{name}_body", (0, 0.01, zc), (w / 2, d / 2 - 0.01, zc), style.cabinet)
+    top = counter_top(body, name, w, d, style)
+    lx = side * (w / 2 - d / 2)
+    box(body, f"{name}_leg", (lx, -d / 2 - leg / 2, zc), (d / 2, leg / 2, zc), style.cabinet)
+    leg_top = box(
+        body,
+        f"{name}_leg_top",
+        (lx - side * 0.01, -d / 2 - 0.02 - (leg - 0.02) / 2, top_h - TOP_THICKNESS / 2),
+        (d / 2 + 0.01, (leg - 0.02) / 2, TOP_THICKNESS / 2),
+        style.counter,
+        friction=[1.0, 0.005, 0.0001],
+    )
+    return Fixture(name, "corner", (x, -d / 2, 0.0), (w, d, top_h), top=top_h, top_geoms=(top, leg_top.name))

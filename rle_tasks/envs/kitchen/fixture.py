@@ -5,9 +5,11 @@ The builders are in ``cabinetry`` (counter, cabinets) and ``appliances`` (fridge
 microwave, dish rack), over the shared shapes of ``geometry``.
 
 
-Frame of the counter run: world z up, the back wall is the plane ``y = 0`` and fixtures stand in
-front of it (``y < 0``), their fronts facing -y; x runs along the wall. Each builder adds one static
-body (named after the fixture) at the fixture's centre on the floor, with moving parts as children:
+Frame of a counter run (``layout.Run``): z up, the run's back line is ``y = 0`` and fixtures stand in
+front of it (``y < 0``), their fronts facing -y; x runs along the run. A builder works in the frame of
+the body it is given (the world for the one-wall kitchen, whose run frame is the world's; a static
+``run_<k>`` body with the run's origin and yaw otherwise) and adds one static body (named after the
+fixture) at the fixture's centre on the floor, with moving parts as children:
 
 - hinged doors: a hinge about the door's vertical edge (cabinets: the edge of its front face, so a door
   flush with its neighbours swings clear of them), range 0..1.57 rad (0 closed), damping
@@ -17,14 +19,15 @@ body (named after the fixture) at the fixture's centre on the floor, with moving
 - stove knobs: hinges about -y (out of the front panel), range [-pi, pi], a knob is "on" when its
   wrapped angle lies in [0.35, 2 pi - 0.35] rad (``rle_tasks.envs.kitchen.predicates``).
 
-A builder returns a ``Fixture``: its names, box, joints, interior region (a box in the frame of the
-body that holds it) and the sites the tasks use. Units: metres, radians, kilograms.
+A builder returns a ``Fixture`` in its run's frame: its names, box, joints, interior region (a box in
+the frame of the body that holds it) and the sites the tasks use; ``layout`` moves it to the world
+(``Fixture.placed``: world ``pos`` and the facing ``yaw``). Units: metres, radians, kilograms.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 __all__ = [
     "BURNERS",
@@ -39,6 +42,7 @@ __all__ = [
     "PANEL",
     "TOE_KICK",
     "TOP_THICKNESS",
+    "HANDLE_TYPES",
     "Fixture",
     "Interior",
     "Style",
@@ -70,9 +74,20 @@ KNOB_X = {"rear_left": -0.33, "front_left": -0.11, "front_right": 0.11, "rear_ri
 """Knob position on the front panel per burner, as a fraction of the stove's width."""
 
 
+HANDLE_TYPES = ("bar", "boxed", "knob")
+"""Cabinet handle shapes (RoboCasa's cabinet handle types)."""
+
+
 @dataclass(frozen=True)
 class Style:
-    """Colours of one kitchen (RGBA in [0, 1])."""
+    """Colours (RGBA in [0, 1]) and the style's shapes and dimensions of one kitchen.
+
+    Attributes:
+        handle_type: Handle of the cabinets' doors and drawers, one of ``HANDLE_TYPES`` (the fridge's
+            and the microwave's are bars whatever the style).
+        counter_height: Height of the counter tops' surface [m].
+        counter_depth: Depth of the base units, front to back [m].
+    """
 
     cabinet: tuple[float, float, float, float] = (0.85, 0.85, 0.82, 1.0)
     counter: tuple[float, float, float, float] = (0.35, 0.33, 0.32, 1.0)
@@ -80,6 +95,9 @@ class Style:
     appliance: tuple[float, float, float, float] = (0.8, 0.81, 0.83, 1.0)
     wall: tuple[float, float, float, float] = (0.93, 0.91, 0.86, 1.0)
     floor: tuple[float, float, float, float] = (0.55, 0.45, 0.36, 1.0)
+    handle_type: str = "bar"
+    counter_height: float = COUNTER_HEIGHT
+    counter_depth: float = COUNTER_DEPTH
 
 
 @dataclass(frozen=True)
@@ -110,6 +128,9 @@ class Fixture:
             tray); a drawer's floor is not one (an object in the drawer touches no counter top).
         burners: Burner name -> (knob joint, burner geom) for a stove.
         hinge_left: The door is hinged on its left (-x) edge (None without a hinged door).
+        yaw: Facing of the fixture's frame (its run's yaw) [rad]: the front faces the direction
+            (sin yaw, -cos yaw) in the world; 0 for the one-wall kitchen (front towards -y). ``pos`` is
+            in the world; ``size`` is in the fixture's own frame (width along its run, depth, height).
     """
 
     name: str
@@ -124,8 +145,29 @@ class Fixture:
     top_geoms: tuple[str, ...] = ()
     burners: dict[str, tuple[str, str]] = field(default_factory=dict)
     hinge_left: bool | None = None
+    yaw: float = 0.0
 
     @property
     def front_y(self) -> float:
-        """y of the fixture's front face [m]."""
+        """y of the fixture's front face [m] (a fixture facing -y, ``yaw`` = 0)."""
         return self.pos[1] - self.size[1] / 2
+
+    @property
+    def facing(self) -> tuple[float, float]:
+        """Unit vector of the direction the front faces, in the world's xy plane."""
+        return (math.sin(self.yaw), -math.cos(self.yaw))
+
+    @property
+    def front(self) -> tuple[float, float]:
+        """World xy of the centre of the front face's footprint [m]."""
+        fx_, fy_ = self.facing
+        return (self.pos[0] + fx_ * self.size[1] / 2, self.pos[1] + fy_ * self.size[1] / 2)
+
+    def placed(self, origin: tuple[float, float], yaw: float) -> Fixture:
+        """This fixture, built in a run frame (``origin`` [m], ``yaw`` [rad]), with world ``pos`` and ``yaw``."""
+        if origin == (0.0, 0.0) and yaw == 0.0:
+            return self
+        c, s = math.cos(yaw), math.sin(yaw)
+        x, y, z = self.pos
+        pos = (origin[0] + c * x - s * y, origin[1] + s * x + c * y, z)
+        return replace(self, pos=pos, yaw=yaw)

@@ -8,9 +8,20 @@ import math
 
 import mujoco
 
-from .fixture import COUNTER_HEIGHT, DOOR_DAMPING, DOOR_RANGE, GAP, PANEL, TOP_THICKNESS, Style
+from .fixture import DOOR_DAMPING, DOOR_RANGE, GAP, PANEL, TOP_THICKNESS, Style
 
-__all__ = ["ALONG_X", "ALONG_Y", "bar_handle", "box", "carcass", "counter_top", "cyl", "hinged_door", "root"]
+__all__ = [
+    "ALONG_X",
+    "ALONG_Y",
+    "bar_handle",
+    "box",
+    "carcass",
+    "counter_top",
+    "cyl",
+    "handle",
+    "hinged_door",
+    "root",
+]
 
 
 def box(body: mujoco.MjsBody, name: str, center, half, rgba, **kw) -> mujoco.MjsGeom:
@@ -55,6 +66,35 @@ def bar_handle(body: mujoco.MjsBody, name: str, center, length: float, vertical:
     return site.name
 
 
+def handle(body: mujoco.MjsBody, name: str, center, length: float, vertical: bool, style: Style) -> str:
+    """The style's cabinet handle on a front face (``center`` on the face); returns its grasp site.
+
+    ``bar``: ``bar_handle``; ``boxed``: a rectangular pull 25 mm proud of the face, as long as a bar;
+    ``knob``: a round knob (radius 15 mm) 30 mm proud of the face.
+    """
+    if style.handle_type == "bar":
+        return bar_handle(body, name, center, length, vertical, style)
+    x, y, z = center
+    if style.handle_type == "boxed":
+        off = 0.025
+        half = (0.008, 0.006, length / 2) if vertical else (length / 2, 0.006, 0.008)
+        box(body, name, (x, y - off, z), half, style.handle, mass=0.2, condim=4)
+        for k, s in enumerate((-1, 1)):
+            dx, dz = (0.0, s * (length / 2 - 0.008)) if vertical else (s * (length / 2 - 0.008), 0.0)
+            box(body, f"{name}_post{k}", (x + dx, y - off / 2, z + dz), (0.008, off / 2, 0.008), style.handle)
+    elif style.handle_type == "knob":
+        off = 0.03
+        cyl(body, f"{name}_stem", (x, y - off / 2, z), 0.006, off / 2, style.handle, quat=ALONG_Y, mass=0.02)
+        body.add_geom(
+            name=name, type=mujoco.mjtGeom.mjGEOM_SPHERE, pos=[x, y - off, z], size=[0.015, 0, 0],
+            rgba=list(style.handle), mass=0.05, condim=4,
+        )  # fmt: skip
+    else:
+        raise ValueError(f"unknown handle type {style.handle_type!r}")
+    site = body.add_site(name=name, pos=[x, y - off, z], size=[0.012, 0, 0], rgba=[1, 0, 0, 0], group=5)
+    return site.name
+
+
 def carcass(
     body: mujoco.MjsBody,
     name: str,
@@ -88,7 +128,7 @@ def counter_top(body: mujoco.MjsBody, name: str, w: float, d: float, style: Styl
     geom = box(
         body,
         f"{name}_top",
-        (0, -0.01, COUNTER_HEIGHT - TOP_THICKNESS / 2),
+        (0, -0.01, style.counter_height - TOP_THICKNESS / 2),
         (w / 2, d / 2 + 0.01, TOP_THICKNESS / 2),
         style.counter,
         friction=[1.0, 0.005, 0.0001],
@@ -111,13 +151,15 @@ def hinged_door(
     handle_len: float = 0.16,
     handle_z: float | None = None,
     front_pivot: bool = False,
+    styled_handle: bool = False,
 ) -> tuple[mujoco.MjsBody, str, str]:
     """A door panel of width ``w`` hinged on its left (-x) or right edge; returns (body, joint, handle site).
 
     The hinge axis runs through the panel's mid-plane, or with ``front_pivot`` through the edge of its
     front face (an overlay hinge): a door flush with its neighbours' fronts needs the latter, else its
     hinge-side edge swings into the neighbour's front and stops it short of 90 deg (base cabinets beside
-    a drawer were held at 0.1-0.3 of their range). The closed door is the same either way.
+    a drawer were held at 0.1-0.3 of their range). The closed door is the same either way. With
+    ``styled_handle`` the handle is the style's (``handle``), else a bar.
     """
     s = 1.0 if hinge_left else -1.0
     hinge_x = -s * w / 2
@@ -142,5 +184,6 @@ def hinged_door(
         mass=mass,
     )
     hz = h * 0.5 if handle_z is None else handle_z
-    site = bar_handle(door, f"{name}_handle", (s * (w - 0.06), back - PANEL / 2, hz), handle_len, True, style)
+    make = handle if styled_handle else bar_handle
+    site = make(door, f"{name}_handle", (s * (w - 0.06), back - PANEL / 2, hz), handle_len, True, style)
     return door, joint.name, site
