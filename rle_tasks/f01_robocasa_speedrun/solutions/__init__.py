@@ -76,10 +76,18 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
         ),  # 0 of 5 trials succeeded (5 not played)
     },
     "01-open-fridge-l2": {
+        "reference": (
+            "18a9b1b228f31e41ddc4a72a0be6e39873ba946a34498ac09c392c4336da0dad",
+            0.999464,
+        ),  # 5 of 5 trials succeeded
         "baseline/idle": (
             "a0238472ccaa0e11b77463185c2ca7f807d65667a076b1edef68fbd0571787e7",
             0.0,
         ),  # 0 of 5 trials succeeded
+        "baseline/tampered": (
+            "817d50c8b363f61252bbe50f0592aa23108d0b235a2470d43c72438c15874c52",
+            0.0,
+        ),  # no verifiable session: ledger.jsonl: line 61 (seq 60) fails
     },
     "01-open-fridge-l3": {
         "reference": (
@@ -102,10 +110,18 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
         ),  # 0 of 5 trials succeeded
     },
     "01-close-cabinet-l2": {
+        "reference": (
+            "c910c88ae69915a73e02acbc2e1ee99eabac2f5e9bb60f15870424fef27f4faf",
+            0.9993120000000001,
+        ),  # 5 of 5 trials succeeded
         "baseline/idle": (
             "5d18bf10a5f3aed78577df748e97844a3fbb5b855141e481ee7e90ab0622ea95",
             0.0,
         ),  # 0 of 5 trials succeeded
+        "baseline/tampered": (
+            "14c35b38aa36068e460b6da35e35d37efbbeba80a6dc93d3d70ac99fa905caaa",
+            0.0,
+        ),  # no verifiable session: ledger.jsonl: line 73 (seq 72) fails
     },
     "01-close-cabinet-l3": {
         "reference": (

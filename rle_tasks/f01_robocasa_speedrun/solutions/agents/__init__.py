@@ -30,7 +30,11 @@ PROGRAMS: dict[str, str] = {
 """Kitchen task -> module of its L3 program in this package."""
 PROGRAMS_BY_LEVEL: dict[int, dict[str, str]] = {
     3: PROGRAMS,
-    2: {"TurnOnStove": "turn_on_stove_l2"},
+    2: {
+        "OpenFridge": "open_fridge_l2",
+        "CloseCabinet": "close_cabinet_l2",
+        "TurnOnStove": "turn_on_stove_l2",
+    },
     1: {},
 }
 """Harness level -> kitchen task -> module of the program written for that level."""
