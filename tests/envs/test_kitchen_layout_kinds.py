@@ -200,6 +200,12 @@ def test_handle_types_and_dimensions_build(handle):
     assert corner.size[0] == pytest.approx(style.counter_depth + CORNER_LEG)
 
 
+def _part(part):
+    from rle_tasks.envs.kitchen.layout_kinds import sample_part
+
+    return lambda seed: sample_part(np.random.default_rng(seed), part)
+
+
 def test_split_is_disjoint_and_sees_every_kind_and_family_in_pretrain():
     pre, tgt = set(combinations("pretrain")), set(combinations("target"))
     assert not pre & tgt and len(pre | tgt) == len(KINDS) * len(FAMILIES)
@@ -209,6 +215,10 @@ def test_split_is_disjoint_and_sees_every_kind_and_family_in_pretrain():
     for f in FAMILIES:
         assert {k for k, ff in pre if ff == f} and {k for k, ff in tgt if ff == f}
     assert split("one_wall", "scandinavian") == "target"
+    drawn = {
+        part: {(x.kind, x.family) for x in map(_part(part), range(40))} for part in ("pretrain", "target")
+    }
+    assert drawn["pretrain"] <= pre and drawn["target"] <= tgt and len(drawn["target"]) > 6
     for kind, family in tgt:
         layout = sample_layout(np.random.default_rng(0), kind=kind, family=family)
         assert (layout.kind, layout.family) == (kind, family)

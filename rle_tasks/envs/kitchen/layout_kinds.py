@@ -30,9 +30,9 @@ import math
 import numpy as np
 
 from rle_tasks.envs.kitchen.layout import CORNER_LEG, FLAT, Layout, Run, Unit, _one_wall_units
-from rle_tasks.envs.kitchen.styles import FAMILIES, sample_style
+from rle_tasks.envs.kitchen.styles import FAMILIES, combinations, sample_style
 
-__all__ = ["AISLES", "sample_kind"]
+__all__ = ["AISLES", "sample_kind", "sample_part"]
 
 AISLES = (1.3, 1.4, 1.5)
 """Aisle widths between facing runs' fronts (galley, island) [m]."""
@@ -104,6 +104,14 @@ def sample_kind(rng: np.random.Generator, kind: str, family: str | None) -> Layo
     built = _place_runs(rng, kind, plain, d, lead_tail, walls)
     mw, rack = _appliances(rng, built)
     return Layout(tuple(built), mw, rack, style, kind, family)
+
+
+def sample_part(rng: np.random.Generator, part: str) -> Layout:
+    """A kitchen of a (kind, style family) combination of ``part`` (``pretrain`` or ``target``, see
+    ``styles.split``), the combination drawn uniformly. Not used by the task samplers yet."""
+    combos = combinations(part)
+    kind, family = combos[int(rng.integers(len(combos)))]
+    return sample_kind(rng, kind, family)
 
 
 def _with_wall_cabinets(rng: np.random.Generator, units: list[Unit], wall: bool) -> list[Unit]:
