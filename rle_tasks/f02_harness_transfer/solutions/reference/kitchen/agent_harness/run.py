@@ -17,20 +17,12 @@ from typing import Any
 
 import numpy as np
 
-from .skills import (
-    BESIDE_Y,
-    COUNTER_Z,
-    EMPTY,
-    FRONT_Y,
-    SIDE_GAP,
-    STAND_Y,
-    Drawer,
-    Skills,
-    close_door,
-    find_open_door,
-    push_drawer_holding,
-    turn_knob,
-)
+from .articulation import close_door, push_drawer_holding
+from .dishes import RIM_HELD, bowl_to_sink, dump_bowl, find_bowl, grasp_rim, sink_basin
+from .fixtures import find_open_door
+from .kitchen import BESIDE_Y, COUNTER_Z, EMPTY, FRONT_Y, SIDE_GAP, STAND_Y, Drawer
+from .knobs import turn_knob
+from .skills import Skills
 
 __all__ = ["Step", "parse", "solve"]
 
@@ -62,6 +54,8 @@ def parse(instruction: str) -> list[Step]:
     of the run, in the way), then the object (before closing the drawer it fills), knobs last."""
     text = instruction.lower()
     steps: list[Step] = []
+    if re.search(r"\bdump\b", text) and "bowl" in text:
+        return [Step("dump", "bowl", "counter", "sink" if "sink" in text else "counter")]
     obj = next((w for w in re.findall(r"[a-z]+", text) if w in OBJECTS), "")
     if obj and re.search(r"\b(put|take|move|place)\b", text):
         source = "drawer" if re.search(r"(out of|from) the (open )?drawer", text) else "counter"
@@ -231,6 +225,34 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
     return False
 
 
+def run_dump(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
+    """Find the bowl and the sink, grip the bowl's rim, tip the leftovers out away from the sink, then
+    put the bowl into the sink."""
+    guess = _find_on_top(sk, "bowl", radius=0.14)
+    if guess is None:
+        sk.note("cannot find the bowl")
+        return False
+    basin = sink_basin(sk)
+    if basin is None:
+        sk.note("no sink basin in sight")
+        return False
+    sk.note(f"bowl near {np.round(guess, 3)}, sink basin at {np.round(basin[0], 3)}")
+    sk.goto(float(guess[0]), BESIDE_Y)
+    bowl = find_bowl(sk, guess)
+    if bowl is None:
+        return False
+    got = grasp_rim(sk, bowl)
+    if got is None:
+        return False
+    held, yaw = got
+    dump_bowl(sk, yaw)
+    if float(sk.obs["gripper"]) <= RIM_HELD:
+        sk.note("lost the bowl while tipping it")
+        return False
+    bowl_to_sink(sk, held, bowl, yaw, basin, BESIDE_Y)
+    return True
+
+
 def run_close_drawer(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
     if ctx.get("drawer_closed"):
         return True
@@ -258,6 +280,7 @@ def run_knob(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
 
 RUN = {
     "pick_place": run_pick_place,
+    "dump": run_dump,
     "close_drawer": run_close_drawer,
     "open_drawer": run_open_drawer,
     "close_door": run_close_door,
