@@ -108,6 +108,8 @@ class SceneSet:
         )
 
     def action_size(self) -> int:
+        """Numbers per action: the first development scene's (builds it); a subclass whose
+        environments share one fixed action layout returns it without building a scene."""
         env = self.scene(self.development_key(0, {}))
         return env.action_size(env.build())
 

@@ -10,6 +10,7 @@ from typing import Any
 
 import mujoco
 
+from rle_design.control.layout import ACTION_SIZE
 from rle_design.ledger import EvaluationPhase, LedgerError, SceneSet
 from rle_tasks.envs.kitchen.composite_tasks import kitchen_task
 from rle_tasks.envs.kitchen.env import LEVELS, KitchenEnv
@@ -75,6 +76,10 @@ class KitchenScenes(SceneSet):
             f"env.reset(kitchen=k, seed=s) picks kitchen k (0-{self.pretrain_kitchens - 1}) and episode s. "
             + self.evaluation_doc()
         )
+
+    def action_size(self) -> int:
+        """The mobile manipulator's fixed layout (``KitchenEnv.action_size``): no scene is built."""
+        return ACTION_SIZE
 
     def _env(self, scene: KitchenScene) -> KitchenEnv:
         return KitchenEnv(xml=scene.xml, scene=scene, level=self.level, image_size=self.image_size)

@@ -65,14 +65,26 @@ def lock_file(root: Path) -> Path:
     return path
 
 
+def _link_or_copy(src: str, dst: str) -> None:
+    """Hard-link ``src`` to ``dst`` where the filesystem allows, else copy it. A build context is read,
+    never edited, so its files can share the checkout's bytes: a full export writes about 60 MB per task
+    as copies (3 GB for every task), which made exporting disk-bound."""
+    try:
+        os.link(src, dst)
+    except OSError:
+        shutil.copy2(src, dst)
+
+
 def _copy_packages(root: Path, dst: Path, packages: tuple[str, ...], files: tuple[str, ...]) -> None:
     dst.mkdir(parents=True)
     for name in files:
         if (root / name).is_file():
-            shutil.copy2(root / name, dst / name)
+            _link_or_copy(str(root / name), str(dst / name))
     for name in packages:
         if (root / name).is_dir():
-            shutil.copytree(root / name, dst / name, ignore=_IGNORE, symlinks=False)
+            shutil.copytree(
+                root / name, dst / name, ignore=_IGNORE, symlinks=False, copy_function=_link_or_copy
+            )
 
 
 def _install(lock: str) -> str:
@@ -118,14 +130,7 @@ def copy_data(spec: TaskSpec, context: Path) -> str:
                 f"`{data.build}` first (or point {data.env} at a built copy)",
                 code="harbor.data",
             )
-
-        def link(a: str, b: str) -> None:
-            try:
-                os.link(a, b)
-            except OSError:
-                shutil.copy2(a, b)
-
-        shutil.copytree(src, context / "data" / data.name, copy_function=link, symlinks=False)
+        shutil.copytree(src, context / "data" / data.name, copy_function=_link_or_copy, symlinks=False)
         lines += f"ENV {data.env}={DATA_ROOT}/{data.name}\n"
     return f"COPY data {DATA_ROOT}\n" + lines
 
