@@ -178,10 +178,18 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
         ),  # 0 of 5 trials succeeded
     },
     "01-pnp-counter-to-drawer-l2": {
+        "reference": (
+            "cb63b292e48c4fcde2d823d87876a3a750665fb877dbc41eb8ba591f4dcfee11",
+            0.9991920000000001,
+        ),  # 5 of 5 trials succeeded
         "baseline/idle": (
             "4ec3d821d3acad1f8f22df709b6dbd90507f2f16118c2eac4707decb31b13e20",
             0.0,
         ),  # 0 of 5 trials succeeded
+        "baseline/tampered": (
+            "168f70b52cc92819fad24640bc1a2e1c9ca3ae5743fe78dc363fca55b954dba6",
+            0.0,
+        ),  # no verifiable session: ledger.jsonl: line 91 (seq 90) fails
     },
     "01-pnp-counter-to-drawer-l3": {
         "reference": (

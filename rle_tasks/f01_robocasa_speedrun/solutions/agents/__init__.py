@@ -34,6 +34,7 @@ PROGRAMS_BY_LEVEL: dict[int, dict[str, str]] = {
         "OpenFridge": "open_fridge_l2",
         "CloseCabinet": "close_cabinet_l2",
         "TurnOnStove": "turn_on_stove_l2",
+        "PickPlaceCounterToDrawer": "pnp_counter_to_drawer_l2",
     },
     1: {},
 }

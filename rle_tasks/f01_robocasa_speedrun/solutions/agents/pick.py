@@ -1,4 +1,5 @@
-"""Pick-and-place skills shared by the pick-and-place programs (L3: world-frame object poses).
+"""Pick-and-place skills shared by the pick-and-place programs (L3: world-frame object poses; an L2
+program passes ``pick`` a ``locate`` function that perceives the object instead).
 
 Objects are grasped from above (``down_quat``) with the fingers closing across the object's narrower
 horizontal side, as deep as the palm lets them (``PALM`` below the object's top, kept clear of the
@@ -10,11 +11,11 @@ the controller's steady-state error. A grasp is checked by the finger opening (`
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from rle_tasks.envs.kitchen.harness import world
 from rle_tasks.envs.kitchen.harness.geometry import quat_to_mat
 from rle_tasks.envs.kitchen.harness.motion import Motion, down_quat
 from rle_tasks.envs.kitchen.harness.robot import Robot
@@ -24,11 +25,13 @@ __all__ = [
     "PLACE_ACTIONS",
     "TRIAL_ACTIONS",
     "Held",
+    "Seen",
     "box",
     "grasp_yaw",
     "out_of_actions",
     "pick",
     "place",
+    "seen",
 ]
 
 TRIAL_ACTIONS = 1000
@@ -60,14 +63,35 @@ FAR = 0.30
 
 @dataclass(frozen=True)
 class Held:
-    """An object in the hand: ``below`` is the tool's height above the object's lowest point [m]."""
+    """An object in the hand: ``below`` is the tool's height above the object's lowest point [m];
+    ``name`` its world-state name (None for a perceived object)."""
 
-    name: str
+    name: str | None
     below: float
+
+
+@dataclass(frozen=True)
+class Seen:
+    """What a grasp needs of an object: its box centre [m], half extents along the world axes [m],
+    the top-down grasp's yaw [rad] and depth below the top [m]."""
+
+    centre: np.ndarray
+    half: np.ndarray
+    yaw: float
+    depth: float
+
+
+def seen(obs: dict, name: str) -> Seen:
+    """``Seen`` of an object from the world state (L3)."""
+    c, h, _ = box(obs, name)
+    half = np.asarray(obs["objects"][name]["half"])
+    return Seen(c, h, grasp_yaw(obs, name), PALM_ROUND if float(np.ptp(half)) < ROUND else PALM)
 
 
 def box(obs: dict, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(world centre [m], half extents in the world axes [m], 3 x 3 rotation) of an object's box."""
+    from rle_tasks.envs.kitchen.harness import world  # L3 only: L2 programs import this module
+
     o = obs["objects"][name]
     pos, quat = world.object_pose(obs, name)
     rot = quat_to_mat(quat)
@@ -99,33 +123,50 @@ def grasp_yaw(obs: dict, name: str) -> float:
 def pick(
     robot: Robot,
     motion: Motion,
-    name: str,
+    name: str | None,
     support_z: float,
     lift: float = 0.12,
     via_y: float | None = None,
+    locate: Callable[[], Seen | None] | None = None,
+    via: np.ndarray | None = None,
 ) -> Held | None:
     """Grasp object ``name`` standing on a surface at ``support_z`` [m] from above and lift it by
     ``lift`` [m]; returns the hold, or None when the fingers closed on nothing or it stayed behind.
     With ``via_y`` [m] the hand first travels at the pre-grasp height to ``via_y`` in front of the
-    object (past appliances on the counter, under the wall cabinets) and then slides in. Takes at most
-    ``PICK_ACTIONS`` actions."""
-    obs = robot.observe()
-    c, h, _ = box(obs, name)
-    yaw = grasp_yaw(obs, name)
-    q = down_quat(yaw)
-    half = np.asarray(obs["objects"][name]["half"])
-    depth = PALM_ROUND if float(np.ptp(half)) < ROUND else PALM
-    z = max(c[2] + h[2] - depth, support_z + FINGER_CLEARANCE)
+    object (past appliances on the counter, under the wall cabinets) and then slides in; ``via`` [m]
+    is that waypoint (x, y) in any kitchen. ``locate`` (L2) perceives the object in the current
+    observation (before the approach and again at the pre-grasp pose, whose view corrects the
+    grasp); without it the world state of ``name`` is read. Takes at most ``PICK_ACTIONS`` actions."""
+
+    def look() -> Seen | None:
+        return seen(robot.observe(), name) if locate is None else locate()
+
+    s = look()
+    if s is None:
+        return None
+    q = down_quat(s.yaw)
+    z = max(s.centre[2] + s.half[2] - s.depth, support_z + FINGER_CLEARANCE)
+    c = s.centre
     if via_y is not None and via_y < c[1]:
         motion.move_tool([c[0], via_y, z + APPROACH], q, tol=0.03, max_steps=120, gripper=-1.0)
+    if via is not None:
+        motion.move_tool([via[0], via[1], z + APPROACH], q, tol=0.03, max_steps=120, gripper=-1.0)
     motion.move_tool([c[0], c[1], z + APPROACH], q, tol=0.01, max_steps=150, gripper=-1.0, correct=True)
-    obs = robot.observe()
-    c, h, _ = box(obs, name)
+    s = look() or s
+    c = s.centre
+    if locate is not None:  # the close view's grasp
+        q = down_quat(s.yaw)
+        z = max(s.centre[2] + s.half[2] - s.depth, support_z + FINGER_CLEARANCE)
+        motion.move_tool([c[0], c[1], z + APPROACH], q, tol=0.01, max_steps=40, gripper=-1.0, correct=True)
     motion.move_tool([c[0], c[1], z], q, tol=0.005, max_steps=60, speed=0.6, correct=True)
     motion.close_gripper(steps=10)
     obs = robot.observe()
     if obs["gripper"] < EMPTY:
         return None
+    if locate is not None:  # the object stands on the support; in the hand it is hidden
+        held = Held(None, float(obs["ee_pos"][2] - support_z))
+        motion.move_tool_by([0.0, 0.0, lift], tol=0.01, max_steps=40, gripper=1.0, correct=True)
+        return held if robot.observe()["gripper"] >= EMPTY else None
     c, h, _ = box(obs, name)
     held = Held(name, float(obs["ee_pos"][2] - (c[2] - h[2])))
     motion.move_tool_by([0.0, 0.0, lift], tol=0.01, max_steps=40, gripper=1.0, correct=True)
@@ -143,6 +184,6 @@ def place(robot: Robot, motion: Motion, held: Held, xy: np.ndarray, support_z: f
     motion.move_tool([xy[0], xy[1], z], q, tol=0.006, max_steps=80, speed=0.6, gripper=1.0, correct=True)
     motion.open_gripper(steps=8)
     obs = robot.observe()
-    c, _, _ = box(obs, held.name)
-    top = c[2] + FAR
+    # FAR above the released object's centre (a perceived one's: its bottom, below the tool)
+    top = (box(obs, held.name)[0][2] if held.name else z - held.below) + FAR
     motion.move_tool([obs["ee_pos"][0], obs["ee_pos"][1], top], q, tol=0.02, max_steps=60, gripper=-1.0)

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from rle_tasks.envs.kitchen.harness import world
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
 
@@ -66,6 +65,8 @@ def _base_goal(obs: dict, drawer: dict, obj: np.ndarray) -> tuple[float, float, 
 
 
 def solve(robot: Robot, motion: Motion) -> bool:
+    from rle_tasks.envs.kitchen.harness import world  # L3 only: the L2 program imports constants from here
+
     obs = robot.observe()
     target = world.target(obs)
     drawer = world.fixture(obs, target["fixture"])
