@@ -1,9 +1,10 @@
-"""Bowls: grasp one by its rim, tip out what lies in it, put it into the sink.
+"""Bowls: take what lies in one out, grip it by its rim, put it into the sink.
 
-A bowl (about 0.17 m across, 0.06 m high, thin tilted walls) is too wide for the fingers (at most
-0.08 m apart), so it is held by its rim: the tool pointing down over the rim point nearest the base,
-the fingers closing across the wall (radially). Rolling the tool about that closing axis tips the bowl
-about its own diameter, so whatever lies in it falls out to one side.
+A bowl (about 0.17 m across, 0.06 m high, thin walls leaning inwards to a rim about 0.12 m across) is too
+wide for the fingers (at most 0.08 m apart), so it is held by its rim: the tool pointing down over the
+rim at the bowl's side, the fingers closing across the wall. Tipping it out does not work: the arm turns
+the hand about 105 degrees at most, and two leftovers wedge under the inward-leaning walls; so they are
+picked out one by one, the fingers opened only a little wider than each (they stay inside the rim).
 """
 
 from __future__ import annotations
@@ -12,13 +13,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import quat_mul
-from .kitchen import COUNTER_Z, PICK_TORSO, Held
+from .kitchen import COUNTER_Z, EMPTY, FINGER_CLEARANCE, GRASP_DEPTH, GRASP_DEPTH_ROUND, PICK_TORSO, Held
 from .motion import down_quat
 from .perception import HAND, clean, in_box
 from .skills import Skills
 
-__all__ = ["RIM_HELD", "Bowl", "bowl_to_sink", "dump_bowl", "find_bowl", "grasp_rim", "sink_basin"]
+__all__ = [
+    "RIM_HELD",
+    "Bowl",
+    "bowl_to_sink",
+    "empty_bowl",
+    "find_bowl",
+    "grasp_rim",
+    "leftovers",
+    "pick_leftover",
+    "sink_basin",
+]
 
 RIM_DEPTH = 0.02
 """Depth of the fingertips below the rim's top [m]."""
@@ -26,14 +36,22 @@ RIM_HELD = 0.002
 """Finger opening [m] above which the fingers hold the wall (it is 6 mm thick, met at a slant)."""
 RIM_LOOK = 0.3
 """Height of the close look above the rim [m] (the whole bowl in the eye-in-hand view)."""
-DUMP_LIFT = 0.2
-"""Lift of the rim above its resting height before tipping [m] (the bowl's side sweeps 0.09 m down)."""
-DUMP_TILT = 1.9
-"""Turn of the tool's axis from straight down that tips the bowl over [rad] (its walls lean 0.35 rad in)."""
+RIM_LIFT = 0.15
+"""Lift of the bowl held by its rim [m]."""
 RIM_OPEN = 0.028
 """Finger opening while reaching over the rim [m]: narrow, so the inner finger stays clear of the leftovers."""
 RIM_OUT = 0.004
 """Grasp this far outside the rim's top [m] (the walls lean inwards: lower down they lie further out)."""
+LEFTOVER_GAP = 0.025
+"""Finger opening beyond an object's width when reaching into the bowl for it [m]."""
+FINGER_HALF = 0.01
+"""Half a finger's thickness along the closing axis [m]."""
+BOWL_FLOOR = 0.006
+"""Thickness of the bowl's bottom [m]."""
+SET_DOWN = 0.22
+"""Distance from the bowl's centre where the first object taken out of it is set down [m]."""
+MAX_LEFTOVERS = 4
+"""Attempts at taking an object out of the bowl [-]."""
 SINK_MARGIN = 0.03
 """Height of the bowl's bottom above the counter tops when let go over the sink basin [m]."""
 
@@ -83,13 +101,12 @@ def find_bowl(sk: Skills, guess: np.ndarray) -> Bowl | None:
     return bowl
 
 
-def grasp_rim(sk: Skills, bowl: Bowl) -> tuple[Held, float] | None:
-    """Grip the rim point farthest from the base and lift the bowl by ``DUMP_LIFT``: returns (what is held,
-    the grasp's yaw [rad], the closing axis pointing away from the base) or None when the fingers closed
-    on nothing."""
-    away = bowl.center - np.asarray(sk.obs["base_pos"][:2], float)
-    u = away / max(float(np.linalg.norm(away)), 1e-6)
-    yaw = float(np.arctan2(u[1], u[0]))
+def grasp_rim(sk: Skills, bowl: Bowl) -> tuple[Held, np.ndarray] | None:
+    """Grip the rim at the bowl's side (seen from the base), the fingers closing across the wall along the
+    base's lateral axis (the arm's home yaw), and lift the bowl by ``RIM_LIFT``: returns (what is held, the
+    unit (x, y) from the bowl's centre to the grip) or None when the fingers closed on nothing."""
+    yaw = float(sk.obs["base_yaw"]) + np.pi / 2
+    u = np.array([np.cos(yaw), np.sin(yaw)])
     xy = bowl.center + (bowl.radius + RIM_OUT) * u
     z = bowl.rim_z - RIM_DEPTH
     q = down_quat(yaw)
@@ -107,43 +124,110 @@ def grasp_rim(sk: Skills, bowl: Bowl) -> tuple[Held, float] | None:
         sk.motion.move_tool_by([0.0, 0.0, 0.15], tol=0.03, max_steps=40)
         return None
     held = Held("bowl", float(o["ee_pos"][2]) - bowl.support_z)
-    sk.motion.move_tool_by([0.0, 0.0, DUMP_LIFT], tol=0.02, max_steps=60, gripper=1.0)
+    sk.motion.move_tool_by([0.0, 0.0, RIM_LIFT], tol=0.02, max_steps=60, gripper=1.0)
     if float(sk.obs["gripper"]) <= RIM_HELD:
         sk.note("bowl slipped out while lifting")
         return None
-    return held, yaw
+    return held, u
 
 
-def _tipped(yaw: float, angle: float) -> np.ndarray:
-    """The rim grasp's orientation (``down_quat(yaw)``) with the tool's axis turned by ``angle`` [rad] from
-    straight down towards the closing axis (the bowl, hanging behind the grip, turns its opening to the
-    base)."""
-    u = np.array([np.cos(yaw), np.sin(yaw), 0.0])
-    n = np.cross([0.0, 0.0, -1.0], u)
-    turn = np.array([np.cos(angle / 2), *(np.sin(angle / 2) * n)])
-    return quat_mul(turn, down_quat(yaw))
+def leftovers(sk: Skills, bowl: Bowl, prompts: tuple[str, ...]) -> list[tuple[str, np.ndarray]]:
+    """(prompt, points [m]) of each object of ``prompts`` seen lying in the bowl from ``RIM_LOOK`` above it
+    (the eye-in-hand camera looking down), highest first."""
+    q = down_quat(sk.obs["base_yaw"] + np.pi / 2)
+    sk.motion.move_tool([*bowl.center, bowl.rim_z + RIM_LOOK], q, tol=0.02, max_steps=120)
+    r = bowl.radius + 0.01
+    lo = (bowl.center[0] - r, bowl.center[1] - r, bowl.support_z)
+    hi = (bowl.center[0] + r, bowl.center[1] + r, bowl.rim_z + 0.1)
+    found = []
+    for prompt in prompts:
+        pts = sk.see(prompt, lo, hi, cameras=(HAND,), tries=2)
+        pts = pts[np.linalg.norm(pts[:, :2] - bowl.center, axis=1) < r] if len(pts) else pts
+        if len(pts) >= 8:
+            found.append((prompt, clean(pts, 0.07)))
+    return sorted(found, key=lambda f: -float(np.percentile(f[1][:, 2], 95)))
 
 
-def dump_bowl(sk: Skills, yaw: float) -> None:
-    """Tip the bowl held by its far rim (closing axis ``yaw`` [rad], away from the base) over and back: the
-    tool's axis turns from down towards the closing axis by ``DUMP_TILT``, so the bowl hangs below the grip
-    with its opening to the base and its contents fall out in front of it."""
-    pos = np.asarray(sk.obs["ee_pos"], float).copy()
-    for angle in (0.6, 1.2, DUMP_TILT):
-        sk.motion.move_tool(pos, _tipped(yaw, angle), tol=0.03, rot_tol=0.1, max_steps=40, gripper=1.0)
-    sk.motion.wait(15)
-    sk.note(f"tipped the bowl: tool {np.round(sk.obs['ee_pos'], 3)}, opening {sk.obs['gripper']:.4f}")
-    for angle in (1.0, 0.0):
-        sk.motion.move_tool(pos, _tipped(yaw, angle), tol=0.03, rot_tol=0.1, max_steps=40, gripper=1.0)
+def _leftover_grasp(
+    pts: np.ndarray, bowl: Bowl, yaw: float, round_: bool
+) -> tuple[np.ndarray, float, float, float]:
+    """(grasp (x, y) [m], yaw [rad], finger opening [m], clearance of the fingers from the rim [m]) of an
+    object in the bowl: across its narrower side, or for a round one at the yaw that keeps the fingers
+    farthest inside the rim."""
+    top = float(np.percentile(pts[:, 2], 95))
+    cap = in_box(pts, (-np.inf, -np.inf, top - 0.012), (np.inf, np.inf, np.inf))
+    xy = cap[:, :2].mean(axis=0) if len(cap) >= 3 else np.median(pts[:, :2], axis=0)
+    best = (xy, yaw, 0.08, -np.inf)
+    for y in (yaw + np.linspace(0.0, np.pi, 12, endpoint=False)) if round_ else (yaw,):
+        a = np.array([np.cos(y), np.sin(y)])
+        across = (pts[:, :2] - xy) @ a
+        opening = min(0.07, float(np.percentile(across, 95) - np.percentile(across, 5)) + LEFTOVER_GAP)
+        reach = max(np.linalg.norm(xy + s * (opening / 2 + FINGER_HALF) * a - bowl.center) for s in (-1, 1))
+        if bowl.radius - reach > best[3]:
+            best = (xy, float(y), opening, float(bowl.radius - reach))
+    return best
+
+
+def pick_leftover(sk: Skills, prompt: str, pts: np.ndarray, bowl: Bowl) -> Held | None:
+    """Grasp an object lying in the bowl from above (``_leftover_grasp``), the fingers opened only
+    ``LEFTOVER_GAP`` wider than it (they stay inside the rim), and lift it clear of the rim."""
+    top = float(np.percentile(pts[:, 2], 95))
+    yaw, round_ = sk._grasp_yaw(in_box(pts, (-np.inf, -np.inf, top - 0.03), (np.inf, np.inf, np.inf)))
+    xy, yaw, opening, clear = _leftover_grasp(pts, bowl, yaw, round_)
+    narrow = 1.0 - 2.0 * opening / 0.08
+    floor = bowl.support_z + BOWL_FLOOR
+    z = max(top - (GRASP_DEPTH_ROUND if round_ else GRASP_DEPTH), floor + FINGER_CLEARANCE)
+    q = down_quat(yaw)
+    sk.motion.move_tool([xy[0], xy[1], z + 0.1], q, tol=0.01, max_steps=120, speed=0.5, gripper=narrow)
+    sk.motion.move_tool([xy[0], xy[1], z + 0.05], q, tol=0.005, max_steps=40, speed=0.3, correct=True)
+    sk.motion.move_tool([xy[0], xy[1], z], q, tol=0.004, max_steps=60, speed=0.3, correct=True)
+    o = sk.motion.close_gripper(steps=10)
+    sk.note(
+        f"grasp {prompt} in the bowl at {np.round([*xy, z], 3)} yaw {yaw:.2f} opening {opening:.3f} "
+        f"clearance {clear:.3f}: tool {np.round(o['ee_pos'], 3)}, fingers {o['gripper']:.4f}"
+    )
+    if float(o["gripper"]) <= EMPTY:
+        sk.motion.open_gripper(steps=6)
+        sk.motion.move_tool_by([0.0, 0.0, 0.15], tol=0.03, max_steps=40)
+        return None
+    held = Held(prompt, float(o["ee_pos"][2]) - floor)
+    sk.motion.move_tool_by([0.0, 0.0, 0.15], tol=0.02, max_steps=50, gripper=1.0)
+    return held if float(sk.obs["gripper"]) > EMPTY else None
+
+
+def _clearance(sk: Skills, pts: np.ndarray, bowl: Bowl) -> float:
+    top = float(np.percentile(pts[:, 2], 95))
+    yaw, round_ = sk._grasp_yaw(in_box(pts, (-np.inf, -np.inf, top - 0.03), (np.inf, np.inf, np.inf)))
+    return _leftover_grasp(pts, bowl, yaw, round_)[3]
+
+
+def empty_bowl(sk: Skills, bowl: Bowl, prompts: tuple[str, ...], away: np.ndarray) -> int:
+    """Take every object of ``prompts`` out of the bowl and put it on the counter ``SET_DOWN`` (then 0.1 m
+    further for each next one) from the bowl's centre along the unit (x, y) ``away``; returns how many
+    were set down."""
+    done = 0
+    for _ in range(MAX_LEFTOVERS):
+        seen = leftovers(sk, bowl, prompts)
+        if not seen:
+            break
+        prompt, pts = max(seen, key=lambda f: _clearance(sk, f[1], bowl))
+        held = pick_leftover(sk, prompt, pts, bowl)
+        if held is None:
+            sk.tuck()
+            continue
+        spot = bowl.center + (SET_DOWN + 0.1 * done) * away
+        sk.place(held, spot, bowl.support_z, drop=0.01)
+        done += 1
+    sk.note(f"took {done} objects out of the bowl")
+    return done
 
 
 def bowl_to_sink(
-    sk: Skills, held: Held, bowl: Bowl, yaw: float, basin: tuple[np.ndarray, float], beside_y: float
+    sk: Skills, held: Held, bowl: Bowl, u: np.ndarray, basin: tuple[np.ndarray, float], beside_y: float
 ) -> None:
-    """Carry the bowl held at its rim (grasp ``yaw`` [rad]) over the sink basin's middle and let it go
-    ``SINK_MARGIN`` above counter height (it falls in)."""
+    """Carry the bowl held at its rim (``u``: unit (x, y) from its centre to the grip) over the sink basin's
+    middle and let it go ``SINK_MARGIN`` above counter height (it falls in)."""
     mid, _ = basin
-    u = np.array([np.cos(yaw), np.sin(yaw)])
     sk.carry_pose()
     sk.goto(float(mid[0]), beside_y)
     sk.place(held, mid + bowl.radius * u, COUNTER_Z, drop=SINK_MARGIN, carry_z=1.1)
