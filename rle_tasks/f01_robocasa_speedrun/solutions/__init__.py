@@ -179,7 +179,7 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
     },
     "01-pnp-counter-to-drawer-l2": {
         "reference": (
-            "cb63b292e48c4fcde2d823d87876a3a750665fb877dbc41eb8ba591f4dcfee11",
+            "e289a4a6ff0659132df353304b98eade70cfe89de716a67890e7811ae15efb7f",
             0.9991920000000001,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
@@ -187,7 +187,7 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "168f70b52cc92819fad24640bc1a2e1c9ca3ae5743fe78dc363fca55b954dba6",
+            "e8b95d4033e84b00f0b0384965eace1f2509262f6e428c7c043b2e601e4564a0",
             0.0,
         ),  # no verifiable session: ledger.jsonl: line 91 (seq 90) fails
     },

@@ -31,6 +31,8 @@ ELONGATED = 1.25
 ALIGN = 0.2
 """Search range of an open drawer's pull direction about the robot's heading at the start [rad] (the
 robot starts facing the target fixture)."""
+SKIP_MARGIN = 0.06
+"""The open drawer's front panel spans its cabinet's width, this much beyond the drawer box's side [m]."""
 STRAY = 0.12
 """Points of an object's masks farther than this from their median are not the object's [m]."""
 SAME_OBJECT = 0.1
@@ -171,7 +173,7 @@ def front_line(
         s = (p - at) @ lat
         p = p[np.abs(s) < half_width]
         ds = (p[:, :2] - skip.centre[:2]) @ skip.lateral[:2]
-        p = p[(np.abs(ds) > skip.half_width + 0.02) | (p[:, 2] < skip.floor - 0.05)]
+        p = p[(np.abs(ds) > skip.half_width + SKIP_MARGIN) | (p[:, 2] < skip.floor - 0.05)]
         best.append((p - at) @ out)
     d = np.concatenate(best) if best else np.zeros(0)
     return float(np.percentile(d, 99)) if len(d) >= 20 else None
