@@ -35,5 +35,7 @@ def generate(
     Raises:
         ValueError: A stance foot could not be placed within 0.1 mm (the plan is out of reach).
     """
+    if plan.refine is not None:
+        return plan.refine(model, plan, seconds, fps)
     clip = _kinematic(model, plan, seconds, fps)
     return balance(model, plan, clip, seconds, fps) if plan.balanced else clip

@@ -112,10 +112,12 @@ def _kinematic(
             m = b - a
             if plan.matched_swing:
                 end = _quintic_ends(qpos[:, cols], a, b)
+                if not plan.swing_acc:
+                    end = (end[0], end[1], 0 * end[2], end[3], end[4], 0 * end[5])
             for k in range(a + 1, b):
                 u = (k - a) / m
                 if plan.matched_swing:
-                    qpos[k, cols] = _quintic(u, m, *end) + (4 * u * (1 - u)) ** 3 * bump
+                    qpos[k, cols] = _quintic(u, m, *end) + (4 * u * (1 - u)) ** plan.bump_power * bump
                 else:
                     qpos[k, cols] = (1 - min_jerk(u)) * qpos[a, cols] + min_jerk(u) * qpos[b, cols]
                     qpos[k, cols] += (4 * u * (1 - u)) ** 1.5 * bump

@@ -61,6 +61,13 @@ class MotionPlan:
     """Swing legs leave and reach their stance solutions with the stance joints' velocities and accelerations
     (quintic Hermite in joint space, flexion bump (4u(1-u))^3) instead of at rest: the foot's world velocity
     and acceleration are continuous at lift-off and touchdown."""
+    bump_power: float = 3.0
+    """Exponent p of a matched swing's flexion bump (4u(1-u))^p (3: zero slope and curvature at the ends)."""
+    swing_acc: bool = True
+    """A matched swing meets the stance joints' accelerations at its ends too (False: zero accelerations; the
+    stance legs' accelerations of a run ask the swing hip pitch for several times its limit)."""
+    refine: Callable | None = None
+    """Run and sprint: ``(model, plan) -> Clip`` that replaces balancing (``run_refine.refine``)."""
     centroidal: bool = False
     """``balance`` aims the whole-body zero-moment point (``centroidal_zmp``: vertical COM acceleration and
     the centroidal angular momentum's rate included) at the support, not the cart-table one."""

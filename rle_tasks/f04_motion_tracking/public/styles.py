@@ -205,17 +205,31 @@ def fall_getup() -> MotionPlan:
 
 
 def _gait(
-    v_max: float, step_time: float, stance_time: float, z_run: float, lean: float, apex: float, arm: float
+    v_max: float,
+    step_time: float,
+    stance_time: float,
+    z_run: float,
+    lean: float,
+    apex: float,
+    arm: float,
+    width: float = 0.10,
+    dynamic: bool = False,
 ) -> MotionPlan:
-    """Running gait: alternating steps, speed ramped up over 6 steps and down over the last 6."""
-    t0, n, ramp, y = 1.0, 0, 6, 0.10
+    """Running gait: alternating steps, speed ramped up over 6 steps and down over the last 6; footholds
+    ``width`` [m] either side of the midline; in stance the pelvis height is a cubic Hermite from landing to
+    take-off. ``dynamic`` (``run_refine``): the stance pelvis height follows a half-sine vertical force
+    (``_sine_stance``), the speed ramps down over 12 steps (braking puts the foot ahead of the COM, at the
+    edge of the leg's reach), the last stance brings the pelvis to rest, the swings are velocity-matched and
+    the clip is refined (``run_refine.refine``)."""
+    t0, n, ramp, y = 1.0, 0, 6, width
     times = []
     t = t0
     while t < CLIP_SECONDS - 2.0:
         times.append(t)
         t += step_time
     n = len(times)
-    v = [v_max * min(1.0, (k + 1) / ramp, (n - k) / ramp) for k in range(n)]
+    down = 2 * ramp if dynamic else ramp
+    v = [v_max * min(1.0, (k + 1) / ramp, (n - k) / down) for k in range(n)]
     ts = [stance_time + (1 - vk / v_max) * (1.25 * step_time - stance_time) for vk in v]
     flight = [max(step_time - s, 0.0) for s in ts]
     v0 = [GRAVITY * f / 2 for f in flight]  # take-off vertical speed of a ballistic flight of that length
@@ -237,7 +251,7 @@ def _gait(
             continue
         if tau <= ts[k]:  # stance: velocities blend, height is a cubic Hermite from landing to take-off
             s = tau / ts[k]
-            vel[i] = vprev + (v[k] - vprev) * min_jerk(s)
+            vel[i] = vprev + ((0.0 if dynamic and k == n - 1 else v[k]) - vprev) * min_jerk(s)
             h00, h10, h01, h11 = (
                 2 * s**3 - 3 * s**2 + 1,
                 s**3 - 2 * s**2 + s,
@@ -245,6 +259,8 @@ def _gait(
                 s**3 - s**2,
             )
             z[i] = h00 * zprev + h01 * zs[k] + (h10 * -v0prev + h11 * v0[k]) * ts[k]
+            if dynamic:
+                z[i] = _sine_stance(tau, ts[k], zprev, v0prev, zs[k], v0[k])
         else:  # flight: ballistic
             f = tau - ts[k]
             vel[i] = v[k]
@@ -283,7 +299,38 @@ def _gait(
             "waist_yaw": -0.15 * swing,
         }
 
-    return MotionPlan(stances, root, upper, swing_height=apex)
+    if not dynamic:
+        return MotionPlan(stances, root, upper, swing_height=apex)
+    from .run_refine import refine
+
+    return MotionPlan(
+        stances,
+        root,
+        upper,
+        swing_height=apex,
+        matched_swing=True,
+        bump_power=2.0,
+        swing_acc=False,
+        refine=refine,
+    )
+
+
+def _sine_stance(tau: float, ts: float, z0: float, v_land: float, z1: float, v_off: float) -> float:
+    """Height at ``tau`` of a stance of ``ts`` [s] landing at ``z0`` falling at ``v_land`` and taking off at
+    ``z1`` rising at ``v_off`` [m, m/s], under a half-sine vertical force z'' = -g + A sin(pi tau / ts),
+    A = pi (v_off + v_land + g ts) / (2 ts) (zero force at touchdown and take-off, the take-off speed met),
+    plus a minimum-jerk blend of what that leaves of z1 (zero in a steady gait)."""
+    a = math.pi * (v_off + v_land + GRAVITY * ts) / (2 * ts)
+
+    def free(t: float) -> float:
+        return (
+            z0
+            - v_land * t
+            - 0.5 * GRAVITY * t * t
+            + a * ts / math.pi * (t - ts / math.pi * math.sin(math.pi * t / ts))
+        )
+
+    return free(tau) + (z1 - free(ts)) * min_jerk(tau / ts)
 
 
 def run() -> MotionPlan:
