@@ -66,6 +66,10 @@ def _set(task_id: str, pins: dict[str, tuple[str, float]]) -> SolutionSet:
 
 PINS: dict[str, dict[str, tuple[str, float]]] = {
     "01-open-fridge-l1": {
+        "reference": (
+            "a80dfe89ab004644ce734fb70d24c56a26c12cb450b147191d6df82ec5d5dd62",
+            0.9978560000000001,
+        ),  # 5 of 5 trials succeeded
         "baseline/idle": (
             "5b399425c6ecf316b7bb037341677c5806c95185fceb831107324b76953ce21c",
             0.0,
@@ -74,6 +78,10 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
             "1ac76778a40de0d13c4432547e09d7eff8b27ff09066a2d46a3a4ad6ec7736e8",
             0.0,
         ),  # 0 of 5 trials succeeded (5 not played)
+        "baseline/tampered": (
+            "3462f488cfb4d89780e22358c4e4f3bce3c0cba70a9210b3b30e98caf3e5c985",
+            0.0,
+        ),  # no verifiable session: ledger.jsonl: line 106 (seq 105) fails its MAC
     },
     "01-open-fridge-l2": {
         "reference": (

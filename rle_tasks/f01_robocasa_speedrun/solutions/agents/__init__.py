@@ -36,7 +36,9 @@ PROGRAMS_BY_LEVEL: dict[int, dict[str, str]] = {
         "TurnOnStove": "turn_on_stove_l2",
         "PickPlaceCounterToDrawer": "pnp_counter_to_drawer_l2",
     },
-    1: {},
+    1: {
+        "OpenFridge": "open_fridge_l1",
+    },
 }
 """Harness level -> kitchen task -> module of the program written for that level."""
 
