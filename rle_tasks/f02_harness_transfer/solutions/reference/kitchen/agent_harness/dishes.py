@@ -15,7 +15,7 @@ import numpy as np
 
 from .kitchen import COUNTER_Z, EMPTY, FINGER_CLEARANCE, GRASP_DEPTH, GRASP_DEPTH_ROUND, PICK_TORSO, Held
 from .motion import down_quat
-from .perception import HAND, clean, in_box
+from .perception import HAND, clean, clouds, in_box
 from .skills import Skills
 
 __all__ = [
@@ -42,15 +42,17 @@ RIM_OPEN = 0.028
 """Finger opening while reaching over the rim [m]: narrow, so the inner finger stays clear of the leftovers."""
 RIM_OUT = 0.004
 """Grasp this far outside the rim's top [m] (the walls lean inwards: lower down they lie further out)."""
-LEFTOVER_GAP = 0.025
+LEFTOVER_GAP = 0.02
 """Finger opening beyond an object's width when reaching into the bowl for it [m]."""
+BLOCKED = 0.015
+"""Height of the tool above its grasp target at which a reach into the bowl counts as blocked [m]."""
 FINGER_HALF = 0.01
 """Half a finger's thickness along the closing axis [m]."""
 BOWL_FLOOR = 0.006
 """Thickness of the bowl's bottom [m]."""
 SET_DOWN = 0.22
 """Distance from the bowl's centre where the first object taken out of it is set down [m]."""
-MAX_LEFTOVERS = 4
+MAX_LEFTOVERS = 5
 """Attempts at taking an object out of the bowl [-]."""
 SINK_MARGIN = 0.03
 """Height of the bowl's bottom above the counter tops when let go over the sink basin [m]."""
@@ -132,20 +134,24 @@ def grasp_rim(sk: Skills, bowl: Bowl) -> tuple[Held, np.ndarray] | None:
 
 
 def leftovers(sk: Skills, bowl: Bowl, prompts: tuple[str, ...]) -> list[tuple[str, np.ndarray]]:
-    """(prompt, points [m]) of each object of ``prompts`` seen lying in the bowl from ``RIM_LOOK`` above it
-    (the eye-in-hand camera looking down), highest first."""
+    """(prompt, points [m]) of each object instance of ``prompts`` seen lying in the bowl from ``RIM_LOOK``
+    above it (the eye-in-hand camera looking down; one entry per instance: two lemons are two entries)."""
     q = down_quat(sk.obs["base_yaw"] + np.pi / 2)
     sk.motion.move_tool([*bowl.center, bowl.rim_z + RIM_LOOK], q, tol=0.02, max_steps=120)
     r = bowl.radius + 0.01
-    lo = (bowl.center[0] - r, bowl.center[1] - r, bowl.support_z)
-    hi = (bowl.center[0] + r, bowl.center[1] + r, bowl.rim_z + 0.1)
-    found = []
-    for prompt in prompts:
-        pts = sk.see(prompt, lo, hi, cameras=(HAND,), tries=2)
-        pts = pts[np.linalg.norm(pts[:, :2] - bowl.center, axis=1) < r] if len(pts) else pts
-        if len(pts) >= 8:
-            found.append((prompt, clean(pts, 0.07)))
-    return sorted(found, key=lambda f: -float(np.percentile(f[1][:, 2], 95)))
+    lo, hi = (-np.inf, -np.inf, bowl.support_z), (np.inf, np.inf, bowl.rim_z + 0.1)
+    found: list[tuple[str, np.ndarray]] = []
+    for attempt in range(2):
+        for prompt in prompts:
+            for _, pts in clouds(sk.client, sk.obs, prompt, (HAND,)):
+                pts = in_box(pts, lo, hi)
+                pts = pts[np.linalg.norm(pts[:, :2] - bowl.center, axis=1) < r] if len(pts) else pts
+                if len(pts) >= 8:
+                    found.append((prompt, clean(pts, 0.05)))
+        if found or attempt:
+            break
+        sk.motion.wait(1)  # the segmenter misses small instances at times: a new image
+    return found
 
 
 def _leftover_grasp(
@@ -158,13 +164,25 @@ def _leftover_grasp(
     cap = in_box(pts, (-np.inf, -np.inf, top - 0.012), (np.inf, np.inf, np.inf))
     xy = cap[:, :2].mean(axis=0) if len(cap) >= 3 else np.median(pts[:, :2], axis=0)
     best = (xy, yaw, 0.08, -np.inf)
+    if round_:  # nearly round seen from above: open for its widest side whatever the yaw
+        spread = max(
+            float(np.ptp(np.percentile((pts[:, :2] - xy) @ [np.cos(y), np.sin(y)], [5, 95])))
+            for y in np.linspace(0.0, np.pi, 8, endpoint=False)
+        )
     for y in (yaw + np.linspace(0.0, np.pi, 12, endpoint=False)) if round_ else (yaw,):
         a = np.array([np.cos(y), np.sin(y)])
         across = (pts[:, :2] - xy) @ a
-        opening = min(0.07, float(np.percentile(across, 95) - np.percentile(across, 5)) + LEFTOVER_GAP)
-        reach = max(np.linalg.norm(xy + s * (opening / 2 + FINGER_HALF) * a - bowl.center) for s in (-1, 1))
-        if bowl.radius - reach > best[3]:
-            best = (xy, float(y), opening, float(bowl.radius - reach))
+        width = spread if round_ else float(np.percentile(across, 95) - np.percentile(across, 5))
+        opening = min(0.07, width + LEFTOVER_GAP)
+        for t in np.linspace(-1.0, 1.0, 5) * (
+            LEFTOVER_GAP / 2 - 0.003
+        ):  # the object stays between the fingers
+            g = xy + t * a
+            reach = max(
+                np.linalg.norm(g + s * (opening / 2 + FINGER_HALF) * a - bowl.center) for s in (-1, 1)
+            )
+            if bowl.radius - reach > best[3]:
+                best = (g, float(y), opening, float(bowl.radius - reach))
     return best
 
 
@@ -180,7 +198,14 @@ def pick_leftover(sk: Skills, prompt: str, pts: np.ndarray, bowl: Bowl) -> Held 
     q = down_quat(yaw)
     sk.motion.move_tool([xy[0], xy[1], z + 0.1], q, tol=0.01, max_steps=120, speed=0.5, gripper=narrow)
     sk.motion.move_tool([xy[0], xy[1], z + 0.05], q, tol=0.005, max_steps=40, speed=0.3, correct=True)
-    sk.motion.move_tool([xy[0], xy[1], z], q, tol=0.004, max_steps=60, speed=0.3, correct=True)
+    sk.motion.move_tool([xy[0], xy[1], z], q, tol=0.004, max_steps=60, speed=0.3)
+    if float(sk.obs["ee_pos"][2]) > z + BLOCKED:  # a finger rests on the rim or another object
+        sk.note(
+            f"grasp {prompt} in the bowl blocked at {np.round(sk.obs['ee_pos'], 3)} for {np.round([*xy, z], 3)} "
+            f"yaw {yaw:.2f} opening {opening:.3f} clearance {clear:.3f}"
+        )
+        sk.motion.move_tool_by([0.0, 0.0, 0.1], tol=0.03, max_steps=30)
+        return None
     o = sk.motion.close_gripper(steps=10)
     sk.note(
         f"grasp {prompt} in the bowl at {np.round([*xy, z], 3)} yaw {yaw:.2f} opening {opening:.3f} "
@@ -205,14 +230,20 @@ def empty_bowl(sk: Skills, bowl: Bowl, prompts: tuple[str, ...], away: np.ndarra
     """Take every object of ``prompts`` out of the bowl and put it on the counter ``SET_DOWN`` (then 0.1 m
     further for each next one) from the bowl's centre along the unit (x, y) ``away``; returns how many
     were set down."""
-    done = 0
+    done, failed = 0, []
     for _ in range(MAX_LEFTOVERS):
         seen = leftovers(sk, bowl, prompts)
         if not seen:
             break
-        prompt, pts = max(seen, key=lambda f: _clearance(sk, f[1], bowl))
+
+        def score(f: tuple[str, np.ndarray]) -> float:  # clearance; less near a spot that failed
+            c = np.median(f[1][:, :2], axis=0)
+            return _clearance(sk, f[1], bowl) - 0.05 * sum(np.linalg.norm(c - x) < 0.03 for x in failed)
+
+        prompt, pts = max(seen, key=score)
         held = pick_leftover(sk, prompt, pts, bowl)
         if held is None:
+            failed.append(np.median(pts[:, :2], axis=0))
             sk.tuck()
             continue
         spot = bowl.center + (SET_DOWN + 0.1 * done) * away

@@ -18,7 +18,13 @@ from typing import Any
 import numpy as np
 
 from .articulation import close_door, push_drawer_holding
-from .dishes import bowl_to_sink, empty_bowl, find_bowl, grasp_rim, sink_basin
+from .dishes import (
+    bowl_to_sink,
+    empty_bowl,
+    find_bowl,
+    grasp_rim,
+    sink_basin,
+)
 from .fixtures import find_open_door
 from .kitchen import BESIDE_Y, COUNTER_Z, EMPTY, FRONT_Y, SIDE_GAP, STAND_Y, Drawer
 from .knobs import turn_knob
@@ -227,7 +233,7 @@ def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
 
 def run_dump(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
     """Find the bowl and the sink, take what lies in the bowl out onto the counter (away from the sink),
-    then grip the bowl's rim and put it into the sink."""
+    then grip the bowl's rim and put it into the sink (with what could not be taken out)."""
     guess = _find_on_top(sk, "bowl", radius=0.14)
     if guess is None:
         sk.note("cannot find the bowl")
@@ -243,7 +249,8 @@ def run_dump(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
         return False
     lateral = np.array([-np.sin(sk.obs["base_yaw"]), np.cos(sk.obs["base_yaw"])])
     away = -lateral if (basin[0] - bowl.center) @ lateral > 0 else lateral
-    empty_bowl(sk, bowl, tuple(o for o in OBJECTS if o != "bowl"), away)
+    prompts = tuple(o for o in OBJECTS if o != "bowl")
+    empty_bowl(sk, bowl, prompts, away)
     sk.tuck()
     sk.goto(float(bowl.center[0]), BESIDE_Y)
     bowl = find_bowl(sk, np.array([*bowl.center, bowl.rim_z])) or bowl  # it may have moved a little
