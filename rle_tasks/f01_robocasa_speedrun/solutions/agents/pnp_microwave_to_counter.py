@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from rle_tasks.envs.kitchen.harness import world
 from rle_tasks.envs.kitchen.harness.geometry import quat_to_mat
 from rle_tasks.envs.kitchen.harness.motion import Motion, down_quat
 from rle_tasks.envs.kitchen.harness.robot import Robot
@@ -52,13 +51,12 @@ the plate and of setting it down and letting go."""
 FACING_WALL = np.pi / 2
 
 
-def _reach(obs: dict, name: str) -> tuple[np.ndarray, np.ndarray]:
-    """Grasp (tool position [m], quaternion): leaning ``PITCH`` into the microwave, closing across an
-    object longer than ``FIT`` on its narrower horizontal side as far as a turn of the reach within
+def _reach(c: np.ndarray, half: np.ndarray, rot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Grasp (tool position [m], quaternion) of an object whose box has world centre ``c``, half extents
+    ``half`` in its own axes and rotation ``rot``: leaning ``PITCH`` into the microwave, closing across
+    an object longer than ``FIT`` on its narrower horizontal side as far as a turn of the reach within
     ``MAX_TURN`` allows, the palm clear of the object."""
-    o = obs["objects"][name]
-    c, _, rot = box(obs, name)
-    half = np.asarray(o["half"])
+    half = np.asarray(half)
     up = int(np.argmax(np.abs(rot[2])))
     i, j = (k for k in range(3) if k != up)
     turn = 0.0
@@ -82,14 +80,54 @@ def _reach(obs: dict, name: str) -> tuple[np.ndarray, np.ndarray]:
     return c - max(0.0, extent - PALM + 0.004) * tz, q
 
 
+class WorldView:
+    """What the program knows of the scene, from the world state (L3); an L2 program passes its
+    perceived counterpart to ``run``."""
+
+    def __init__(self, robot: Robot) -> None:
+        from rle_tasks.envs.kitchen.harness import world  # L3 only
+
+        obs = robot.observe()
+        self.robot = robot
+        target = world.target(obs)
+        mw = world.fixture(obs, target["fixture"])
+        self.name, self.plate_name = target["object"], target["container"]
+        self.front = float(mw["pos"][1] - mw["size"][1] / 2)
+        """The microwave's front (y) [m]."""
+        self.door_x = float(mw["pos"][0] - mw["size"][0] / 2)
+        """The open door's x [m] (hinged on the microwave's left)."""
+        self.top = float(mw["pos"][2] + mw["size"][2])
+        """The microwave's top [m]."""
+
+    def object(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(world centre [m], half extents in its own axes [m], rotation) of the object's box."""
+        obs = self.robot.observe()
+        c, _, rot = box(obs, self.name)
+        return c, np.asarray(obs["objects"][self.name]["half"]), rot
+
+    def plate(self) -> tuple[np.ndarray, float]:
+        """(position [m], top height [m]) of the plate on the counter."""
+        obs = self.robot.observe()
+        pc, ph, _ = box(obs, self.plate_name)
+        return np.asarray(obs["objects"][self.plate_name]["pos"]), float(pc[2] + ph[2])
+
+    def grasped(self) -> None:
+        """Called once the fingers hold the object."""
+
+    def hold(self) -> tuple[np.ndarray, float]:
+        """The held object's centre relative to the tool [m] and the tool's height above its bottom [m]."""
+        return _hold(self.robot.observe(), self.name)
+
+
 def solve(robot: Robot, motion: Motion) -> bool:
+    return run(robot, motion, WorldView(robot))
+
+
+def run(robot: Robot, motion: Motion, view) -> bool:
+    """The program on the scene as ``view`` (a ``WorldView`` or a perceived one) tells it."""
     obs = robot.observe()
-    target = world.target(obs)
-    mw = world.fixture(obs, target["fixture"])
-    name, plate = target["object"], target["container"]
-    front = float(mw["pos"][1] - mw["size"][1] / 2)
-    door_x = float(mw["pos"][0] - mw["size"][0] / 2)
-    c, _, _ = box(obs, name)
+    front, door_x = view.front, view.door_x
+    c, _, _ = view.object()
     motion.drive_to(float(c[0]) + 0.05, float(obs["base_pos"][1]), FACING_WALL, max_steps=120)
     motion.drive_to(float(c[0]) + 0.05, BASE_Y, FACING_WALL, max_steps=80)
     motion.set_torso(TORSO)
@@ -97,8 +135,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
     for _ in range(2):
         if out_of_actions(robot, GRASP_ACTIONS):
             break
-        obs = robot.observe()
-        g, q = _reach(obs, name)
+        g, q = _reach(*view.object())
         tz = quat_to_mat(q)[:, 2]
         motion.move_tool([g[0], front - OUTSIDE, g[2] + 0.03], q, tol=0.02, max_steps=150, gripper=-1.0)
         motion.move_tool(g - 0.08 * tz, q, tol=0.01, max_steps=100, correct=True)
@@ -106,6 +143,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
         motion.close_gripper(steps=10)
         if robot.observe()["gripper"] >= EMPTY:
             held = True
+            view.grasped()
             break
         motion.move_tool(g - 0.1 * tz, q, tol=0.02, max_steps=40, gripper=-1.0)
     if not held or out_of_actions(robot, LIFT_ACTIONS):
@@ -117,21 +155,18 @@ def solve(robot: Robot, motion: Motion) -> bool:
     tool[1] = front - OUTSIDE
     motion.move_tool(tool, q, tol=0.02, max_steps=60, speed=0.6, gripper=1.0, correct=True)
     obs = robot.observe()
-    pp, _ = world.object_pose(obs, plate)
-    pc, ph, _ = box(obs, plate)
-    plate_top = float(pc[2] + ph[2])
-    offset, bottom = _hold(obs, name)
+    pp, plate_top = view.plate()
+    offset, bottom = view.hold()
     carry = plate_top + bottom + 0.08
-    if float(np.ptp(obs["objects"][name]["half"])) < ROUND:
+    if float(np.ptp(view.object()[1])) < ROUND:
         motion.move_tool([tool[0], tool[1], carry], q, tol=0.02, max_steps=40, gripper=1.0)
         q = down_quat(FACING_WALL + np.pi / 2)
         motion.move_tool(robot.observe()["ee_pos"], q, tol=0.02, max_steps=40, gripper=1.0)
-        offset, bottom = _hold(robot.observe(), name)
+        offset, bottom = view.hold()
         carry = plate_top + bottom + 0.08
     over_door = pp[0] < door_x + 0.05
     if over_door:
-        top = float(mw["pos"][2] + mw["size"][2])
-        carry = max(carry, top + DOOR_CLEARANCE + bottom)
+        carry = max(carry, view.top + DOOR_CLEARANCE + bottom)
     tool = np.asarray(obs["ee_pos"])
     motion.move_tool([tool[0], tool[1], carry], q, tol=0.02, max_steps=80, gripper=1.0)
     # stand in front of the plate with the object above its centre (the arm holds still on the base)
@@ -149,10 +184,10 @@ def solve(robot: Robot, motion: Motion) -> bool:
     motion.drive_to(base_x, base_y, FACING_WALL, max_steps=100, ramp=RAMP)
     if out_of_actions(robot, SET_ACTIONS):
         return False
-    offset, bottom = _hold(robot.observe(), name)
+    offset, bottom = view.hold()
     above = np.array([pp[0] - offset[0], pp[1] - offset[1], carry])
     motion.move_tool(above, q, tol=0.01, max_steps=100, gripper=1.0, correct=True)
-    offset, bottom = _hold(robot.observe(), name)
+    offset, bottom = view.hold()
     down = np.array([pp[0] - offset[0], pp[1] - offset[1], plate_top + bottom + SET_DOWN])
     motion.move_tool(down, q, tol=0.006, max_steps=60, speed=0.5, gripper=1.0, correct=True)
     # open a little (a wide-open hand flicks a ball away), back off along the tool's axis, then rise
@@ -160,7 +195,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
     motion.gripper(1.0 - 2.0 * width / GRIPPER_MAX, steps=6)
     tz = quat_to_mat(q)[:, 2]
     motion.move_tool(down - 0.06 * tz, q, tol=0.02, max_steps=30)
-    c, _, _ = box(robot.observe(), name)
+    c = np.asarray(robot.observe()["ee_pos"]) + view.hold()[0]
     tool = np.asarray(robot.observe()["ee_pos"])
     motion.move_tool([tool[0], tool[1] - 0.05, c[2] + FAR], q, tol=0.02, max_steps=60, gripper=-1.0)
     motion.wait(5)
