@@ -40,8 +40,8 @@ __all__ = ["GAITS", "refine", "refined_plan"]
 ITERATIONS = 30
 """Refinement iterations (the flight residuals are within the check's tolerances after about 20)."""
 GAITS = {
-    "run": dict(v_max=2.2, step_time=0.36, stance_time=0.22, z_run=0.70, lean=0.12, apex=0.2, arm=0.5),
-    "sprint": dict(v_max=3.5, step_time=0.32, stance_time=0.15, z_run=0.70, lean=0.15, apex=0.2, arm=0.8),
+    "run": dict(v_max=2.2, step_time=0.36, stance_time=0.22, z_run=0.70, lean=0.12, apex=0.25, arm=0.5),
+    "sprint": dict(v_max=3.5, step_time=0.32, stance_time=0.15, z_run=0.70, lean=0.15, apex=0.25, arm=0.8),
 }
 """``styles._gait`` parameters of the refined run and sprint (footholds +-0.06 m, ``dynamic``)."""
 BAND_X = (-0.02, 0.06)
@@ -58,6 +58,10 @@ FRICTION = 0.4
 """Largest horizontal force over normal force the refinement allows (the check's pyramid: 0.6) [1]."""
 YAW_ARM = 0.003
 """Largest yaw moment about the stance foot per newton of normal force [m]."""
+HIP_CAP = 0.8 * 88.0
+"""Stance hip pitch torque the refinement keeps within [N m] (the effort limit is 88)."""
+W_HIP = 0.003
+"""Weight of the stance hip pitch torque beyond ``HIP_CAP`` [1 / (N m)^2] (0.01 and more diverge)."""
 # weights: 1 / tolerance^2 of each residual [N m], [m/s^2], [N m], and of the corrections [m], [rad]
 W_MOMENT, W_ACC, W_L = 1.0, 1 / 0.03**2, 1 / 0.5**2
 W_POS, W_ROT, W_SMOOTH = 1 / 0.05**2, 1 / 0.1**2, 1e-4
@@ -74,6 +78,8 @@ def base_wrench(model: mujoco.MjModel, clip: Clip) -> dict[str, np.ndarray]:
     n, mass = len(q), mujoco.mj_getTotalmass(m)
     out = {k: np.zeros((n, 3)) for k in ("force", "moment", "o", "com")}
     out["inertia"] = np.zeros((n, 3, 3))
+    out["hip_tau"], out["hip_coef"] = np.zeros(n), np.zeros((n, 3))
+    stance = stance_flags(clip.contacts)
     full = np.zeros((m.nv, m.nv))
     for f in range(n):
         d.qpos[:], d.qvel[:] = q[f], v[f]
@@ -86,8 +92,32 @@ def base_wrench(model: mujoco.MjModel, clip: Clip) -> dict[str, np.ndarray]:
         mujoco.mj_fullM(m, d, full)
         r = out["com"][f] - out["o"][f]
         out["inertia"][f] = rot @ full[3:6, 3:6] @ rot.T - mass * (r @ r * np.eye(3) - np.outer(r, r))
+        _stance_hip(m, d, solver, stance[f], out, f)
     out["mass"] = np.array(mass)
     return out
+
+
+def _stance_hip(
+    m: mujoco.MjModel, d: mujoco.MjData, solver: InverseDynamics, flags, out: dict, f: int
+) -> None:
+    """Single stance: the stance hip pitch torque (the foot wrench that balances the base exactly) and the
+    mass, COM height above the hip and pitch inertia about the hip of the body it carries (all but the
+    stance leg)."""
+    if flags.sum() != 1:
+        return
+    leg = int(np.flatnonzero(flags)[0])
+    jacp, jacr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
+    mujoco.mj_jacBody(m, d, jacp, jacr, solver.feet[leg])
+    jac = np.vstack([jacp, jacr])
+    h = d.qfrc_inverse
+    wrench = np.linalg.lstsq(jac[:, :6].T, h[:6], rcond=None)[0]
+    dof = solver.dofs[6 * leg]
+    link = m.jnt_bodyid[m.dof_jntid[dof]]
+    mass, m_leg = m.body_subtreemass[1], m.body_subtreemass[link]
+    com_up = (mass * d.subtree_com[1] - m_leg * d.subtree_com[link]) / (mass - m_leg)
+    r = com_up - d.xanchor[m.dof_jntid[dof]]
+    out["hip_tau"][f] = h[dof] - jac[:, dof] @ wrench
+    out["hip_coef"][f] = [(mass - m_leg) * r[2], (mass - m_leg) * (r[0] ** 2 + r[2] ** 2), 1.0]
 
 
 def _feet(clip: Clip) -> tuple[np.ndarray, np.ndarray]:
@@ -157,6 +187,9 @@ def corrections(model: mujoco.MjModel, clip: Clip, plan: MotionPlan) -> tuple[np
     ldot = w["moment"] - np.cross(com - o, force)  # rate of the angular momentum about the COM
     l_err = np.where(flight[:, None], -ldot, 0.0)
 
+    tau = w["hip_tau"]
+    hip_err = np.clip(tau, -HIP_CAP, HIP_CAP) - tau
+    hip_rows = np.abs(hip_err) > 0
     eye = sparse.identity(n, format="csr")
     d2 = sparse.diags([1.0, -2.0, 1.0], [-1, 0, 1], shape=(n, n), format="lil") / dt**2
     d2[0, :], d2[n - 1, :] = 0.0, 0.0
@@ -177,6 +210,14 @@ def corrections(model: mujoco.MjModel, clip: Clip, plan: MotionPlan) -> tuple[np
         h = W_MOMENT * a1.T @ s @ a1 + W_ACC * a2.T @ r @ a2 + W_L * a3.T @ fl @ a3
         h = h + sparse.block_diag([W_POS * eye + smooth, W_ROT * eye + smooth])
         g = W_MOMENT * a1.T @ s @ err[:, ax] + W_ACC * a2.T @ r @ acc[:, ax] + W_L * a3.T @ fl @ l_err[:, rax]
+        if (
+            ax == 0 and W_HIP > 0
+        ):  # stance hip pitch torque change: -(m_up dz x'' + I theta'' - m_up g dz theta)
+            cx, ci = w["hip_coef"][:, 0], w["hip_coef"][:, 1] + inertia[:, 1, 1] * (w["hip_coef"][:, 2] > 0)
+            a4 = -sparse.hstack([diag(cx) @ d2, diag(ci) @ d2 - diag(9.81 * cx)])
+            hr = diag(hip_rows)
+            h = h + W_HIP * a4.T @ hr @ a4
+            g = g + W_HIP * a4.T @ hr @ hip_err
         x = spsolve(h.tocsc(), g)
         dc[:, ax], dr[:, rax] = x[:n], x[n:]
     r = diag(acc_rows[:, 2])

@@ -18,6 +18,8 @@ __all__ = ["STYLES", "plan_for"]
 TAU = 2 * math.pi
 Z_WALK = 0.74
 """Pelvis touchdown height of the slowest running step [m] (the fastest uses the gait's ``z_run``)."""
+ZS_POWER = 2.0
+"""Dynamic gait: touchdown height z_run + (Z_WALK - z_run) (1 - v / v_max)^ZS_POWER."""
 
 
 def _stances(init: list[tuple[float, float]], steps: list[tuple], end: float = CLIP_SECONDS) -> tuple:
@@ -234,6 +236,8 @@ def _gait(
     flight = [max(step_time - s, 0.0) for s in ts]
     v0 = [GRAVITY * f / 2 for f in flight]  # take-off vertical speed of a ballistic flight of that length
     zs = [Z_WALK + (z_run - Z_WALK) * vk / v_max for vk in v]  # touchdown heights: lower when faster
+    if dynamic:  # the pelvis stays low until the gait is slow (a high one lands with a straight knee)
+        zs = [z_run + (Z_WALK - z_run) * (1 - vk / v_max) ** ZS_POWER for vk in v]
     # pelvis horizontal velocity and height, sampled at 1 ms and integrated
     dt = 1e-3
     grid = np.arange(0.0, CLIP_SECONDS + 2 * dt, dt)
