@@ -112,10 +112,18 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
         ),  # no verifiable session: ledger.jsonl: line 61 (seq 60) fails
     },
     "01-close-cabinet-l1": {
+        "reference": (
+            "21993a6b3014d2a73feea88487a4055b1a627f82df64491f7091b68f3d1dd472",
+            0.9976320000000001,
+        ),  # 5 of 5 trials succeeded
         "baseline/idle": (
             "42ca0a9b7ca149506c14aabdffe717a89fe9fce7ede9dfaf63e0267e4d232a60",
             0.0,
         ),  # 0 of 5 trials succeeded
+        "baseline/tampered": (
+            "7bd0ac8c6711d92dc79f6098e78911547e58e3a5f7d88407569315b0bab938f9",
+            0.0,
+        ),  # no verifiable session: ledger.jsonl: line 106 (seq 105) fails its MAC
     },
     "01-close-cabinet-l2": {
         "reference": (

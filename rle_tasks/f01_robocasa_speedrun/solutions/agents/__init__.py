@@ -38,6 +38,7 @@ PROGRAMS_BY_LEVEL: dict[int, dict[str, str]] = {
     },
     1: {
         "OpenFridge": "open_fridge_l1",
+        "CloseCabinet": "close_cabinet_l1",
     },
 }
 """Harness level -> kitchen task -> module of the program written for that level."""
