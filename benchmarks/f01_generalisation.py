@@ -64,11 +64,13 @@ def main() -> int:
     from rle_tasks.core.runtime.secrets import Secret
 
     ap = argparse.ArgumentParser(prog="python -m benchmarks f01_generalisation", description=__doc__)
-    ap.add_argument("--secret", help="private key as hex (default: a fresh random one, printed)")
+    ap.add_argument(
+        "--secret", help="private key, as RLE_SECRET holds it (default: a fresh random one, printed)"
+    )
     ap.add_argument("--tasks", nargs="*", default=[], help="task ids (default: every task with a reference)")
     args = ap.parse_args()
     key = args.secret or secrets.token_hex(16)
-    secret = Secret(bytes.fromhex(key), public=False)
+    secret = Secret(key.encode(), public=False)  # as `RLE_SECRET=KEY rle verify` takes it
     print(f"private secret: {key}", flush=True)
     goldens = json.loads((Path(__file__).parents[1] / "rle_tasks" / "full_goldens.json").read_text())
     worst = 0.0
