@@ -37,7 +37,7 @@ from .motion_plan import CLIP_SECONDS, MotionPlan, min_jerk
 
 __all__ = ["GAITS", "refine", "refined_plan"]
 
-ITERATIONS = 30
+ITERATIONS = 40
 """Refinement iterations (the flight residuals are within the check's tolerances after about 20)."""
 GAITS = {
     "run": dict(v_max=2.2, step_time=0.36, stance_time=0.22, z_run=0.70, lean=0.12, apex=0.25, arm=0.5),
@@ -54,17 +54,19 @@ ZMP_OFFSET = (0.02, 0.0)
 """Support reference point in the foot frame [m]."""
 F_MIN = 5.0
 """Smallest normal force of a stance frame [N]."""
-FRICTION = 0.4
-"""Largest horizontal force over normal force the refinement allows (the check's pyramid: 0.6) [1]."""
+FRICTION = 0.5
+"""Largest |f_x| + |f_y| over the normal force the refinement allows (the check's pyramid: 0.6) [1]."""
 YAW_ARM = 0.003
 """Largest yaw moment about the stance foot per newton of normal force [m]."""
 HIP_CAP = 0.8 * 88.0
 """Stance hip pitch torque the refinement keeps within [N m] (the effort limit is 88)."""
-W_HIP = 0.003
+W_HIP = 0.004
 """Weight of the stance hip pitch torque beyond ``HIP_CAP`` [1 / (N m)^2] (0.01 and more diverge)."""
 # weights: 1 / tolerance^2 of each residual [N m], [m/s^2], [N m], and of the corrections [m], [rad]
 W_MOMENT, W_ACC, W_L = 1.0, 1 / 0.03**2, 1 / 0.5**2
 W_POS, W_ROT, W_SMOOTH = 1 / 0.05**2, 1 / 0.1**2, 1e-4
+W_SMOOTH_ROT = 3e-3
+"""Weight of the pelvis pitch and roll corrections' squared angular acceleration [s^4]."""
 
 
 def base_wrench(model: mujoco.MjModel, clip: Clip) -> dict[str, np.ndarray]:
@@ -178,8 +180,11 @@ def corrections(model: mujoco.MjModel, clip: Clip, plan: MotionPlan) -> tuple[np
     stance = ~flight
     err, single = _moment_errors(clip, w, plan)
     fmin = np.where(stance, np.maximum(F_MIN - fz, 0.0), 0.0)
-    cap = FRICTION * np.maximum(fz, 0.0)[:, None]
-    fric = np.where(stance[:, None], np.clip(force[:, :2], -cap, cap) - force[:, :2], 0.0)
+    # the check's friction pyramid bounds |f_x| + |f_y|: scale the horizontal force into FRICTION f_z
+    ratio = np.abs(force[:, :2]).sum(axis=1) / np.maximum(FRICTION * np.maximum(fz, 0.0), 1e-9)
+    fric = np.where(
+        (stance & (ratio > 1))[:, None], force[:, :2] * (1 / np.maximum(ratio, 1) - 1)[:, None], 0.0
+    )
     acc = np.where(flight[:, None], -force / mass, 0.0)  # wanted COM acceleration change
     acc[:, :2] += fric / mass
     acc[:, 2] += fmin / mass
@@ -208,7 +213,7 @@ def corrections(model: mujoco.MjModel, clip: Clip, plan: MotionPlan) -> tuple[np
         a3 = sparse.hstack([zero, irr @ d2])  # angular momentum rate about the rotation axis
         s, r, fl = diag(single), diag(acc_rows[:, ax]), diag(flight)
         h = W_MOMENT * a1.T @ s @ a1 + W_ACC * a2.T @ r @ a2 + W_L * a3.T @ fl @ a3
-        h = h + sparse.block_diag([W_POS * eye + smooth, W_ROT * eye + smooth])
+        h = h + sparse.block_diag([W_POS * eye + smooth, W_ROT * eye + W_SMOOTH_ROT / W_SMOOTH * smooth])
         g = W_MOMENT * a1.T @ s @ err[:, ax] + W_ACC * a2.T @ r @ acc[:, ax] + W_L * a3.T @ fl @ l_err[:, rax]
         if (
             ax == 0 and W_HIP > 0
@@ -226,7 +231,13 @@ def corrections(model: mujoco.MjModel, clip: Clip, plan: MotionPlan) -> tuple[np
     pos, _ = _feet(clip)
     flags = stance_flags(clip.contacts)
     for f in np.flatnonzero(stance):
-        k = 0 if flags[f, 0] else 1
+        k = (
+            int(np.flatnonzero(clip.contacts[f])[0])
+            if clip.contacts[f].sum() == 1
+            else 0
+            if flags[f, 0]
+            else 1
+        )
         ldot[f, 2] = w["moment"][f, 2] + np.cross(o[f] - pos[f, k], force[f])[2]
     cap_z = np.where(flight, 0.0, YAW_ARM * np.maximum(fz, 0.0))
     lz = np.clip(ldot[:, 2], -cap_z, cap_z) - ldot[:, 2]

@@ -338,7 +338,9 @@ def _sine_stance(tau: float, ts: float, z0: float, v_land: float, z1: float, v_o
 
 
 def run() -> MotionPlan:
-    return _gait(v_max=2.2, step_time=0.36, stance_time=0.22, z_run=0.70, lean=0.12, apex=0.12, arm=0.5)
+    from .run_refine import refined_plan  # 2.2 m/s, refined by the check's inverse dynamics (issue 42.2)
+
+    return refined_plan("run")
 
 
 def sprint() -> MotionPlan:
