@@ -68,7 +68,13 @@ def test_grasp_proposals_fuse_views_of_a_sphere() -> None:
         assert np.allclose(world[:3, 3] + TIP_DEPTH * world[:3, 2], pos)
 
 
-L2_MODULES = ("turn_on_stove_l2", "open_fridge_l2", "close_cabinet_l2", "pnp_counter_to_drawer_l2")
+L2_MODULES = (
+    "turn_on_stove_l2",
+    "open_fridge_l2",
+    "close_cabinet_l2",
+    "pnp_counter_to_drawer_l2",
+    "pnp_microwave_to_counter_l2",
+)
 L2_SHARED = ("perceive", "doors", "objects_l2")
 """The L2 programs and the modules written for them (``pick`` serves both levels: its world access is
 the L3 path's, imported lazily)."""

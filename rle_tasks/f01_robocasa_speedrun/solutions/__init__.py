@@ -228,10 +228,18 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
         ),  # 0 of 5 trials succeeded
     },
     "01-pnp-microwave-to-counter-l2": {
+        "reference": (
+            "59f715e29f51cf8ec0d719a40651f28e2ed2b5e8d40e5c17027a241fe0b5bb22",
+            0.7979200000000002,
+        ),  # 4 of 5 trials succeeded
         "baseline/idle": (
             "9acc3b2c9f1f5d8b344882fa85f6dafe5306620c9683c45ed69f09b50a1e1324",
             0.0,
         ),  # 0 of 5 trials succeeded
+        "baseline/tampered": (
+            "b9049be44c35239d0e07e40bc1178743c2177e57200f9fef4f8d9550a9330dd0",
+            0.0,
+        ),  # no verifiable session: ledger.jsonl: line 234 (seq 233) fails
     },
     "01-pnp-microwave-to-counter-l3": {
         "reference": (

@@ -35,6 +35,7 @@ PROGRAMS_BY_LEVEL: dict[int, dict[str, str]] = {
         "CloseCabinet": "close_cabinet_l2",
         "TurnOnStove": "turn_on_stove_l2",
         "PickPlaceCounterToDrawer": "pnp_counter_to_drawer_l2",
+        "PickPlaceMicrowaveToCounter": "pnp_microwave_to_counter_l2",
     },
     1: {
         "OpenFridge": "open_fridge_l1",

@@ -1,6 +1,4 @@
-"""PickPlaceMicrowaveToCounter at L2 (a draft, not registered as a reference: 1/5 target kitchens of
-the public key, 2/6 pretrain kitchens; see the family README): the L3 program (``run``) on a perceived
-scene.
+"""PickPlaceMicrowaveToCounter at L2: the L3 program (``run``) on a perceived scene.
 
 No world state: the object's category comes from the instruction. The open door (``microwave door``)
 gives the microwave's front (its hinge edge), the door's x and the top; the object is seen in the
@@ -8,9 +6,9 @@ cavity from the agent views and again by the hand camera from the entry pose (it
 principal axes give its box); the plate on the counter is the ``plate`` instance away from the object
 (the turntable is one too), looked for by turning the base when no view holds it. Once grasped, the
 object is taken to move rigidly with the hand. Like the L3 program, it works in the wall's frame.
-Where it fails: the object's height and extents from the few pixels it covers (the hand camera at the
-entry pose sees its lower front, the agent views 4-60 pixels), so the reach closes the fingers on the
-object's top edge and it slips out while being pulled from the cavity.
+The weak part is the object's box from the few pixels it covers (4-60 in the agent views): the top
+is the highest point seen from any pose, a round top's radius the mean of its two spreads (the
+oblique view stretches it), and the fingers must land within about 5 mm of the L3 program's grasp.
 """
 
 from __future__ import annotations
@@ -21,16 +19,18 @@ from rle_tasks.envs.kitchen.harness.geometry import quat_to_mat, rotz
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import CAMERAS, Robot
 
-from .objects_l2 import ELONGATED, FLAT, TOP_LAYER
+from .objects_l2 import FLAT, TOP_LAYER
 from .perceive import clouds
 from .pick import ROUND
 from .pnp_microwave_to_counter import run
 
-BIAS = 0.02
-"""A mask's median lies this far in front of a small object's centre (its front surface) [m]."""
+BIAS = 0.024
+"""A mask's median lies about this far in front of a small object's centre (its front surface) [m]."""
+ELONGATED = 1.6
+"""Ratio of the top layer's principal spreads above which the object is a long box (an oblique view
+stretches a round top by up to 1.5)."""
 LOOK_TURNS = (0.6, -0.6)
 """Base turns [rad] to look for a plate no view holds."""
-HAND = ("robot/arm/eye_in_hand",)
 
 
 def category_of(instruction: str) -> str:
@@ -46,8 +46,9 @@ class SeenView:
         self.robot, self.motion = robot, motion
         self.prompt = category_of(robot.observe()["instruction"])
         turntable = max(clouds(robot, "microwave plate"), key=lambda c: len(c.points), default=None)
-        self.floor = None if turntable is None else float(np.percentile(turntable.points[:, 2], 95))
+        self.floor = None if turntable is None else float(np.median(turntable.points[:, 2]))
         self.box = None
+        self.top_seen, self.points_seen = -np.inf, 0
         self._object(CAMERAS)
         if self.box is None and turntable is not None:  # the object stands near the turntable's centre
             t = np.median(turntable.points, axis=0)
@@ -69,8 +70,10 @@ class SeenView:
         self.rot0 = None
 
     def _object(self, cams: tuple[str, ...]) -> None:
+        """Update the object's box from ``cams``: the top is the highest seen so far (a partial view
+        sees less of it), the centre and extents those of the view with the most points."""
         near = None if self.box is None else self.box[0]
-        found = [c for c in clouds(self.robot, self.prompt, cams, min_points=3)]
+        found = clouds(self.robot, self.prompt, cams, min_points=3)
         if near is not None:
             found = [c for c in found if np.linalg.norm(c.centre - near) < 0.12]
         if not found:
@@ -78,11 +81,21 @@ class SeenView:
         pts = np.concatenate([c.points for c in found])
         mid = np.median(pts, axis=0)
         pts = pts[np.linalg.norm(pts - mid, axis=1) < 0.1]
-        floor = self.floor if self.floor is not None else float(np.percentile(pts[:, 2], 2))
-        self.floor = floor
-        top = float(np.percentile(pts[:, 2], 98))
+        if self.floor is None:
+            self.floor = float(np.percentile(pts[:, 2], 2))
+        floor = self.floor
+        top = max(float(np.percentile(pts[:, 2], 98)), self.top_seen)
+        self.top_seen = top
+        if len(pts) < self.points_seen and self.box is not None:
+            c, half, rot = self.box
+            hz = max((top - floor) / 2, 0.01)
+            self.box = (np.array([c[0], c[1], floor + hz]), np.array([*half[:2], hz]), rot)
+            return
+        self.points_seen = len(pts)
         layer = pts[pts[:, 2] > top - TOP_LAYER]
-        flat = float(np.mean(layer[:, 2] > top - FLAT)) > 0.5
+        flat = len(layer) < 3 or float(np.mean(layer[:, 2] > top - FLAT)) > 0.5
+        if flat and (layer[:, 2] > top - FLAT).sum() >= 10:
+            layer = layer[layer[:, 2] > top - FLAT]  # a flat top: its face only, not the side below it
         xy = np.median(pts[:, :2], axis=0) + [0.0, BIAS]
         spread = np.percentile(pts[:, :2], 95, axis=0) - np.percentile(pts[:, :2], 5, axis=0)
         hz = max((top - floor) / 2, 0.01)
@@ -97,7 +110,7 @@ class SeenView:
                 yaw = float(np.arctan2(v[1, 0], v[0, 0]))
                 half = np.array([narrow / 2, long / 2, hz])
             else:
-                r = max(narrow, long) / 2
+                r = (narrow + long) / 4  # the view stretches a round top along it
                 half = np.array([r, r + 2 * ROUND, hz])  # a flat-topped cylinder: not a ball
         self.box = (np.array([xy[0], xy[1], floor + hz]), half, rotz(yaw))
 
@@ -124,7 +137,7 @@ class SeenView:
     def object(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         if self.local is None:
             self.robot.observe()
-            self._object(HAND)
+            self._object(CAMERAS)
             return self.box
         c = np.asarray(self.robot.obs["ee_pos"]) + self.hold()[0]
         return c, self.box[1], self.box[2]
