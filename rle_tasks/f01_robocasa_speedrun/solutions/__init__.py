@@ -154,10 +154,18 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
         ),  # no verifiable session: ledger.jsonl: line 73 (seq 72) fails
     },
     "01-turn-on-stove-l1": {
+        "reference": (
+            "9f8abd498445a32611840ec37d5a91dde71a84aa1e7284005f289bcb67ef7cdf",
+            0.9967280000000001,
+        ),  # 5 of 5 trials succeeded
         "baseline/idle": (
             "3361ddb6c2f6db0e231f9e5390b559adbb65d8db898c0a20427ca13f925c08e9",
             0.0,
         ),  # 0 of 5 trials succeeded
+        "baseline/tampered": (
+            "d76bc839268117128c9e9698df679cbaa6a773cf3c3f32c992b041887a6fd616",
+            0.0,
+        ),  # no verifiable session: ledger.jsonl: line 189 (seq 188) fails its MAC
     },
     "01-turn-on-stove-l2": {
         "reference": (

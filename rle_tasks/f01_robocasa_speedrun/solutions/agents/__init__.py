@@ -40,6 +40,7 @@ PROGRAMS_BY_LEVEL: dict[int, dict[str, str]] = {
     1: {
         "OpenFridge": "open_fridge_l1",
         "CloseCabinet": "close_cabinet_l1",
+        "TurnOnStove": "turn_on_stove_l1",
     },
 }
 """Harness level -> kitchen task -> module of the program written for that level."""

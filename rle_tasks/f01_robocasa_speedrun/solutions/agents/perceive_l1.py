@@ -43,7 +43,7 @@ OUTER = 0.6
 """A bar nearer the hinge than this fraction of the door's width is not its handle."""
 HANDLE_Z = 0.73
 """Height given to an open cabinet door's handle [m] (only its horizontal position is used)."""
-KNOB_PROUD = (0.012, 0.06)
+KNOB_PROUD = (0.025, 0.075)
 """A knob's points stand this far in front of its panel [m]."""
 KNOB_GAP = 0.04
 """Knobs lie farther apart than this along the panel [m]."""
