@@ -1,13 +1,15 @@
-"""Camera self-calibration at L1: the agent views' pinhole intrinsics and poses on the base, from the hand.
+"""Camera self-calibration at L1: the agent views' focal length and poses on the base, from the hand.
 
 L1 gives images, metric depth and proprioception, no camera model. The two agent-view cameras are fixed
-on the base, so their poses in the base frame are constants of the robot: the hand (tool pointing down,
-orientation held) visits ``GRID``, a set of tool positions in the base frame (``ee_pos_base``) in view
-of both cameras. Per camera the background is the per-pixel farthest depth over all images (the hand
-covers each pixel in few of them); the hand is what stands ``NEAR`` closer than it. Its lowest part in
-the image (the fingertips) is the feature: first its bottom rows, then, with a first calibration, its
-points within ``TIP_BAND`` of its lowest point. Least squares on the (u, v, depth) <-> tool position
-correspondences fits each camera's focal length, principal point and pose (``fit``).
+on the base, so their poses in the base frame are constants of the robot: the hand (fingers closed, tool
+pointing down, orientation held) visits ``GRID``, tool positions in the base frame (``ee_pos_base``) in
+view of both cameras, about 320 actions in all. Per camera the background is the per-pixel farthest
+depth over the images (the hand covers each pixel in few of them); the hand is what stands ``NEAR``
+closer than it; the fingertips are the lowest two rows of its part within ``HAND_BAND`` of its farthest
+depth (the cameras see the hand from behind, over the arm, which is nearer). The fingertips are hidden
+in about a third of the poses: RANSAC over the poses, then least squares on the (u, v, depth) <-> tool
+position correspondences fit each camera's focal length and pose (the principal point is the image
+centre). Measured against the model's cameras: ``tests/f01_robocasa_speedrun/test_f01_l1_calibration.py``.
 
 The hand camera is not calibrated (the L1 programs perceive with the agent views only).
 """
