@@ -47,14 +47,16 @@ def test_shipped_run_clip_passes_the_check(full_battery):
     assert s["worst_ratio"] < 0.9
 
 
-def test_refined_run_is_the_shipped_clip(full_battery):
-    """``styles.run()`` regenerates the shipped run clip bit for bit (deterministic; about 35 s)."""
+def test_refined_run_is_the_shipped_clip(full_battery, tmp_path):
+    """``styles.run()`` regenerates the shipped run clip bit for bit as saved (deterministic; about 35 s)."""
     if not full_battery:
         pytest.skip("RLE_FULL_BATTERY=1: generates the refined run (about 35 s)")
     from rle_tasks.f04_motion_tracking.public.clipgen import generate
     from rle_tasks.f04_motion_tracking.public.styles import run
 
-    clip, shipped = generate(g1_model(), run()), Clip.load(CLIPS / "run.npz")
+    generate(g1_model(), run()).save(tmp_path / "run.npz")
+    clip, shipped = Clip.load(tmp_path / "run.npz"), Clip.load(CLIPS / "run.npz")
     assert np.array_equal(clip.joint_pos, shipped.joint_pos) and np.array_equal(
         clip.root_pos, shipped.root_pos
     )
+    assert np.array_equal(clip.contacts, shipped.contacts)

@@ -357,8 +357,8 @@ def plan_for(style: str) -> MotionPlan:
 
 
 def build_clips(out_dir, styles=None) -> dict[str, Path]:
-    """Generate clips (all five, or ``styles``) into ``out_dir/<style>.npz`` (deterministic; about 25 s in
-    all on the 2-core machine, mostly balancing)."""
+    """Generate clips (all five, or ``styles``) into ``out_dir/<style>.npz`` (deterministic; about 100 s in
+    all on the 2-core machine, mostly balancing and the run's refinement)."""
     from .clipgen import generate
     from .g1 import g1_model
 
