@@ -1,8 +1,9 @@
 """The shipped reference harness (``solutions/reference/kitchen``) through single transfer units: the
 scripted fresh agent, in the sandbox, calls its entry point on a held-out task in a public-key kitchen;
 the replayed ledger must score as measured: group 1 (``StowFruitInDrawer``, first kitchen: the lemon in
-the drawer, the drawer closed; about 25 s) and group 12 (``CleanUpKitchen``, fourth kitchen: the hinged
-cabinet door shut, the cup in the sink, the burner off; about 55 s)."""
+the drawer, the drawer closed; about 25 s), group 12 (``CleanUpKitchen``, fourth kitchen: the hinged
+cabinet door shut, the cup in the sink, the burner off; about 55 s) and group 3 (``SwitchBurners``, first
+kitchen: one knob turned off, another on; about 45 s)."""
 
 from __future__ import annotations
 
@@ -64,3 +65,9 @@ def test_reference_harness_closes_the_cabinet_in_a_public_kitchen_of_group_12(ha
     result = _unit(harness, 12, 3)
     assert result.n == 4 and result.b == 1  # the gripper is away from the cup at the start
     assert result.score >= MEASURED_12 - MARGIN_12, (result.b, result.m, result.n, result.message[-800:])
+
+
+def test_reference_harness_switches_two_burners_in_a_public_kitchen_of_group_3(harness):
+    result = _unit(harness, 3, 0)
+    assert result.n == 2 and result.b == 0
+    assert result.success and result.score == 1.0, (result.b, result.m, result.n, result.message[-800:])

@@ -67,7 +67,9 @@ def _set(task_id: str, pins: dict[str, tuple[str, float]], reference: str | None
     return SolutionSet(package=PACKAGE, solutions=tuple(sols))
 
 
-REFERENCES: dict[str, str] = {"02-group-01": "kitchen", "02-group-09": "kitchen", "02-group-12": "kitchen"}
+REFERENCES: dict[str, str] = {
+    g: "kitchen" for g in ("02-group-01", "02-group-03", "02-group-06", "02-group-09", "02-group-12")
+}
 """Task id -> reference harness folder under ``solutions/reference``."""
 BASELINE_PINS: dict[str, tuple[str, float]] = {
     "baseline/empty": ("9a7e1683a0d2c269f53ecf8f24f2aa74eb4ef0f8778a8ed68c0c8485eb2f91ae", 0.0),
@@ -76,10 +78,13 @@ BASELINE_PINS: dict[str, tuple[str, float]] = {
 }
 """The baselines are the same files for every group (checksum, golden quick score)."""
 REFERENCE_PINS: dict[str, tuple[str, float]] = {
-    # quick mode runs two of the five agents and scores their mean (partial): two successes -> 1.0
-    "02-group-01": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 1.0),
-    "02-group-09": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 1.0),
-    "02-group-12": ("033edec9de29bfd69f85ec2b9de7f580f0022bfbe58db95b99c92739246d4c95", 1.0),
+    # quick mode runs two of the five agents and scores their mean (partial): two successes -> 1.0; group 6:
+    # agent 0 succeeds, agent 1 reaches 3 of 4 conjuncts (b = 1: s_trial 2/3) -> 0.8333 (README, "Solutions")
+    "02-group-01": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
+    "02-group-03": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
+    "02-group-06": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 0.833333333333),
+    "02-group-09": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
+    "02-group-12": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
 }
 """Task id -> the reference's (checksum, golden quick score under the public key)."""
 BASELINE_GROUPS = ("02-group-01", "02-group-09", "02-group-12")
