@@ -113,17 +113,17 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
     },
     "01-close-cabinet-l1": {
         "reference": (
-            "21993a6b3014d2a73feea88487a4055b1a627f82df64491f7091b68f3d1dd472",
-            0.9976320000000001,
+            "d8bcf38c00e6acd47f989e08316f2dc062730ee0c88c2185bdf0ef38353c995e",
+            0.9979960000000001,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
             "42ca0a9b7ca149506c14aabdffe717a89fe9fce7ede9dfaf63e0267e4d232a60",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "7bd0ac8c6711d92dc79f6098e78911547e58e3a5f7d88407569315b0bab938f9",
+            "80410ef6ca28bf011ec2ed99f1eae3124a0a0fdc27d559ee8f5601899cc8a3a9",
             0.0,
-        ),  # no verifiable session: ledger.jsonl: line 106 (seq 105) fails its MAC
+        ),  # no verifiable session: ledger.jsonl: line 97 (seq 96) fails its MAC
     },
     "01-close-cabinet-l2": {
         "reference": (

@@ -39,6 +39,8 @@ FREE_INSET = 0.06
 """An unseen handle is taken this far in from the door's free end [m]."""
 OPEN_GAP = 0.15
 """A gap this wide along an open door's plane ends it (the arm hides parts of it) [m]."""
+MAX_DOOR = 0.65
+"""Widest door taken [m]."""
 OUTER = 0.6
 """A bar nearer the hinge than this fraction of the door's width is not its handle."""
 HANDLE_Z = 0.73
@@ -212,6 +214,8 @@ def open_door(robot: Robot, cal: Calibration, z_band: tuple[float, float], seed:
     s = (cand[inl] - hinge) @ u
     sign = -1.0 if np.median(s) < 0 else 1.0
     free = sign * _run(np.sort(sign * s), 0.0, OPEN_GAP)[1]  # the far end of its points' run from the hinge
+    if abs(free) < MIN_SPAN:  # the arm hid a stretch of the door: its farthest points
+        free = sign * min(float(np.percentile(sign * s, 99)), MAX_DOOR)
     d, sh = (p - hinge) @ n, (p - hinge) @ u
     lo, hi = sorted((0.0, free))
     bar = p[
