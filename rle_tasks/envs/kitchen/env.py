@@ -53,8 +53,15 @@ class KitchenEnv(MobileManipulatorEnv):
 
     @functools.cached_property
     def _conditions(self) -> tuple[Condition, ...]:
+        """The task's conditions, names made unique: two objects of one category (two lemons in a bowl)
+        give two conditions of one wording, which ``conditions`` would merge into one entry."""
         ep = self.scene.episode
-        return kitchen_task(ep.task).conditions(ep, self.scene.fixtures, ROBOT)
+        out: list[Condition] = []
+        seen: dict[str, int] = {}
+        for c in kitchen_task(ep.task).conditions(ep, self.scene.fixtures, ROBOT):
+            seen[c.name] = seen.get(c.name, 0) + 1
+            out.append(c if seen[c.name] == 1 else Condition(f"{c.name} ({seen[c.name]})", c.fn))
+        return tuple(out)
 
     def conditions_names(self) -> tuple[str, ...]:
         """Names of the task's success conditions, in order."""
