@@ -155,17 +155,17 @@ PINS: dict[str, dict[str, tuple[str, float]]] = {
     },
     "01-turn-on-stove-l1": {
         "reference": (
-            "9f8abd498445a32611840ec37d5a91dde71a84aa1e7284005f289bcb67ef7cdf",
-            0.9967280000000001,
+            "c6ccc8a8e3109802efa51d57e7b5fa74c480702119adb9ad558ef0732fa589d1",
+            0.9982080000000001,
         ),  # 5 of 5 trials succeeded
         "baseline/idle": (
             "3361ddb6c2f6db0e231f9e5390b559adbb65d8db898c0a20427ca13f925c08e9",
             0.0,
         ),  # 0 of 5 trials succeeded
         "baseline/tampered": (
-            "d76bc839268117128c9e9698df679cbaa6a773cf3c3f32c992b041887a6fd616",
+            "94d2b2c020c22d973d75fa84603a69a73804dbd1b9a1069a5c3a9daf11fea6b3",
             0.0,
-        ),  # no verifiable session: ledger.jsonl: line 189 (seq 188) fails its MAC
+        ),  # no verifiable session: ledger.jsonl: line 134 (seq 133) fails its MAC
     },
     "01-turn-on-stove-l2": {
         "reference": (

@@ -60,7 +60,7 @@ def solve(robot: Robot, motion: Motion) -> bool:
         return False
     knob = found[index]
     o = robot.obs
-    side = knob[0] - o["ee_pos"][0]
+    side = knob[0] - o["base_pos"][0]  # from the arm's rest line (the tool is still aside)
     if abs(side) > REACH_SIDE:  # the outer knobs: step the base sideways, facing the wall
         motion.drive_to(o["base_pos"][0] + side, o["base_pos"][1], np.pi / 2)
     motion.open_gripper(steps=2)
