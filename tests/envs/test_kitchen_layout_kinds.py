@@ -12,7 +12,8 @@ import pytest
 
 from rle_design.control.env import portable_digest
 from rle_tasks.envs.kitchen import fixture as fx
-from rle_tasks.envs.kitchen.layout import CORNER_LEG, FLAT, KINDS, build_layout, sample_layout
+from rle_tasks.envs.kitchen.layout import CORNER_LEG, FLAT, KINDS, build_layout
+from rle_tasks.envs.kitchen.layout_kinds import sample_layout
 from rle_tasks.envs.kitchen.layout_scene import layout_xml
 from rle_tasks.envs.kitchen.scene import build_scene
 from rle_tasks.envs.kitchen.styles import FAMILIES, combinations, split

@@ -11,7 +11,8 @@ import pytest
 from rle_design.control.layout import ACTION_SIZE, BASE, MODE
 from rle_design.control.mobile import MobileManipulatorEnv
 from rle_tasks.envs.kitchen import floorplan as fp
-from rle_tasks.envs.kitchen.layout import KINDS, sample_layout
+from rle_tasks.envs.kitchen.layout import KINDS
+from rle_tasks.envs.kitchen.layout_kinds import sample_layout
 from rle_tasks.envs.kitchen.layout_scene import layout_xml, robot_geoms
 from rle_tasks.envs.kitchen.scene import ROBOT
 

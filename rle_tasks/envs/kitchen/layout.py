@@ -1,6 +1,6 @@
 """Procedural kitchen layouts from a seed: counter runs of base units, by RoboCasa's layout kinds.
 
-A ``Layout`` is plain data sampled from a ``numpy`` Generator (``sample_layout``): its runs (``Run``:
+A ``Layout`` is plain data sampled from a ``numpy`` Generator (``sample_one_wall``; every kind: ``layout_kinds.sample_layout``): its runs (``Run``:
 a straight row of base units with an origin and a yaw; the units face the run's -y side in its own
 frame), which unit carries the microwave and which the dish rack, the wall cabinets above the units,
 and the style (colours, handle type, counter height and depth). ``build_layout`` adds the walls, the
@@ -9,7 +9,7 @@ their facing yaw: ``Fixture.placed``).
 
 Kinds (``KINDS``): ``one_wall``, today's kitchen and the default: one run along +x against a wall at
 y = 0, centred on x = 0 (a fridge at one end; a stove, a sink, two drawer cabinets, two hinged-door
-cabinets and one or two plain counters in a random order); ``sample_layout(rng)`` draws it exactly as
+cabinets and one or two plain counters in a random order); ``sample_one_wall(rng)`` draws it exactly as
 before this module knew other kinds, so its scenes and their digests are unchanged. The other kinds
 (``l_shaped``, ``u_shaped``, ``galley``, ``island``, ``peninsula``) are drawn by ``layout_kinds``,
 their styles by ``styles`` (which also splits kind x style family into pretrain and target).
@@ -28,11 +28,10 @@ import numpy as np
 
 from rle_tasks.envs.kitchen import appliances, cabinetry
 from rle_tasks.envs.kitchen import fixture as fx
+from rle_tasks.envs.kitchen.styles import KINDS
 
-__all__ = ["CORNER_LEG", "KINDS", "Layout", "Run", "Unit", "build_layout", "sample_layout"]
+__all__ = ["CORNER_LEG", "KINDS", "Layout", "Run", "Unit", "build_layout", "sample_one_wall"]
 
-KINDS = ("one_wall", "l_shaped", "u_shaped", "galley", "island", "peninsula")
-"""Layout kinds (RoboCasa's floor-plan families)."""
 CORNER_LEG = 0.1
 """How far a corner piece reaches past the counter depth along the perpendicular run [m]."""
 
@@ -152,23 +151,16 @@ def _pick(rng: np.random.Generator, options: tuple) -> tuple:
     return options[int(rng.integers(len(options)))]
 
 
-def sample_layout(rng: np.random.Generator, kind: str = "one_wall", family: str | None = None) -> Layout:
-    """A random kitchen of ``kind`` in style ``family`` (None: the one-wall kitchen's own colours for
-    ``one_wall``, a random family otherwise). ``sample_layout(rng)`` is today's one-wall kitchen."""
-    if kind not in KINDS:
-        raise ValueError(f"unknown layout kind {kind!r}; kinds: {', '.join(KINDS)}")
-    if kind == "one_wall" and family is None:
-        units, microwave_on, dish_rack_on = _one_wall_units(rng)
-        style = fx.Style(
-            cabinet=_pick(rng, _CABINET_COLOURS),
-            counter=_pick(rng, _COUNTER_COLOURS),
-            floor=_pick(rng, _FLOOR_COLOURS),
-            wall=_pick(rng, _WALL_COLOURS),
-        )
-        return Layout((Run(tuple(units)),), (0, microwave_on), (0, dish_rack_on), style)
-    from rle_tasks.envs.kitchen.layout_kinds import sample_kind
-
-    return sample_kind(rng, kind, family)
+def sample_one_wall(rng: np.random.Generator) -> Layout:
+    """Today's one-wall kitchen in its own colours (``layout_kinds.sample_layout`` draws every kind)."""
+    units, microwave_on, dish_rack_on = _one_wall_units(rng)
+    style = fx.Style(
+        cabinet=_pick(rng, _CABINET_COLOURS),
+        counter=_pick(rng, _COUNTER_COLOURS),
+        floor=_pick(rng, _FLOOR_COLOURS),
+        wall=_pick(rng, _WALL_COLOURS),
+    )
+    return Layout((Run(tuple(units)),), (0, microwave_on), (0, dish_rack_on), style)
 
 
 def _one_wall_units(rng: np.random.Generator) -> tuple[list[Unit], int, int]:

@@ -29,10 +29,18 @@ import math
 
 import numpy as np
 
-from rle_tasks.envs.kitchen.layout import CORNER_LEG, FLAT, Layout, Run, Unit, _one_wall_units
-from rle_tasks.envs.kitchen.styles import FAMILIES, combinations, sample_style
+from rle_tasks.envs.kitchen.layout import (
+    CORNER_LEG,
+    FLAT,
+    Layout,
+    Run,
+    Unit,
+    _one_wall_units,
+    sample_one_wall,
+)
+from rle_tasks.envs.kitchen.styles import FAMILIES, KINDS, combinations, sample_style
 
-__all__ = ["AISLES", "sample_kind", "sample_part"]
+__all__ = ["AISLES", "sample_kind", "sample_layout", "sample_part"]
 
 AISLES = (1.3, 1.4, 1.5)
 """Aisle widths between facing runs' fronts (galley, island) [m]."""
@@ -58,6 +66,17 @@ def _deal(rng: np.random.Generator, runs: list[list[Unit]], pool: list[Unit], le
         runs[int(rng.integers(len(runs)))].append(u)
     for r, units in enumerate(runs):
         runs[r] = [units[i] for i in rng.permutation(len(units))]
+
+
+def sample_layout(rng: np.random.Generator, kind: str = "one_wall", family: str | None = None) -> Layout:
+    """A random kitchen of ``kind`` in style ``family`` (None: the one-wall kitchen's own colours for
+    ``one_wall``, a random family otherwise). ``sample_layout(rng)`` is today's one-wall kitchen
+    (``layout.sample_one_wall``)."""
+    if kind not in KINDS:
+        raise ValueError(f"unknown layout kind {kind!r}; kinds: {', '.join(KINDS)}")
+    if kind == "one_wall" and family is None:
+        return sample_one_wall(rng)
+    return sample_kind(rng, kind, family)
 
 
 def sample_kind(rng: np.random.Generator, kind: str, family: str | None) -> Layout:

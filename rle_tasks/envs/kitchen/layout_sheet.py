@@ -17,7 +17,8 @@ import numpy as np
 
 from rle_design.viz.render import render_image
 from rle_tasks.envs.kitchen import floorplan as fp
-from rle_tasks.envs.kitchen.layout import KINDS, Layout, sample_layout
+from rle_tasks.envs.kitchen.layout import KINDS, Layout
+from rle_tasks.envs.kitchen.layout_kinds import sample_layout
 from rle_tasks.envs.kitchen.layout_scene import layout_xml
 from rle_tasks.envs.kitchen.styles import FAMILIES
 

@@ -23,7 +23,7 @@ from rle_design.scene.mobile_panda import MobilePandaConfig, MobilePandaNames
 from rle_design.scene.robots import PANDA
 from rle_tasks.envs.kitchen.composite_tasks import kitchen_task
 from rle_tasks.envs.kitchen.fixture import Fixture
-from rle_tasks.envs.kitchen.layout import Layout, build_layout, sample_layout
+from rle_tasks.envs.kitchen.layout import Layout, build_layout, sample_one_wall
 from rle_tasks.envs.kitchen.objects import add_object, extent
 from rle_tasks.envs.kitchen.tasks import Episode
 
@@ -107,7 +107,7 @@ def build_scene(layout_seed: int, task: str, episode_seed: int) -> KitchenScene:
         KeyError: ``task`` is not one of ``TASKS`` (the message lists them).
     """
     definition = kitchen_task(task)
-    layout = sample_layout(np.random.default_rng(layout_seed))
+    layout = sample_one_wall(np.random.default_rng(layout_seed))
     spec = mujoco.MjSpec()
     spec.modelname = "kitchen"
     spec.compiler.degree = False  # every angle of the kitchen (joint ranges) is in radians

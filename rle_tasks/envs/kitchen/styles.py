@@ -7,7 +7,7 @@ draws one ``fixture.Style`` from a family. Dimensions stay within RoboCasa's kit
 dishwasher and filler boxes) and 0.65 m deep over 0.6 m-deep base cabinets; handle types bar, boxed
 and knob (``fixture_defaults/cabinet_default.yaml``).
 
-Split (``split``): kinds and families are numbered in the order of ``layout.KINDS`` and ``FAMILIES``;
+Split (``split``): kinds and families are numbered in the order of ``KINDS`` and ``FAMILIES``;
 combination (kind k, family f) is a ``target`` combination when (f - k) mod 6 is 0 or 3, else
 ``pretrain``. Each kind then has two target families and four pretrain ones, each family two target
 kinds and four pretrain ones: every kind and every family is seen in pretrain, but no pretrain kitchen
@@ -22,7 +22,10 @@ import numpy as np
 
 from rle_tasks.envs.kitchen import fixture as fx
 
-__all__ = ["FAMILIES", "Family", "combinations", "sample_style", "split"]
+__all__ = ["FAMILIES", "KINDS", "Family", "combinations", "sample_style", "split"]
+
+KINDS = ("one_wall", "l_shaped", "u_shaped", "galley", "island", "peninsula")
+"""Layout kinds (RoboCasa's floor-plan families; built by ``layout`` and ``layout_kinds``)."""
 
 RGBA = tuple[float, float, float, float]
 
@@ -116,16 +119,12 @@ def sample_style(rng: np.random.Generator, family: str) -> fx.Style:
 
 def split(kind: str, family: str) -> str:
     """``pretrain`` or ``target``: the part (kind, family) belongs to (see the module docstring)."""
-    from rle_tasks.envs.kitchen.layout import KINDS
-
     k, f = KINDS.index(kind), list(FAMILIES).index(family)
     return "target" if (f - k) % len(KINDS) in (0, 3) else "pretrain"
 
 
 def combinations(part: str) -> tuple[tuple[str, str], ...]:
     """The (kind, family) combinations of ``part`` (``pretrain`` or ``target``), kind-major."""
-    from rle_tasks.envs.kitchen.layout import KINDS
-
     if part not in ("pretrain", "target"):
         raise ValueError(f"part must be 'pretrain' or 'target', got {part!r}")
     return tuple((k, f) for k in KINDS for f in FAMILIES if split(k, f) == part)

@@ -87,8 +87,9 @@ REFERENCE_PINS: dict[str, tuple[str, float]] = {
     "02-group-12": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
 }
 """Task id -> the reference's (checksum, golden quick score under the public key)."""
-BASELINE_GROUPS = ("02-group-01", "02-group-09", "02-group-12")
-"""Groups that ship the baselines (one per difficulty, beside their references)."""
+BASELINE_GROUPS = tuple(REFERENCE_PINS)
+"""Groups that ship the baselines: every group with a reference, so each one's verifier is shown an
+artifact that must fail beside the one that must pass."""
 PINS: dict[str, dict[str, tuple[str, float]]] = {
     tid: ({"reference": REFERENCE_PINS[tid]} if tid in REFERENCE_PINS else {})
     | (BASELINE_PINS if tid in BASELINE_GROUPS else {})

@@ -19,7 +19,7 @@ pelvis translation and rotation that
 linearised with the COM moving with the pelvis and the composite rigid-body inertia, with weights on the
 corrections and on the pitch and roll corrections' angular acceleration (``W_SMOOTH_ROT``); the clip is
 keyed again with the corrected pelvis (the stance legs re-solved by IK) and the loop repeats. The shipped
-run (``refined_plan("run")``) passes the check with these settings; their neighbours miss by a few frames
+run (``styles.refined_plan("run")``) passes the check with these settings; their neighbours miss by a few frames
 (README, Clips step 8), and the sprint's gait is not yet feasible.
 """
 
@@ -39,16 +39,10 @@ from .inverse_dynamics import InverseDynamics, finite_differences, stance_flags
 from .keying import _kinematic
 from .motion_plan import CLIP_SECONDS, MotionPlan, min_jerk
 
-__all__ = ["GAITS", "refine", "refined_plan"]
+__all__ = ["refine"]
 
 ITERATIONS = 40
 """Refinement iterations (the flight residuals are within the check's tolerances after about 20)."""
-GAITS = {
-    "run": dict(v_max=2.2, step_time=0.36, stance_time=0.22, z_run=0.70, lean=0.12, apex=0.25, arm=0.5),
-    "sprint": dict(v_max=3.5, step_time=0.32, stance_time=0.15, z_run=0.70, lean=0.15, apex=0.25, arm=0.8),
-}
-"""``styles._gait`` parameters of the refined run and sprint (footholds +-0.06 m, ``dynamic``); the refined
-sprint fails (stance IK out of reach), the shipped sprint is the keyed ``styles.sprint``."""
 BAND_X = (-0.02, 0.06)
 """Lengthwise band of the single-stance CoP about the ankle [m] (the sole is about -0.05 ... +0.13)."""
 BAND_Y = 0.012
@@ -308,36 +302,3 @@ def refine(
         if log:
             log(f"{it} {stats} dc {np.abs(dc).max(0).round(4)} dr {np.abs(dr).max(0).round(4)}")
     return clip
-
-
-def refined_plan(style: str, **gait) -> MotionPlan:
-    """The refined run or sprint plan (``GAITS``, overridden by ``gait``); ``clipgen.generate`` refines it."""
-    from .styles import _gait
-
-    return _gait(**{**GAITS[style], **gait}, width=0.06, dynamic=True)
-
-
-if __name__ == "__main__":  # python -m rle_tasks.f04_motion_tracking.public.run_refine OUT_DIR [STYLE ...]
-    import sys
-    import time
-    from pathlib import Path
-
-    from .clipgen import generate
-    from .feasibility import check_clip
-    from .g1 import g1_model
-
-    model = g1_model()
-    for style in sys.argv[2:] or list(GAITS):
-        start = time.perf_counter()
-        clip = generate(model, refined_plan(style))
-        path = Path(sys.argv[1]) / f"{style}.npz"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        clip.save(path)
-        s = check_clip(clip).summary()
-        print(
-            f"{style} {path} {time.perf_counter() - start:.1f} s: {'PASS' if s['passed'] else 'FAIL'}, worst "
-            f"{s['worst_joint']} {s['worst_ratio']:.2f} (frame {s['worst_frame']}), "
-            f"{len(s['frames_over_margin'])} frames over the margin, infeasible stance "
-            f"{len(s['infeasible_stance_frames'])}, non-ballistic flight {len(s['non_ballistic_flight_frames'])}"
-            f" / {s['flight_frames']}"
-        )

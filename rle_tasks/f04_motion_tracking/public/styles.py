@@ -13,7 +13,7 @@ import numpy as np
 
 from .motion_plan import CLIP_SECONDS, GRAVITY, HIP_Y, STAND_Z, MotionPlan, Stance, keyed, min_jerk
 
-__all__ = ["STYLES", "plan_for"]
+__all__ = ["GAITS", "STYLES", "plan_for", "refined_plan"]
 
 TAU = 2 * math.pi
 Z_WALK = 0.74
@@ -337,10 +337,23 @@ def _sine_stance(tau: float, ts: float, z0: float, v_land: float, z1: float, v_o
     return free(tau) + (z1 - free(ts)) * min_jerk(tau / ts)
 
 
-def run() -> MotionPlan:
-    from .run_refine import refined_plan  # 2.2 m/s, refined by the check's inverse dynamics (issue 42.2)
+GAITS = {
+    "run": dict(v_max=2.2, step_time=0.36, stance_time=0.22, z_run=0.70, lean=0.12, apex=0.25, arm=0.5),
+    "sprint": dict(v_max=3.5, step_time=0.32, stance_time=0.15, z_run=0.70, lean=0.15, apex=0.25, arm=0.8),
+}
+"""``_gait`` parameters of the refined run and sprint (footholds +-0.06 m, ``dynamic``); the refined
+sprint fails (stance IK out of reach), the shipped sprint is the keyed ``sprint``."""
 
-    return refined_plan("run")
+
+def refined_plan(style: str, **gait) -> MotionPlan:
+    """The refined run or sprint plan (``GAITS``, overridden by ``gait``); ``clipgen.generate`` refines it
+    (``run_refine.refine``). Generate and check one: ``python -m rle_tasks.f04_motion_tracking.public.styles
+    OUT_DIR run`` then ``rle check-clip OUT_DIR/run.npz``."""
+    return _gait(**{**GAITS[style], **gait}, width=0.06, dynamic=True)
+
+
+def run() -> MotionPlan:
+    return refined_plan("run")  # 2.2 m/s, refined by the check's inverse dynamics (issue 42.2)
 
 
 def sprint() -> MotionPlan:
