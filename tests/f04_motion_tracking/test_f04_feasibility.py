@@ -10,7 +10,8 @@
     naming the joint over its limit; the same motion at 0.2 g passes.
 (c) A flight frame (no contact) passes only when the base accelerates with gravity: the base residual
     of a rigid free fall with ``z'' = a`` is ``m (a + 9.81)`` along z.
-Also: the centre of pressure stays on the sole polygon; a pelvis on the floor pushes without friction.
+Also: the centre of pressure stays on the sole polygon; a pelvis on the floor pushes without friction; a
+body more than ``PENETRATION_TOL`` below the floor fails the frame.
 """
 
 import json
@@ -183,6 +184,29 @@ def test_bodies_on_the_floor_push_without_friction(solver, model):
         assert w[0] == 0 and w[1] == 0 and w[2] >= 0
     weight = mujoco.mj_getTotalmass(model) * 9.81
     assert sum(w[2] for w in res.wrenches.values()) + res.residual[2] == pytest.approx(weight)
+
+
+def test_bodies_through_the_floor_fail(model):
+    """A free fall (ballistic: no base residual) whose feet lie ``depth`` below the floor: a rigid
+    translation moves every point alike, so the lowest point of frame t is ``-depth - g (t - 0.04)^2 / 2`` (up to 7.8 mm deeper) when the
+    standing pose, lowest at ``z_s`` (3 mm: the soles' capsules), is lowered by ``z_s + depth``; beyond
+    ``PENETRATION_TOL`` (1 cm) every frame fails, within it the clip passes."""
+    stand = standing_qpos()
+    solver = idyn.InverseDynamics(model)
+    solver.data.qpos[:] = stand
+    mujoco.mj_kinematics(solver.model, solver.data)
+    z_s, body = solver.lowest_point()
+    assert 0 <= z_s < 0.005 and body in G1.feet
+    t = np.arange(5) * DT
+    for depth, through in ((0.015, True), (0.0, False)):
+        q = np.tile(stand, (5, 1))
+        q[:, 2] = stand[2] - z_s - depth - 0.5 * 9.81 * (t - 0.04) ** 2
+        report = fz.check_clip(Clip.from_qpos(model, q, np.zeros((5, 2), bool)), model=model)
+        assert np.abs(report.residual).max() < 1e-3 and len(report.over_margin) == 0  # ballistic, light
+        assert report.lowest == pytest.approx(-depth - 0.5 * 9.81 * (t - 0.04) ** 2, abs=1e-4)
+        assert report.summary()["through_floor_frames"] == (list(range(5)) if through else [])
+        assert report.passed is not through
+        assert report.summary()["lowest_body"] in G1.feet
 
 
 def test_stance_flags_cover_the_frames_next_to_a_contact_change():

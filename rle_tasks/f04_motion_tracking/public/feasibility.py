@@ -5,7 +5,8 @@ and the verdict.
 by ``finite_differences``, the feet's contacts by ``stance_flags``; the method is described there) and
 gathers the joint torques and base residuals into a ``ClipFeasibility``: a clip passes when no joint needs
 more than ``MARGIN`` of its effort limit in any frame and every frame's base residual is within
-``FORCE_TOL`` and ``MOMENT_TOL`` (its contacts can produce the motion).
+``FORCE_TOL`` and ``MOMENT_TOL`` (its contacts can produce the motion), and no collision point lies more
+than ``PENETRATION_TOL`` below the floor.
 """
 
 from __future__ import annotations
@@ -18,7 +19,14 @@ import numpy as np
 from .clip import Clip, clip_qpos
 from .g1 import FOOT_FRICTION
 from .g1_constants import G1
-from .inverse_dynamics import FORCE_TOL, MOMENT_TOL, InverseDynamics, finite_differences, stance_flags
+from .inverse_dynamics import (
+    FORCE_TOL,
+    MOMENT_TOL,
+    PENETRATION_TOL,
+    InverseDynamics,
+    finite_differences,
+    stance_flags,
+)
 
 __all__ = ["MARGIN", "ClipFeasibility", "check_clip"]
 
@@ -41,6 +49,9 @@ class ClipFeasibility:
     contacts: list[tuple[str, ...]]
     """Bodies in contact per frame."""
     solver: list[str]
+    lowest: np.ndarray | None = None
+    """(F,) height of the lowest collision point [m] (None: not measured)."""
+    lowest_body: list[str] | None = None
     margin: float = MARGIN
     joints: tuple[str, ...] = field(default=G1.joints)
 
@@ -82,8 +93,15 @@ class ClipFeasibility:
         )
 
     @property
+    def through_floor(self) -> np.ndarray:
+        """Frames with a collision point more than ``PENETRATION_TOL`` below the floor."""
+        if self.lowest is None:
+            return self.frames[:0]
+        return self.frames[self.lowest < -PENETRATION_TOL]
+
+    @property
     def passed(self) -> bool:
-        return len(self.over_margin) == 0 and len(self.infeasible) == 0
+        return len(self.over_margin) == 0 and len(self.infeasible) == 0 and len(self.through_floor) == 0
 
     def joint_table(self) -> list[dict]:
         """Per joint: effort, worst |torque|, its ratio and frame, frames over the margin."""
@@ -125,6 +143,9 @@ class ClipFeasibility:
             "force_tol": FORCE_TOL,
             "moment_tol": MOMENT_TOL,
             "qp_fallbacks": int(sum(s == "nnls" for s in self.solver)),
+            "through_floor_frames": self.through_floor.tolist(),
+            "lowest_point": None if self.lowest is None else float(self.lowest.min()),
+            "lowest_body": None if self.lowest is None else self.lowest_body[int(np.argmin(self.lowest))],
         }
 
 
@@ -142,9 +163,10 @@ def check_clip(
     qvel, qacc = finite_differences(solver.model, qpos, 1.0 / clip.fps)
     idx = np.arange(clip.frames) if frames is None else np.asarray(list(frames), dtype=int)
     stance = stance_flags(clip.contacts)
-    torque, residual, contacts, names = [], [], [], []
+    torque, residual, contacts, names, lowest = [], [], [], [], []
     for f in idx:
         r = solver.solve(qpos[f], qvel[f], qacc[f], stance[f])
+        lowest.append(solver.lowest_point())
         torque.append(r.torque)
         residual.append(r.residual)
         contacts.append(tuple(r.wrenches))
@@ -156,5 +178,7 @@ def check_clip(
         residual=np.array(residual),
         contacts=contacts,
         solver=names,
+        lowest=np.array([z for z, _ in lowest]),
+        lowest_body=[b for _, b in lowest],
         margin=margin,
     )

@@ -23,6 +23,8 @@ Feet are in contact when the clip's stance flags say so (``stance_flags``: at a 
 neighbouring frames' flags too); the pelvis, torso, knees and hands when their
 lowest collision point is within ``FLOOR_HEIGHT`` of the floor (a fall or a crawl). Friction is the
 model's: ``FOOT_FRICTION`` at the feet, none on the other capsules (``condim`` 1: normal force only).
+A frame whose lowest collision point lies more than ``PENETRATION_TOL`` below the floor is not a contact
+but a body through the floor (``InverseDynamics.lowest_point``): the check fails it.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ __all__ = [
     "FLOOR_HEIGHT",
     "FORCE_TOL",
     "MOMENT_TOL",
+    "PENETRATION_TOL",
     "FrameDynamics",
     "InverseDynamics",
     "finite_differences",
@@ -60,6 +63,10 @@ MOMENT_TOL = 0.01 * MASS * 9.81
 outside the support)."""
 FLOOR_HEIGHT = 0.02
 """A non-foot body is on the floor when its lowest collision point is below this height [m]."""
+PENETRATION_TOL = 0.01
+"""Deepest a collision point of the clip's robot may lie below the floor [m]: one 50 Hz frame of a foot
+landing at 0.5 m/s (a touchdown between two samples); deeper, the floor would have to give way (a swing
+foot or shin through the floor), which no contact model of the check can account for."""
 FLOOR_BODIES = (
     "pelvis",
     "torso_link",
@@ -142,6 +149,14 @@ class InverseDynamics:
         self.dofs = np.array([self.model.jnt_dofadr[self.model.joint(j).id] for j in G1.joints])
         self.soles = [sole_polygon(self.model, f) for f in G1.feet]
         self.feet = [self.model.body(f).id for f in G1.feet]
+        self._collision_geoms = [
+            g
+            for g in range(self.model.ngeom)
+            if self.model.geom_contype[g] + self.model.geom_conaffinity[g]
+            and self.model.geom_bodyid[g] > 0
+            and int(self.model.geom_type[g])
+            in (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_SPHERE))
+        ]
         self.floor_bodies = []
         for name in FLOOR_BODIES:
             b = self.model.body(name).id
@@ -177,6 +192,17 @@ class InverseDynamics:
             if best < FLOOR_HEIGHT:
                 out.append(_Contact(name, b, point[None, :], friction))
         return out
+
+    def lowest_point(self) -> tuple[float, str]:
+        """Height [m] of the posed ``data``'s lowest collision point (capsules and spheres), and its body."""
+        m, d = self.model, self.data
+        best, body = np.inf, ""
+        for g in self._collision_geoms:
+            half = m.geom_size[g][1] if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_CAPSULE else 0.0
+            low = d.geom_xpos[g][2] - half * abs(d.geom_xmat[g][8]) - m.geom_size[g][0]
+            if low < best:
+                best, body = float(low), m.body(m.geom_bodyid[g]).name
+        return best, body
 
     def solve(
         self, qpos: np.ndarray, qvel: np.ndarray, qacc: np.ndarray, stance: np.ndarray
