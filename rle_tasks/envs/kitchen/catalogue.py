@@ -1,6 +1,6 @@
 """The kitchen's object catalogue: categories of graspable and receiving objects from the installed asset
 wheels (robosuite's objects and the LIBERO-PRO asset wheels), each instance with its source, licence,
-mass, size, collision geometry and grasp width.
+mass, size, collision geometry and grasp (mode and width).
 
 The data is ``catalogue.yaml`` beside this module (categories -> instances, the sources and their
 licences). Everything numeric is derived here from the source files, in SI units:
@@ -11,17 +11,14 @@ licences). Everything numeric is derived here from the source files, in SI units
   of that mesh, computed once and cached under ``cache_root()/catalogue/coacd/<key>`` where the key is
   the sha256 of the mesh file's bytes, its scale and ``COACD_PARAMS`` (nothing copied from the wheels
   is committed);
-- mass [kg]: the source's density [kg/m^3] (the collision geoms' ``density`` attribute, MuJoCo's 1000
-  where it has none) times the volume of the collision geometry [m^3], as MuJoCo integrates it;
+- mass [kg]: the category's typical real product mass (``catalogue.yaml``: ``mass`` with its
+  ``mass_source``) for its first instance, the others scaled by their collision volume; one uniform
+  density per instance, so the inertia is the collision geometry's scaled to that mass
+  (``catalogue_mass``);
 - size [m]: the axis-aligned box around the collision geometry in the body frame (z up);
-- grasp width [m]: the reference grasp planner's (family 01's ``pick``: top-down, closing across the
-  narrower horizontal side, the finger pads ``PALM`` below the top, ``PALM_ROUND`` for round objects,
-  at least ``FINGER_CLEARANCE`` above the support) view of the object: the extent of the collision
-  geometry along the closing axis in the pads' height band. ``graspable``: the band's geometry lies
-  within ``GRASP_REACH`` of the box centre on either side (the 0.08 m opening less twice the planner's
-  5 mm positioning tolerance), is at least ``EMPTY`` wide (the planner's empty-hand test), and the
-  pads' centre is not above the object's top (a flat object lower than ``FINGER_CLEARANCE`` meets only
-  the pads' lower edges and slips out: the HOPE butter, 17 mm, did in the lift test).
+- grasp: the reference grasp planner's grasp in the category's mode (``top``, ``flat``, ``rim``,
+  ``handle``: ``catalogue_grasp``): tool point, closing axis, opening, the grasped band's width and
+  whether it fits (``graspable``).
 
 Pretrain and target kitchens draw disjoint instances of a category (``split``). The wheels are asset
 sources only: their files are located through the import system's metadata, never imported.
@@ -37,6 +34,7 @@ import numpy as np
 from rle_tasks.envs.kitchen.catalogue_data import CATEGORIES, instance
 from rle_tasks.envs.kitchen.catalogue_geometry import add_geoms, geometry
 from rle_tasks.envs.kitchen.catalogue_grasp import properties
+from rle_tasks.envs.kitchen.catalogue_mass import density
 
 
 def split(category: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -61,10 +59,10 @@ def split(category: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
 
 
 def catalogue_table() -> str:
-    """The catalogue as a markdown table: category, instances, source, licence, mass [kg], size [m],
-    grasp width [m] and collision geometry."""
+    """The catalogue as a markdown table: category, instances (split side), source, licence, mass [kg],
+    size [m], grasp mode and width [m], and collision geometry."""
     rows = [
-        "| category | instance | source (wheel: path) | licence | mass [kg] | size x y z [m] | grasp width [m] | collision |",
+        "| category | instance | source (wheel: path) | licence | mass [kg] | size x y z [m] | grasp: mode, width [m] | collision |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for cat in CATEGORIES.values():
@@ -73,7 +71,7 @@ def catalogue_table() -> str:
             inst, props, geo = instance(iid), properties(iid), geometry(iid)
             role = "both" if len(cat.instances) == 1 else ("pretrain" if iid in pre else "target")
             size = " x ".join(f"{s:.3f}" for s in props.size)
-            grasp = f"{props.width:.3f}" + ("" if props.graspable else " (not graspable)")
+            grasp = f"{props.mode}, {props.width:.3f}" + ("" if props.graspable else " (not graspable)")
             n = len(geo.parts)
             coll = (
                 f"CoACD, {n} hull{'s' * (n > 1)}"
@@ -97,8 +95,9 @@ def add_instance(
 ) -> mujoco.MjsBody:
     """A free body ``name`` of a catalogue instance whose lowest point stands at ``pos[2]`` [m] and whose
     bounding box is centred on ``pos[:2]`` [m] before the turn by ``yaw`` [rad] about z. Collision geoms
-    are named ``name_c<k>`` (group 0; group 3 when ``visual``), render meshes ``name_v<k>`` (group 1,
-    no contacts, no mass; untextured, the category's colour)."""
+    are named ``name_c<k>`` (group 0; group 3 when ``visual``), all of one density giving the
+    catalogue's mass (``catalogue_mass``); render meshes ``name_v<k>`` (group 1, no contacts, no mass;
+    untextured, the category's colour)."""
     props = properties(instance_id)
     c, h = np.asarray(props.center), np.asarray(props.half)
     quat = np.array([math.cos(yaw / 2), 0, 0, math.sin(yaw / 2)])
@@ -108,7 +107,7 @@ def add_instance(
     origin = [pos[0] - offset[0], pos[1] - offset[1], pos[2] + h[2] - c[2]]
     body = spec.worldbody.add_body(name=name, pos=origin, quat=list(quat))
     body.add_freejoint(name=name)
-    add_geoms(body, spec, name, instance(instance_id), visual)
+    add_geoms(body, spec, name, instance(instance_id), visual, density=density(instance_id))
     return body
 
 

@@ -52,12 +52,17 @@ class Instance:
 
 @dataclass(frozen=True)
 class Category:
-    """A category: its name, the rgba of its visual geoms, its instance ids and, where the reference grasp
-    planner can take none of them, why (``not_graspable``)."""
+    """A category: its name, the rgba of its visual geoms, its instance ids, its grasp mode
+    (``catalogue_grasp.MODES``), the typical mass [kg] of the real product its first instance models and
+    where that number comes from, and, where the reference grasp planner can take none of its instances,
+    why (``not_graspable``)."""
 
     name: str
     rgba: tuple[float, float, float, float]
     instances: tuple[str, ...]
+    grasp: str
+    mass: float
+    mass_source: str
     not_graspable: str | None = None
 
 
@@ -68,7 +73,15 @@ def _data() -> dict:
 
 def _categories() -> dict[str, Category]:
     return {
-        name: Category(name, tuple(c["rgba"]), tuple(c["instances"]), c.get("not_graspable"))
+        name: Category(
+            name,
+            tuple(c["rgba"]),
+            tuple(c["instances"]),
+            c.get("grasp", "top"),
+            float(c["mass"]),
+            " ".join(c["mass_source"].split()),
+            c.get("not_graspable"),
+        )
         for name, c in _data()["categories"].items()
     }
 

@@ -190,7 +190,16 @@ def geometry(instance_id: str) -> Geometry:
     return Geometry(tuple(parts), tuple(visuals), collision)
 
 
-def add_geoms(body: mujoco.MjsBody, spec: mujoco.MjSpec, name: str, inst: Instance, visual: bool) -> None:
+def add_geoms(
+    body: mujoco.MjsBody,
+    spec: mujoco.MjSpec,
+    name: str,
+    inst: Instance,
+    visual: bool,
+    density: float | None = None,
+) -> None:
+    """The instance's collision geoms (``density`` [kg/m^3] for all, or the source's) and, when
+    ``visual``, its render meshes, on ``body``."""
     geo = geometry(inst.id)
     rgba = list(CATEGORIES[inst.category].rgba)
     for k, part in enumerate(geo.parts):
@@ -198,7 +207,7 @@ def add_geoms(body: mujoco.MjsBody, spec: mujoco.MjSpec, name: str, inst: Instan
             name=f"{name}_c{k}",
             pos=list(part.pos),
             quat=list(part.quat),
-            density=part.density,
+            density=part.density if density is None else density,
             friction=list(OBJECT_FRICTION),
             condim=4,
             solref=list(SOLREF),
