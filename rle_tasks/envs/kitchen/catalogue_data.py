@@ -54,8 +54,9 @@ class Instance:
 class Category:
     """A category: its name, the rgba of its visual geoms, its instance ids, its grasp mode
     (``catalogue_grasp.MODES``), the typical mass [kg] of the real product its first instance models and
-    where that number comes from, and, where the reference grasp planner can take none of its instances,
-    why (``not_graspable``)."""
+    where that number comes from, where the reference grasp planner can take none of its instances, why
+    (``not_graspable``), and a rest rotation (w, x, y, z) of the body frame where the category stands
+    otherwise than the source lays it (``rest``)."""
 
     name: str
     rgba: tuple[float, float, float, float]
@@ -64,6 +65,7 @@ class Category:
     mass: float
     mass_source: str
     not_graspable: str | None = None
+    rest: tuple[float, float, float, float] | None = None
 
 
 @functools.cache
@@ -81,6 +83,7 @@ def _categories() -> dict[str, Category]:
             float(c["mass"]),
             " ".join(c["mass_source"].split()),
             c.get("not_graspable"),
+            tuple(float(v) for v in c["rest"]) if "rest" in c else None,
         )
         for name, c in _data()["categories"].items()
     }

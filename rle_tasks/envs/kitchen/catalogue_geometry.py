@@ -187,7 +187,20 @@ def geometry(instance_id: str) -> Geometry:
     if not parts:
         raise ValueError(f"{instance_id}: the source has no collision geometry")
     collision = "coacd" if coll_meshes else "source"
+    rest = CATEGORIES[inst.category].rest
+    if rest is not None:
+        parts = [Part(p.kind, p.size, *_turn(rest, p.pos, p.quat), p.density, p.mesh) for p in parts]
+        visuals = [Visual(v.file, v.scale, *_turn(rest, v.pos, v.quat)) for v in visuals]
     return Geometry(tuple(parts), tuple(visuals), collision)
+
+
+def _turn(rest: tuple, pos: tuple, quat: tuple) -> tuple[tuple, tuple]:
+    """A pose (pos [m], quat) in the body frame turned by the rest rotation ``rest`` (w, x, y, z)."""
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, np.asarray(rest, dtype=float))
+    q = np.zeros(4)
+    mujoco.mju_mulQuat(q, np.asarray(rest, dtype=float), np.asarray(quat, dtype=float))
+    return tuple(float(v) for v in rot.reshape(3, 3) @ np.asarray(pos)), tuple(float(v) for v in q)
 
 
 def add_geoms(
