@@ -209,6 +209,44 @@ def test_bodies_through_the_floor_fail(model):
         assert report.summary()["lowest_body"] in G1.feet
 
 
+def test_a_stance_sole_pushes_only_where_it_touches(solver, model):
+    """The robot standing, pitched rigidly by 0.2 rad about the soles' front edge (heels up): a stance sole's
+    contact points are exactly its polygon's vertices that the rotation leaves below FLOOR_HEIGHT (those within
+    FLOOR_HEIGHT / sin 0.2 = 10 cm of the front edge: the toe region); lifted 3 cm, a stance-flagged sole has none and the weight m g is the base
+    residual (no contact holds it)."""
+    q = standing_qpos()
+    stance = np.array([True, True])
+    d = solver.data
+    d.qpos[:] = q
+    mujoco.mj_kinematics(solver.model, d)
+    verts = [d.xpos[b] + solver.soles[i] @ d.xmat[b].reshape(3, 3).T for i, b in enumerate(solver.feet)]
+    assert len(solver.contacts(stance)) == 2 and all(
+        len(c.points) == len(v) for c, v in zip(solver.contacts(stance), verts)
+    )
+    toe = np.array([max(v[:, 0].max() for v in verts), 0.0, min(v[:, 2].min() for v in verts)])
+    theta = 0.2
+    rot = np.array(
+        [[np.cos(theta), 0, np.sin(theta)], [0, 1, 0], [-np.sin(theta), 0, np.cos(theta)]]
+    )  # heels up
+    pitched = q.copy()
+    pitched[:3] = toe + rot @ (q[:3] - toe)
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, rot.flatten())
+    pitched[3:7] = quat
+    d.qpos[:] = pitched
+    mujoco.mj_kinematics(solver.model, d)
+    for c, v in zip(solver.contacts(stance), verts):
+        moved = toe + (v - toe) @ rot.T
+        expected = moved[moved[:, 2] < idyn.FLOOR_HEIGHT]
+        assert 0 < len(expected) < len(v) and c.points == pytest.approx(expected, abs=1e-9)
+        assert (expected[:, 0] > toe[0] - idyn.FLOOR_HEIGHT / np.sin(theta) - 0.01).all()  # the toe region
+    lifted = q.copy()
+    lifted[2] += 0.03
+    res = solver.solve(lifted, np.zeros(model.nv), np.zeros(model.nv), stance)
+    assert res.wrenches == {}
+    assert res.residual[:3] == pytest.approx([0, 0, mujoco.mj_getTotalmass(model) * 9.81], rel=1e-6)
+
+
 def test_stance_flags_cover_the_frames_next_to_a_contact_change():
     c = np.array([[1, 0], [1, 0], [0, 0], [0, 0], [0, 1]], bool)
     assert idyn.stance_flags(c).astype(int).tolist() == [[1, 0], [1, 0], [1, 0], [0, 1], [0, 1]]

@@ -20,7 +20,8 @@ Per frame, two solves:
    distribution that spares the joints, the worst one first.
 
 Feet are in contact when the clip's stance flags say so (``stance_flags``: at a contact change, the
-neighbouring frames' flags too); the pelvis, torso, knees and hands when their
+neighbouring frames' flags too), through the vertices of their sole polygon within ``FLOOR_HEIGHT`` of the
+floor (all of a flat sole; the toe line of a foot on its toes); the pelvis, torso, knees and hands when their
 lowest collision point is within ``FLOOR_HEIGHT`` of the floor (a fall or a crawl). Friction is the
 model's: ``FOOT_FRICTION`` at the feet, none on the other capsules (``condim`` 1: normal force only).
 A frame whose lowest collision point lies more than ``PENETRATION_TOL`` below the floor is not a contact
@@ -62,7 +63,8 @@ MOMENT_TOL = 0.01 * MASS * 9.81
 """Largest base moment residual of a feasible frame [N m]: the weight times 1 cm (the ZMP up to 1 cm
 outside the support)."""
 FLOOR_HEIGHT = 0.02
-"""A non-foot body is on the floor when its lowest collision point is below this height [m]."""
+"""A non-foot body is on the floor when its lowest collision point is below this height, a stance sole's
+vertex when it is [m]."""
 PENETRATION_TOL = 0.01
 """Deepest a collision point of the clip's robot may lie below the floor [m]: one 50 Hz frame of a foot
 landing at 0.5 m/s (a touchdown between two samples); deeper, the floor would have to give way (a swing
@@ -178,7 +180,9 @@ class InverseDynamics:
         for i, foot in enumerate(self.feet):
             if stance[i]:
                 pts = d.xpos[foot] + self.soles[i] @ d.xmat[foot].reshape(3, 3).T
-                out.append(_Contact(G1.feet[i], foot, pts, self.mu))
+                pts = pts[pts[:, 2] < FLOOR_HEIGHT]  # a pitched sole (heel or toe up) pushes on what touches
+                if len(pts):
+                    out.append(_Contact(G1.feet[i], foot, pts, self.mu))
         for name, b, geoms, friction in self.floor_bodies:
             best, point = np.inf, None
             for g in geoms:
