@@ -56,6 +56,10 @@ KITCHEN_TASKS = (
     ),
 )
 LEVELS = (1, 2, 3)
+SPLIT = False
+"""Kitchens of every layout kind: pretrain kitchens from the pretrain (kind, style family) combinations,
+target kitchens from the target ones (``rle_tasks.envs.kitchen.styles.split``); False: every kitchen is
+the one-wall kitchen."""
 
 
 def kitchen_level(task_id: str) -> tuple[KitchenTaskId, int]:
@@ -88,4 +92,5 @@ def scenes(
         targets(secret, kitchen),
         EvaluationPhase(TRIALS, ACTIONS_PER_TRIAL, EVAL_WALL_S),
         image_size=image_size,
+        split=SPLIT,
     )

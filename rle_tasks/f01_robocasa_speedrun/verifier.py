@@ -23,6 +23,7 @@ Protocol:
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from rle_design.control.replay import ReplayError
@@ -72,7 +73,8 @@ def _render_trials(trials, scene_set, path: Path) -> None:
     for t in trials:
         env = scene_set.scene(t.scene)
         fixture = env.scene.fixtures[env.scene.episode.target["fixture"]]
-        look = np.array([fixture.pos[0], fixture.front_y - 0.3, 1.0])
+        (fx, fy), (nx, ny) = fixture.front, fixture.facing
+        look = np.array([fx + 0.3 * nx, fy + 0.3 * ny, 1.0])
         img = Image.fromarray(
             render_image(
                 t.model,
@@ -81,7 +83,7 @@ def _render_trials(trials, scene_set, path: Path) -> None:
                 height=270,
                 lookat=look,
                 distance=2.6,
-                azimuth=90.0,
+                azimuth=90.0 + math.degrees(fixture.yaw),  # looking at the front
                 elevation=-25.0,
                 groups=(HIDDEN_GROUP,),
                 sites=False,

@@ -25,15 +25,8 @@ import numpy as np
 
 from rle_tasks.envs.kitchen.fixture import BURNERS, Fixture
 from rle_tasks.envs.kitchen.goals import FIXTURE_WORDS, Predicate, Roles
-from rle_tasks.envs.kitchen.tasks import (
-    STANDOFF,
-    Condition,
-    Episode,
-    KitchenTask,
-    Placement,
-    _spawn,
-    spot_near,
-)
+from rle_tasks.envs.kitchen.placement import STANDOFF, spawn, spot_near
+from rle_tasks.envs.kitchen.tasks import Condition, Episode, KitchenTask, Placement
 
 __all__ = [
     "Burner",
@@ -197,7 +190,7 @@ class CompositeTask(KitchenTask):
                 joints.append((fixtures[bind[b.stove]].burners[target[b.role]][0], 0.5 + 0.9 / (2 * math.pi)))
         focus = fixtures[bind[self.focus]]
         dx = 0.0 if self.between is None else 0.5 * (fixtures[bind[self.between]].pos[0] - focus.pos[0])
-        robot = _spawn(rng, focus, dx=float(np.clip(dx, -0.6, 0.6)), standoff=STANDOFF + 0.1)
+        robot = spawn(rng, focus, dx=float(np.clip(dx, -0.6, 0.6)), standoff=STANDOFF + 0.1)
         words = {r: cats.get(r) or target[r].replace("_", " ") for r in target if "." not in r}
         words.update(
             {

@@ -12,8 +12,9 @@
   x0 y0 x1 y1 [px], ``scores`` (N,)) from the simulator's segmentation with documented noise
   (``SEGMENT_NOISE``);
 - **L3** adds world-frame ``objects`` (category, pos, quat, bounding box ``center``/``half`` in the
-  body frame), ``fixtures`` (kind, pos, size, normalised joint states, interior box, named sites'
-  positions), ``target`` (the task's roles -> names) and ``grasped`` (the target object touches both
+  body frame), ``fixtures`` (kind, pos, ``size`` in the fixture's frame (width along its run, depth,
+  height), ``yaw`` of that frame and ``facing``, the world xy unit vector its front faces, (sin yaw,
+  -cos yaw); normalised joint states, interior box, named sites' positions), ``target`` (the task's roles -> names) and ``grasped`` (the target object touches both
   fingers).
 """
 
@@ -211,6 +212,8 @@ def _fixture_state(model: mujoco.MjModel, data: mujoco.MjData, f: Fixture) -> di
         "kind": f.kind,
         "pos": np.array(f.pos),
         "size": np.array(f.size),
+        "yaw": float(f.yaw),
+        "facing": np.array(f.facing),
         "joints": {j: pr.joint_fraction(model, data, j) for j in f.joints},
         "sites": {role: data.site_xpos[model.site(s).id].copy() for role, s in f.sites.items()},
     }

@@ -127,7 +127,7 @@ def sample_kind(rng: np.random.Generator, kind: str, family: str | None) -> Layo
 
 def sample_part(rng: np.random.Generator, part: str) -> Layout:
     """A kitchen of a (kind, style family) combination of ``part`` (``pretrain`` or ``target``, see
-    ``styles.split``), the combination drawn uniformly. Not used by the task samplers yet."""
+    ``styles.split``), the combination drawn uniformly (``scene.build_scene`` with a ``part``)."""
     combos = combinations(part)
     kind, family = combos[int(rng.integers(len(combos)))]
     return sample_kind(rng, kind, family)

@@ -1,8 +1,10 @@
 """One kitchen scene: a layout, a task's episode and the mobile Panda, compiled into MJCF.
 
-``build_scene(layout_seed, task, episode_seed)`` is deterministic: the same seeds give the same MJCF
-string (and so the same model digest recorded in ledgers). The layout comes from
-``default_rng(layout_seed)``, the episode (target, objects, spawn) from ``default_rng(episode_seed)``.
+``build_scene(layout_seed, task, episode_seed, part)`` is deterministic: the same seeds give the same
+MJCF string (and so the same model digest recorded in ledgers). The layout comes from
+``default_rng(layout_seed)``: today's one-wall kitchen (``layout.sample_one_wall``) when ``part`` is
+None, else a kitchen of a (layout kind, style family) combination of ``part`` (``pretrain`` or
+``target``, ``layout_kinds.sample_part``); the episode (target, objects, spawn) from ``default_rng(episode_seed)``.
 The scene's keyframe ``initial`` holds the arm at its home posture, the torso at ``TORSO_START``,
 the fingers open, the articulated joints at the episode's states and the objects settled on their
 supports (``SETTLE_S`` of physics with the robot held still).
@@ -24,10 +26,11 @@ from rle_design.scene.robots import PANDA
 from rle_tasks.envs.kitchen.composite_tasks import kitchen_task
 from rle_tasks.envs.kitchen.fixture import Fixture
 from rle_tasks.envs.kitchen.layout import Layout, build_layout, sample_one_wall
+from rle_tasks.envs.kitchen.layout_kinds import sample_part
 from rle_tasks.envs.kitchen.objects import add_object, extent
 from rle_tasks.envs.kitchen.tasks import Episode
 
-__all__ = ["KitchenScene", "ROBOT", "TORSO_START", "build_scene"]
+__all__ = ["KitchenScene", "ROBOT", "TORSO_START", "build_scene", "scene_of"]
 
 ROBOT = MobilePandaNames("robot/")
 """Names of the robot's elements."""
@@ -100,14 +103,24 @@ def _place(
 
 
 @functools.lru_cache(maxsize=8)
-def build_scene(layout_seed: int, task: str, episode_seed: int) -> KitchenScene:
-    """The scene of ``task`` in the kitchen of ``layout_seed`` with the episode of ``episode_seed``.
+def build_scene(layout_seed: int, task: str, episode_seed: int, part: str | None = None) -> KitchenScene:
+    """The scene of ``task`` in the kitchen of ``layout_seed`` with the episode of ``episode_seed``;
+    ``part``: None for the one-wall kitchen, ``pretrain`` or ``target`` for a kitchen of that part of
+    the kind x style split (see the module docstring).
 
     Raises:
         KeyError: ``task`` is not one of ``TASKS`` (the message lists them).
+        ValueError: ``part`` is not None, ``pretrain`` or ``target``.
     """
+    rng = np.random.default_rng(layout_seed)
+    layout = sample_one_wall(rng) if part is None else sample_part(rng, part)
+    return scene_of(layout, task, episode_seed, layout_seed)
+
+
+def scene_of(layout: Layout, task: str, episode_seed: int, layout_seed: int = -1) -> KitchenScene:
+    """The scene of ``task`` in ``layout`` with the episode of ``episode_seed`` (``layout_seed`` is only
+    recorded)."""
     definition = kitchen_task(task)
-    layout = sample_one_wall(np.random.default_rng(layout_seed))
     spec = mujoco.MjSpec()
     spec.modelname = "kitchen"
     spec.compiler.degree = False  # every angle of the kitchen (joint ranges) is in radians

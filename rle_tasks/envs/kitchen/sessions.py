@@ -47,6 +47,9 @@ class KitchenScenes(SceneSet):
         evaluation: The terminal evaluation phase.
         image_size: Camera image size (None renders none: verification replays).
         pretrain_kitchens: Number of pretrain layouts.
+        split: Pretrain kitchens are drawn from the pretrain (layout kind, style family) combinations
+            and target kitchens from the target ones (``styles.split``); False: every kitchen is today's
+            one-wall kitchen (``scene.build_scene``'s ``part``).
     """
 
     task: str
@@ -56,6 +59,7 @@ class KitchenScenes(SceneSet):
     image_size: tuple[int, int] | None = (128, 128)
     pretrain_kitchens: int = PRETRAIN_KITCHENS
     n_substeps: int = 25
+    split: bool = False
     observation_doc: str = KitchenEnv.observation_doc
 
     def __post_init__(self) -> None:
@@ -68,7 +72,11 @@ class KitchenScenes(SceneSet):
             )
 
     def describe(self) -> str:
-        return f"kitchen {self.task} L{self.level} pretrain {self.pretrain_kitchens}"
+        kinds = " kinds split" if self.split else ""
+        return f"kitchen {self.task} L{self.level} pretrain {self.pretrain_kitchens}{kinds}"
+
+    def _part(self, part: str) -> str | None:
+        return part if self.split else None
 
     def session_doc(self) -> str:
         return (
@@ -94,10 +102,12 @@ class KitchenScenes(SceneSet):
             and numbers[0] < self.pretrain_kitchens
         ):
             k, s = numbers
-            return self._env(build_scene(pretrain_seed(k), self.task, episode_seed(k, s)))
+            return self._env(
+                build_scene(pretrain_seed(k), self.task, episode_seed(k, s), self._part("pretrain"))
+            )
         if parts[0] == "target" and len(parts) == 2 and len(numbers) == 1 and numbers[0] < len(self.targets):
             layout, episode = self.targets[numbers[0]]
-            return self._env(build_scene(layout, self.task, episode))
+            return self._env(build_scene(layout, self.task, episode, self._part("target")))
         raise LedgerError(f"unknown scene '{key}'", code="ledger.bad_scene")
 
     def development_key(self, index: int, options: dict[str, Any]) -> str:
@@ -168,7 +178,9 @@ class GroupScenes(KitchenScenes):
             except ValueError:
                 k, s = -1, -1
             if 0 <= k < self.pretrain_kitchens and s >= 0:
-                return self._env(build_scene(pretrain_seed(k), parts[1], episode_seed(k, s)))
+                return self._env(
+                    build_scene(pretrain_seed(k), parts[1], episode_seed(k, s), self._part("pretrain"))
+                )
         raise LedgerError(f"unknown scene '{key}'", code="ledger.bad_scene")
 
     def development_key(self, index: int, options: dict[str, Any]) -> str:
