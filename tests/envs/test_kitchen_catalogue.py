@@ -130,6 +130,19 @@ def test_masses_are_the_categories_stated_ones_scaled_by_volume():
         assert properties(cat.instances[0]).mass == pytest.approx(cat.mass, rel=1e-12), cat.name
 
 
+PORCELAIN = 2400.0
+"""Density of porcelain [kg/m^3] the ceramic categories' masses use (``catalogue.yaml``)."""
+
+
+def test_ceramic_masses_are_their_shell_in_porcelain():
+    """Closed form: m = V_shell x 2400 kg/m^3 for the categories whose source says so (bowl, plate,
+    ramekin, mug), to the yaml's 1 g."""
+    ceramic = [c for c in CATEGORIES.values() if "porcelain at 2400 kg/m^3" in c.mass_source]
+    assert {c.name for c in ceramic} == {"bowl", "plate", "ramekin", "mug"}
+    for cat in ceramic:
+        assert cat.mass == pytest.approx(catalogue_mass.volume(cat.instances[0]) * PORCELAIN, abs=5e-4)
+
+
 def test_sizes_and_grasps_are_physical():
     for iid in instances():
         p = properties(iid)

@@ -74,7 +74,7 @@ RIM_GAP = 0.011
 0.028 m opening over a 6 mm wall: (0.028 - 0.006) / 2)."""
 RIM_HELD = 0.003
 """Finger opening above which a rim grasp holds the wall [m]: the closed empty hand reads 0.0020 m (the
-pads meet), the thinnest wall held in the lift test 0.0043 m (the white bowl's); 0.003 m lies between."""
+pads meet), the thinnest wall held in the lift test 0.0040 m (the white bowl's); 0.003 m lies between."""
 RIM_RAISE = 0.002
 """Step by which a rim grasp is raised when the fingers do not fit at ``RIM_DEPTH`` [m] (a plate's floor
 lies under the inner finger)."""
