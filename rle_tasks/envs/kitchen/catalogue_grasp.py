@@ -84,7 +84,7 @@ squeeze out rather than hold (the plate's rim, 25-31 mm: the lift test holds it 
 of 4 heights; the walls that lift are 5-15 mm)."""
 MIN_CONTACT = 0.006
 """Least height of the object (in ``rim`` mode: of the strip's wall) the pads must meet [m]: 3/8 of their
-16 mm."""
+16 mm; the graspable ``top`` and ``flat`` objects meet 9.8 mm (the pudding box) or more."""
 HANDLE_STEP = 0.005
 """Step of the handle search along the longer axis [m]."""
 
