@@ -43,11 +43,16 @@ def meshes(instance_id: str) -> tuple:
 
 
 @functools.cache
-def _planes(instance_id: str) -> tuple[np.ndarray, ...]:
-    """Per part, its convex hull's face planes (n, d) as rows [nx, ny, nz, d]: inside where n.p + d <= 0."""
+def _planes(instance_id: str) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]:
+    """Per part, its convex hull's face planes (n, d) as rows [nx, ny, nz, d] (inside where
+    n.p + d <= 0) and the hull's axis-aligned bounds (lo, hi) [m]."""
     from scipy.spatial import ConvexHull
 
-    return tuple(ConvexHull(np.asarray(m.vertices)).equations for m in meshes(instance_id))
+    parts = []
+    for m in meshes(instance_id):
+        v = np.asarray(m.vertices)
+        parts.append((ConvexHull(v).equations, v.min(axis=0), v.max(axis=0)))
+    return tuple(parts)
 
 
 def inside(instance_id: str, points: np.ndarray, margin: float = 0.0) -> np.ndarray:
@@ -55,8 +60,17 @@ def inside(instance_id: str, points: np.ndarray, margin: float = 0.0) -> np.ndar
     (the parts grown by ``margin`` along their face normals)."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     hit = np.zeros(len(pts), dtype=bool)
-    for eq in _planes(instance_id):
-        hit |= np.all(pts @ eq[:, :3].T + eq[:, 3] <= margin, axis=1)
+    for eq, lo, hi in _planes(instance_id):
+        # A part holds only points of its bounding box: the planes are tested on those alone. Grown by
+        # a margin, a corner moves up to margin / sin(half its angle), so the box is then not used.
+        idx = (
+            np.flatnonzero(~hit & np.all((pts >= lo) & (pts <= hi), axis=1))
+            if margin <= 0
+            else np.arange(len(pts))
+        )
+        if idx.size:
+            sub = pts[idx]
+            hit[idx] |= np.all(sub @ eq[:, :3].T + eq[:, 3] <= margin, axis=1)
     return hit
 
 
