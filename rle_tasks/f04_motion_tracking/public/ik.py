@@ -13,7 +13,7 @@ import numpy as np
 
 from .g1_constants import G1
 
-__all__ = ["LegIK", "yaw_quat"]
+__all__ = ["LegIK", "foot_quat", "yaw_quat"]
 
 SWING_ORI_WEIGHT = 0.3
 """Weight of the foot orientation error in swing (stance: 1) [1]."""
@@ -29,6 +29,16 @@ MAX_STEP = 0.1
 def yaw_quat(yaw: float) -> np.ndarray:
     """Quaternion (w x y z) of a rotation ``yaw`` [rad] about z."""
     return np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
+
+
+def foot_quat(yaw: float, pitch: float = 0.0) -> np.ndarray:
+    """Quaternion (w x y z) of a foot yawed by ``yaw`` and pitched by ``pitch`` [rad] about its own y axis
+    (positive: toes down, heel up)."""
+    if pitch == 0.0:
+        return yaw_quat(yaw)
+    out = np.zeros(4)
+    mujoco.mju_mulQuat(out, yaw_quat(yaw), np.array([np.cos(pitch / 2), 0.0, np.sin(pitch / 2), 0.0]))
+    return out
 
 
 class LegIK:
@@ -49,8 +59,12 @@ class LegIK:
         targets: list[tuple[np.ndarray, float, bool] | None],
         iters: int = 200,
         tol: float = 5e-5,
+        swing_iters: int = SWING_ITERS,
+        swing_knee_min: float | None = None,
     ) -> tuple[np.ndarray, float]:
-        """Leg joints of ``qpos`` (36) solved for ``targets`` (one per foot, left first; None: leg left as is).
+        """Leg joints of ``qpos`` (36) solved for ``targets`` (one per foot, left first; None: leg left as is;
+        ``(pos, yaw, stance[, pitch])``, pitch about the foot's y axis). A swing target gets ``swing_iters``
+        iterations and its knee is kept at ``swing_knee_min`` or more (None: its range).
 
         Returns:
             The solved ``qpos`` and the largest remaining position error [m] of a stance foot.
@@ -68,17 +82,17 @@ class LegIK:
             for leg, target in enumerate(targets):
                 if target is None:
                     continue
-                pos, yaw, stance = target
+                pos, yaw, stance, *pitch = target
                 b = self.feet[leg]
                 ep = np.asarray(pos) - d.xpos[b]
-                mujoco.mju_subQuat(res, yaw_quat(yaw), d.xquat[b])
+                mujoco.mju_subQuat(res, foot_quat(yaw, pitch[0] if pitch else 0.0), d.xquat[b])
                 eo = d.xmat[b].reshape(3, 3) @ res
                 w = 1.0 if stance else SWING_ORI_WEIGHT
                 if stance:
                     worst = max(worst, float(np.linalg.norm(ep)))
                 if np.linalg.norm(ep) < tol and w * np.linalg.norm(eo) < tol * 10:
                     continue
-                if not stance and it >= SWING_ITERS:
+                if not stance and it >= swing_iters:
                     continue
                 done = False
                 mujoco.mj_jacBody(m, d, jacp, jacr, b)
@@ -88,7 +102,10 @@ class LegIK:
                 dq = jac.T @ np.linalg.solve(jac @ jac.T + DAMPING**2 * np.eye(6), err)
                 dq *= min(1.0, MAX_STEP / max(float(np.abs(dq).max()), 1e-12))
                 q = d.qpos[7 + cols - 6] + dq
-                d.qpos[7 + cols - 6] = np.clip(q, self.lo[cols - 6], self.hi[cols - 6])
+                lo = self.lo[cols - 6].copy()
+                if not stance and swing_knee_min is not None:
+                    lo[3] = max(lo[3], swing_knee_min)
+                d.qpos[7 + cols - 6] = np.clip(q, lo, self.hi[cols - 6])
             if done:
                 break
         return d.qpos.copy(), worst

@@ -15,10 +15,17 @@ import numpy as np
 
 from .clip import CLIP_FPS, Clip
 from .g1_constants import G1
-from .ik import LegIK
+from .ik import LegIK, foot_quat
 from .motion_plan import CLIP_SECONDS, MotionPlan, min_jerk, rpy_quat
 
-__all__ = ["foot_ground_height"]
+__all__ = ["TOE", "foot_ground_height"]
+
+TOE = 0.13
+"""Toe line of the sole (its polygon's front edge) ahead of the foot body's origin [m]."""
+SWING_KNEE_MIN = 0.3
+"""Smallest knee angle of a swing leg on a world path [rad] (keeps it off the straight-knee singularity)."""
+HEEL_RISE_STANCES = 0.5
+"""``MotionPlan.heel_rise`` applies to stances shorter than this [s] (running steps, not standing)."""
 
 
 def foot_ground_height(model: mujoco.MjModel) -> float:
@@ -37,12 +44,24 @@ def _foot_target(plan: MotionPlan, foot: int, t: float, z0: float) -> tuple[np.n
     prev = None
     for s in own:
         if s.t0 <= t <= s.t1:
+            dur, angle = plan.heel_rise
+            if dur > 0 and s is not own[-1] and s.t1 - s.t0 < HEEL_RISE_STANCES and t > s.t1 - dur:
+                pos, yaw, pitch = _on_toes(s, z0, angle * min_jerk((t - s.t1 + dur) / dur))
+                return pos, yaw, True, pitch
             return np.array([*s.xy, z0]), s.yaw, True
         if s.t1 < t:
             prev = s
         elif prev is not None:  # swing from prev to s
             b = min_jerk((t - prev.t1) / (s.t0 - prev.t1))
             u = (t - prev.t1) / (s.t0 - prev.t1)
+            if plan.cartesian_swing:  # world path from the lift-off pose (toes) to the foothold (flat)
+                dur, angle = plan.heel_rise
+                rises = dur > 0 and prev.t1 - prev.t0 < HEEL_RISE_STANCES
+                start, _, pitch = _on_toes(prev, z0, angle if rises else 0.0)
+                bump = (4 * u * (1 - u)) ** plan.bump_power
+                apex = plan.swing_height if s.apex is None else s.apex
+                pos = (1 - b) * start + b * np.array([*s.xy, z0]) + np.array([0.0, 0.0, apex * bump])
+                return pos, (1 - b) * prev.yaw + b * s.yaw, False, (1 - b) * pitch
             bump = (4 * u * (1 - u)) ** 1.5
             xy = (1 - b) * np.asarray(prev.xy) + b * np.asarray(s.xy) + bump * np.asarray(s.via)
             z = z0 + (plan.swing_height if s.apex is None else s.apex) * bump
@@ -51,6 +70,20 @@ def _foot_target(plan: MotionPlan, foot: int, t: float, z0: float) -> tuple[np.n
             return np.array([*s.xy, z0]), s.yaw, True
     last = own[-1]
     return np.array([*last.xy, z0]), last.yaw, True
+
+
+def _on_toes(s, z0: float, pitch: float) -> tuple[np.ndarray, float, float]:
+    """Foot origin, yaw and pitch of stance ``s`` pivoted by ``pitch`` on its toe line (which stays put)."""
+    toe_local = np.array([TOE, 0.0, -z0])
+    flat = np.array([*s.xy, z0])
+    toe = flat + _quat_rot(foot_quat(s.yaw)) @ toe_local
+    return toe - _quat_rot(foot_quat(s.yaw, pitch)) @ toe_local, s.yaw, pitch
+
+
+def _quat_rot(q: np.ndarray) -> np.ndarray:
+    out = np.zeros(9)
+    mujoco.mju_quat2Mat(out, q)
+    return out.reshape(3, 3)
 
 
 def _swing_offset(apex: float, via_x: float) -> np.ndarray:
@@ -90,11 +123,14 @@ def _kinematic(
         for leg in (0, 1):
             if contacts[i, leg] and (i == 0 or not contacts[i - 1, leg]):
                 q[7 + 6 * leg : 13 + 6 * leg] = G1.default_pose[6 * leg : 6 * leg + 6]
-        q, worst = ik.solve(q, [tg if tg[2] else None for tg in targets])
+        if plan.cartesian_swing:
+            q, worst = ik.solve(q, targets, swing_iters=50, swing_knee_min=SWING_KNEE_MIN)
+        else:
+            q, worst = ik.solve(q, [tg if tg[2] else None for tg in targets])
         if worst > 1e-4:
             raise ValueError(f"t = {t:.2f} s: stance foot {worst * 1e3:.2f} mm from its foothold")
         qpos[i] = q
-    for leg in (0, 1):
+    for leg in () if plan.cartesian_swing else (0, 1):
         cols = slice(7 + 6 * leg, 13 + 6 * leg)
         i = 0
         while i < n:

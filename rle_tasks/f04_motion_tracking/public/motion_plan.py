@@ -66,6 +66,14 @@ class MotionPlan:
     swing_acc: bool = True
     """A matched swing meets the stance joints' accelerations at its ends too (False: zero accelerations; the
     stance legs' accelerations of a run ask the swing hip pitch for several times its limit)."""
+    cartesian_swing: bool = False
+    """Swing feet on world paths solved by the leg IK (minimum jerk from the lift-off pose, apex bump
+    (4u(1-u))^bump_power, pitch fading to flat; knee at least ``keying.SWING_KNEE_MIN``) instead of
+    joint-space blends: the foot leaves and lands at rest and cannot pass through the floor (not yet used by
+    a shipped clip: README, Clip feasibility)."""
+    heel_rise: tuple[float, float] = (0.0, 0.0)
+    """(duration [s], angle [rad]): over the last ``duration`` of a stance before a lift-off the foot pivots
+    on its toe line (``TOE``) up to ``angle`` (minimum jerk), heel up; (0, 0): flat until lift-off."""
     refine: Callable | None = None
     """Run and sprint: ``(model, plan) -> Clip`` that replaces balancing (``run_refine.refine``)."""
     centroidal: bool = False

@@ -216,13 +216,15 @@ def _gait(
     arm: float,
     width: float = 0.10,
     dynamic: bool = False,
+    plant: float = 0.5,
 ) -> MotionPlan:
     """Running gait: alternating steps, speed ramped up over 6 steps and down over the last 6; footholds
     ``width`` [m] either side of the midline; in stance the pelvis height is a cubic Hermite from landing to
     take-off. ``dynamic`` (``run_refine``): the stance pelvis height follows a half-sine vertical force
     (``_sine_stance``), the speed ramps down over 12 steps (braking puts the foot ahead of the COM, at the
     edge of the leg's reach), the last stance brings the pelvis to rest, the swings are velocity-matched and
-    the clip is refined (``run_refine.refine``)."""
+    the clip is refined (``run_refine.refine``). ``plant``: at full speed the pelvis passes a foothold at
+    this fraction of the stance (0.5 down to it with the speed)."""
     t0, n, ramp, y = 1.0, 0, 6, width
     times = []
     t = t0
@@ -279,7 +281,7 @@ def _gait(
         foot = k % 2
         land = times[k]
         prev_end = times[k - 2] + ts[k - 2] if k >= 2 else land - 0.35
-        xy = (x_at(land + 0.5 * ts[k]), y if foot == 0 else -y)
+        xy = (x_at(land + (0.5 - (0.5 - plant) * v[k] / v_max) * ts[k]), y if foot == 0 else -y)
         steps.append((foot, prev_end, land, xy))
     stop = times[n - 1] + ts[n - 1]  # the pelvis stops at the end of the last stance
     side = {0: y, 1: -y}
