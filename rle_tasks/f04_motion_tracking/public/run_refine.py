@@ -19,8 +19,9 @@ pelvis translation and rotation that
 linearised with the COM moving with the pelvis and the composite rigid-body inertia, with weights on the
 corrections and on the pitch and roll corrections' angular acceleration (``W_SMOOTH_ROT``); the clip is
 keyed again with the corrected pelvis (the stance legs re-solved by IK) and the loop repeats. The shipped
-run (``styles.refined_plan("run")``) passes the check with these settings; their neighbours miss by a few frames
-(README, Clips step 8), and the sprint's gait is not yet feasible.
+run (``styles.refined_plan("run")``) met the check's torque and residual criteria with these settings (their
+neighbours miss by a few frames; README, Clips step 8) but its joint-space swings go through the floor, which
+the check now fails; the sprint's gait is not feasible either.
 """
 
 from __future__ import annotations
