@@ -6,7 +6,8 @@ it: a short development phase on pretrain kitchens, then the evaluation phase, o
 The programs use the workspace harness (``rle_tasks.envs.kitchen.harness``), exactly the modules an
 agent of their level gets: the L3 programs read world-frame poses (``world``), the L2 programs only
 images, depth, camera geometry and the ``segment`` query. A program of a level also runs at the
-levels above it.
+levels above it. ``play`` serves them observations turned into the frame of the run the robot starts
+facing (``frame``), so they work in every layout kind as written for the one-wall kitchen.
 """
 
 from __future__ import annotations
@@ -17,6 +18,8 @@ from typing import Any
 
 from rle_tasks.envs.kitchen.harness.motion import Motion
 from rle_tasks.envs.kitchen.harness.robot import Robot
+
+from .frame import Straightened
 
 __all__ = ["PROGRAMS", "PROGRAMS_BY_LEVEL", "Direct", "available", "play", "solver"]
 
@@ -86,7 +89,7 @@ def play(client: Any, task: str, *, level: int = 3, dev_episodes: int = 1, trial
     """A session at harness ``level``: ``dev_episodes`` pretrain episodes, then every evaluation trial;
     returns the trials' success as the program saw it."""
     solve = solver(task, level)
-    robot = Robot(client)
+    robot = Robot(Straightened(client))  # observations in the target run's frame (``frame``)
     motion = Motion(robot)
     for k in range(dev_episodes):
         robot.reset(kitchen=k, seed=k)

@@ -36,16 +36,27 @@ FACING_WALL = np.pi / 2
 """Base heading that faces the wall [rad]."""
 
 
+def _footprint(f: dict) -> tuple[float, float, float, float]:
+    """x0, x1, y0, y1 of a fixture's footprint [m] (its box turned by its ``yaw``)."""
+    yaw = float(f.get("yaw", 0.0))
+    c, s = abs(np.cos(yaw)), abs(np.sin(yaw))
+    hx = (c * f["size"][0] + s * f["size"][1]) / 2
+    hy = (s * f["size"][0] + c * f["size"][1]) / 2
+    return f["pos"][0] - hx, f["pos"][0] + hx, f["pos"][1] - hy, f["pos"][1] + hy
+
+
 def _base_goal(obs: dict, drawer: dict, obj: np.ndarray) -> tuple[float, float, float]:
     """Base position (x, y [m]) beside the drawer, as close to the cabinets as allowed, and the side
     (+1: +x); of the two sides the one nearer the object unless a tall fixture (the fridge, which the
-    arm must not hit) or the microwave (which the hand would sweep through) stands there."""
+    arm must not hit) or the microwave (which the hand would sweep through) stands there, or another
+    run's fixture takes the spot (an L-shaped kitchen's corner)."""
     dx, w = float(drawer["pos"][0]), float(drawer["size"][0])
     best = None
     for side in (1.0, -1.0):
         x = dx + side * (w / 2 + COLUMN)
         y, cost = -np.inf, 0.0
-        for f in obs["fixtures"].values():
+        run = [f for f in obs["fixtures"].values() if abs(float(f.get("yaw", 0.0))) < 1e-6]
+        for f in run:
             fx, fw = float(f["pos"][0]), float(f["size"][0])
             front = float(f["pos"][1] - f["size"][1] / 2)
             if f["pos"][2] == 0.0 and abs(fx - x) < fw / 2 + DECK_HALF_WIDTH:
@@ -58,6 +69,16 @@ def _base_goal(obs: dict, drawer: dict, obj: np.ndarray) -> tuple[float, float, 
                     cost += AVOID
             if f["kind"] == "microwave" and abs(fx - x) < fw / 2 + 0.1:
                 cost += AVOID / 3
+        for f in obs["fixtures"].values():  # another run's fixture where the base would stand: not there
+            if abs(float(f.get("yaw", 0.0))) >= 1e-6 and f["pos"][2] == 0.0:
+                x0, x1, y0, y1 = _footprint(f)
+                if (
+                    x0 < x + DECK_HALF_WIDTH
+                    and x1 > x - DECK_HALF_WIDTH
+                    and y0 < y + BASE_FRONT
+                    and y1 > y - 0.4
+                ):
+                    cost += 3 * AVOID
         cost += float(np.hypot(obj[0] - x, obj[1] - y))
         if best is None or cost < best[3]:
             best = (x, y, side, cost)

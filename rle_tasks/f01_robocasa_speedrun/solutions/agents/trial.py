@@ -16,6 +16,7 @@ from rle_tasks.envs.kitchen.harness.robot import Robot
 
 from ...task import KITCHEN_TASKS, scenes
 from . import Direct, solver
+from .frame import Straightened
 
 
 def main() -> None:
@@ -29,7 +30,7 @@ def main() -> None:
     image_size = None if args.level >= 3 else (128, 128)  # L3 programs read no images
     sc = scenes(kitchen, args.level, Secret(PUBLIC_KEY, public=True), image_size=image_size)
     session = sc.open_session(task_id=kitchen.task_id(args.level), budget=None)
-    robot = Robot(Direct(session))
+    robot = Robot(Straightened(Direct(session)))
     motion = Motion(robot)
     solve = solver(args.task, args.level)
     wins = 0
