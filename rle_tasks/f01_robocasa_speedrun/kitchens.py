@@ -81,9 +81,15 @@ def targets(secret: Secret, kitchen: KitchenTaskId) -> tuple[tuple[int, int], ..
 
 
 def scenes(
-    kitchen: KitchenTaskId, level: int, secret: Secret, *, image_size: tuple[int, int] | None = (128, 128)
+    kitchen: KitchenTaskId,
+    level: int,
+    secret: Secret,
+    *,
+    image_size: tuple[int, int] | None = (128, 128),
+    split: bool | None = None,
 ) -> KitchenScenes:
-    """The session's scene set: pretrain kitchens for development, the secret's targets for evaluation."""
+    """The session's scene set: pretrain kitchens for development, the secret's targets for evaluation;
+    ``split``: kitchens of every layout kind (None: ``SPLIT``)."""
     from rle_design.ledger import EvaluationPhase
 
     return KitchenScenes(
@@ -92,5 +98,5 @@ def scenes(
         targets(secret, kitchen),
         EvaluationPhase(TRIALS, ACTIONS_PER_TRIAL, EVAL_WALL_S),
         image_size=image_size,
-        split=SPLIT,
+        split=SPLIT if split is None else split,
     )

@@ -1,4 +1,4 @@
-"""Try a program in process: ``python -m rle_tasks.f01_robocasa_speedrun.solutions.agents.trial TASK [--level L] [--pretrain N]``.
+"""Try a program in process: ``python -m rle_tasks.f01_robocasa_speedrun.solutions.agents.trial TASK [--level L] [--pretrain N] [--split]``.
 
 Plays the program of harness level ``L`` (default 3) on the public key's five target kitchens (and
 ``N`` pretrain episodes) without a ledger server and prints each episode's outcome and action count.
@@ -25,10 +25,13 @@ def main() -> None:
     ap.add_argument("--pretrain", type=int, default=0)
     ap.add_argument("--level", type=int, default=3)
     ap.add_argument("--skip-targets", action="store_true")
+    ap.add_argument("--split", action="store_true", help="kitchens of every layout kind (kitchens.SPLIT)")
     args = ap.parse_args()
     kitchen = next(k for k in KITCHEN_TASKS if k.task == args.task)
     image_size = None if args.level >= 3 else (128, 128)  # L3 programs read no images
-    sc = scenes(kitchen, args.level, Secret(PUBLIC_KEY, public=True), image_size=image_size)
+    sc = scenes(
+        kitchen, args.level, Secret(PUBLIC_KEY, public=True), image_size=image_size, split=args.split or None
+    )
     session = sc.open_session(task_id=kitchen.task_id(args.level), budget=None)
     robot = Robot(Straightened(Direct(session)))
     motion = Motion(robot)
