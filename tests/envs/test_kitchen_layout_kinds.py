@@ -132,6 +132,7 @@ def test_placement_rules(kind):
                     assert i in (0, len(run.units) - 1), "the fridge stands at a run's end"
                     assert "corner" not in kinds[max(i - 1, 0) : i + 2]
                     assert (i == 0 and run.lead == 0) or (i == len(run.units) - 1 and run.tail == 0)
+                    assert u.hinge_left == (i == 0), "hinged on its outer side (the door opens off the run)"
                 if u.kind == "stove":
                     assert run.wall, "the stove stands on a wall run (under the hood)"
         r, i = layout.microwave_on

@@ -13,7 +13,7 @@ kitchen). ``D`` is the style's counter depth, ``CORNER_LEG`` = 0.1 m.
 - ``island``: a free-standing island run (yaw pi, no wall) facing A across a 1.3-1.5 m aisle.
 - ``peninsula``: as ``l_shaped`` but the second run stands free (no wall behind it).
 
-Rules: the fridge stands at a run's free end (never beside a corner); the stove on a wall run (the range
+Rules: the fridge stands at a run's free end (never beside a corner), hinged on its outer side; the stove on a wall run (the range
 hood above it); stove and sink are never corner pieces; a hinged door beside a corner is hinged on its
 side away from the corner (its handle then swings clear of the other run); wall cabinets hang over 80 %
 of a wall run's units, never over the fridge, the stove or a corner piece; the microwave stands on a
@@ -110,6 +110,9 @@ def sample_kind(rng: np.random.Generator, kind: str, family: str | None) -> Layo
         "peninsula": [(0, 0)],
     }[kind]
     r, end = ends[int(rng.integers(len(ends)))]
+    # hinged on its outer side: the door opens towards the free floor past the run's end, not across
+    # the counter (a robot opening it walks round the hinge, clear of a facing run or island)
+    fridge = Unit("fridge", fridge.width, end == 0)
     runs[r] = [fridge, *runs[r]] if end == 0 else [*runs[r], fridge]
     # corner pieces and the runs' frames
     if kind in ("l_shaped", "peninsula", "u_shaped"):
