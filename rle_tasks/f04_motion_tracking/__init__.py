@@ -52,7 +52,7 @@ def _check_clip(args) -> int:
     import numpy as np
 
     from rle_tasks.f04_motion_tracking.public.clip import Clip
-    from rle_tasks.f04_motion_tracking.public.feasibility import check_clip
+    from rle_tasks.f04_motion_tracking.public.feasibility import PENETRATION_TOL, check_clip
     from rle_tasks.f04_motion_tracking.public.inverse_dynamics import FORCE_TOL, MOMENT_TOL
 
     clip = Clip.load(args.clip)
@@ -82,6 +82,12 @@ def _check_clip(args) -> int:
     print(
         f"flight frames ({s['flight_frames']}) not ballistic: {_frame_ranges(s['non_ballistic_flight_frames'])}"
     )
+    if s["lowest_point"] is not None:
+        print(
+            f"frames with a point more than {PENETRATION_TOL * 1000:.0f} mm under the floor: "
+            f"{_frame_ranges(s['through_floor_frames'])} (lowest {s['lowest_point'] * 1000:.1f} mm, "
+            f"{s['lowest_body']})"
+        )
     verdict = "PASS" if s["passed"] else "FAIL"
     print(
         f"{verdict}: worst {s['worst_joint']} at frame {s['worst_frame']}, {s['worst_ratio']:.2f} of its limit "

@@ -262,3 +262,18 @@ def test_check_clip_command_writes_a_report(tmp_path, model, capsys):
     report = json.loads((tmp_path / "r.json").read_text())
     assert report["passed"] is True and "PASS" in out
     assert len(report["joints"]) == 29 and report["joints"][0]["joint"] == G1.joints[0]
+
+
+def test_check_clip_command_names_the_frames_under_the_floor(tmp_path, model, capsys):
+    """A standing clip lowered 3 cm (feet 30 mm under the floor, beyond PENETRATION_TOL = 10 mm) fails,
+    and the printed lines name its frames and the lowest body."""
+    from rle_tasks.cli import main
+
+    q = np.tile(standing_qpos(), (3, 1))
+    q[:, 2] -= 0.03
+    path = tmp_path / "sunk.npz"
+    Clip.from_qpos(model, q, np.ones((3, 2), bool)).save(path)
+    assert main(["check-clip", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "frames with a point more than 10 mm under the floor: 0-2" in out
+    assert "ankle_roll_link" in out and "FAIL" in out
