@@ -3,7 +3,11 @@ scripted fresh agent, in the sandbox, calls its entry point on a held-out task i
 the replayed ledger must score as measured: group 1 (``StowFruitInDrawer``, first kitchen: the lemon in
 the drawer, the drawer closed; about 25 s), group 12 (``CleanUpKitchen``, fourth kitchen: the hinged
 cabinet door shut, the cup in the sink, the burner off; about 55 s) and group 3 (``SwitchBurners``, first
-kitchen: one knob turned off, another on; about 45 s)."""
+kitchen: one knob turned off, another on; about 45 s), group 10 (``HeatCup``, third kitchen: the cup
+picked off the basin's floor 4 cm from a side wall, the hand leaning away from it, set on the burner, the
+burner lit; about 60 s) and group 2 (``RackCupFromSink``, third kitchen: the cup in a corner of the basin,
+5 cm from its back wall and 8 cm from a side wall, the palm's end raised; stood in the dish rack; about
+40 s)."""
 
 from __future__ import annotations
 
@@ -70,4 +74,16 @@ def test_reference_harness_closes_the_cabinet_in_a_public_kitchen_of_group_12(ha
 def test_reference_harness_switches_two_burners_in_a_public_kitchen_of_group_3(harness):
     result = _unit(harness, 3, 0)
     assert result.n == 2 and result.b == 0
+    assert result.success and result.score == 1.0, (result.b, result.m, result.n, result.message[-800:])
+
+
+def test_reference_harness_heats_a_cup_from_beside_the_basins_wall_in_a_public_kitchen_of_group_10(harness):
+    result = _unit(harness, 10, 2)
+    assert result.n == 3 and result.b == 1  # the gripper is away from the cup at the start
+    assert result.success and result.score == 1.0, (result.b, result.m, result.n, result.message[-800:])
+
+
+def test_reference_harness_racks_a_cup_from_the_basins_corner_in_a_public_kitchen_of_group_2(harness):
+    result = _unit(harness, 2, 2)
+    assert result.n == 2 and result.b == 1
     assert result.success and result.score == 1.0, (result.b, result.m, result.n, result.message[-800:])

@@ -68,7 +68,16 @@ def _set(task_id: str, pins: dict[str, tuple[str, float]], reference: str | None
 
 
 REFERENCES: dict[str, str] = {
-    g: "kitchen" for g in ("02-group-01", "02-group-03", "02-group-06", "02-group-09", "02-group-12")
+    g: "kitchen"
+    for g in (
+        "02-group-01",
+        "02-group-02",
+        "02-group-03",
+        "02-group-06",
+        "02-group-09",
+        "02-group-10",
+        "02-group-12",
+    )
 }
 """Task id -> reference harness folder under ``solutions/reference``."""
 BASELINE_PINS: dict[str, tuple[str, float]] = {
@@ -80,11 +89,13 @@ BASELINE_PINS: dict[str, tuple[str, float]] = {
 REFERENCE_PINS: dict[str, tuple[str, float]] = {
     # quick mode runs two of the five agents and scores their mean (partial): two successes -> 1.0; group 6:
     # agent 0 succeeds, agent 1 reaches 3 of 4 conjuncts (b = 1: s_trial 2/3) -> 0.8333 (README, "Solutions")
-    "02-group-01": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
-    "02-group-03": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
-    "02-group-06": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 0.833333333333),
-    "02-group-09": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
-    "02-group-12": ("30b0b34f81cdb6cb8e87b84c71aefa0e69ef8e87b0e9a117fdabaece9140bb68", 1.0),
+    "02-group-01": ("189622f679b7a3151326f6e7afe30096b07fbdf3f0bc9725a879373fd0fcb0e7", 1.0),
+    "02-group-02": ("189622f679b7a3151326f6e7afe30096b07fbdf3f0bc9725a879373fd0fcb0e7", 1.0),
+    "02-group-03": ("189622f679b7a3151326f6e7afe30096b07fbdf3f0bc9725a879373fd0fcb0e7", 1.0),
+    "02-group-06": ("189622f679b7a3151326f6e7afe30096b07fbdf3f0bc9725a879373fd0fcb0e7", 0.833333333333),
+    "02-group-09": ("189622f679b7a3151326f6e7afe30096b07fbdf3f0bc9725a879373fd0fcb0e7", 1.0),
+    "02-group-10": ("189622f679b7a3151326f6e7afe30096b07fbdf3f0bc9725a879373fd0fcb0e7", 1.0),
+    "02-group-12": ("189622f679b7a3151326f6e7afe30096b07fbdf3f0bc9725a879373fd0fcb0e7", 1.0),
 }
 """Task id -> the reference's (checksum, golden quick score under the public key)."""
 BASELINE_GROUPS = tuple(REFERENCE_PINS)

@@ -6,7 +6,9 @@ Understood phrases (one instruction may chain several with commas, "and", "then"
   plate | on the counter | into the sink``: pick and place;
 - ``close the (open) drawer``, ``open the drawer``;
 - ``close the cabinet (door)``;
-- ``turn on/off the <front|rear> <left|right> burner``.
+- ``turn on/off the <front|rear> <left|right> burner``;
+- ``move the cup from the sink onto the <front|rear> <left|right> burner [and turn that burner on]`` and
+  ``move the cup from the sink to the dish rack`` (``cups``).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from .articulation import close_door, push_drawer_holding
+from .cups import burner_centre, cup_from_sink, cup_to_burner, cup_to_rack, rack_spot
 from .dishes import (
     bowl_to_sink,
     empty_bowl,
@@ -68,11 +71,22 @@ def parse(instruction: str) -> list[Step]:
         if "sink" in text and re.search(r"(out of|from) the sink", text):
             source = "sink"
         dest = "counter"
-        for word, key in (("drawer", "drawer"), ("plate", "plate"), ("sink", "sink"), ("rack", "rack")):
+        for word, key in (
+            ("drawer", "drawer"),
+            ("plate", "plate"),
+            ("sink", "sink"),
+            ("(dish )?rack", "rack"),
+        ):
             if re.search(rf"(into|in|on|onto|to) the (open )?{word}", text) and key != source:
                 dest = key
                 break
-        steps.append(Step("pick_place", obj, source, dest))
+        on_burner = re.search(r"(onto|on) the (front|rear) (left|right) burner", text)
+        if on_burner:
+            dest = "burner"
+        burner = f"{on_burner.group(2)} {on_burner.group(3)}" if on_burner else ""
+        steps.append(Step("pick_place", obj, source, dest, burner=burner))
+        if on_burner and re.search(r"turn (that|the) burner on|turn on (that|the) burner", text):
+            steps.append(Step("knob", burner=burner, on=True))
     if re.search(r"close the (open )?drawer", text):
         steps.append(Step("close_drawer"))
     if re.search(r"\bopen the drawer", text):
@@ -161,6 +175,28 @@ def _find_in_drawer(sk: Skills, prompt: str, d: Drawer) -> np.ndarray | None:
 
 def run_pick_place(sk: Skills, step: Step, ctx: dict[str, Any]) -> bool:
     d = _drawer(sk, ctx) if "drawer" in (step.source, step.dest) else None
+    if step.source == "sink":
+        start = np.asarray(sk.obs["base_pos"][:2], float).copy()  # the robot starts in front of the sink
+        # Where it goes first (it stands near the sink), then back to the sink for the cup.
+        if step.dest == "burner":
+            centre = burner_centre(sk, step.burner)
+        elif step.dest == "rack":
+            centre = rack_spot(sk)
+        else:
+            sk.note(f"no destination for {step.dest}")
+            return False
+        if centre is None:
+            sk.note(f"no {step.dest} in sight")
+            return False
+        sk.note(f"{step.dest} at {np.round(centre, 3)}")
+        sk.tuck()
+        sk.goto(float(start[0]), float(start[1]))
+        held = cup_from_sink(sk, step.obj)
+        if held is None:
+            return False
+        if step.dest == "burner":
+            return cup_to_burner(sk, held, centre)
+        return cup_to_rack(sk, held, centre)
     if step.source == "drawer":
         guess = _find_in_drawer(sk, step.obj, d) if d is not None else None
     else:
