@@ -31,6 +31,7 @@ KIND_WORDS = {
     "dish_rack": "dish rack",
     "counter": "counter",
     "wall_cabinet": "wall cabinet",
+    "corner": "corner unit",
 }
 
 
