@@ -82,9 +82,13 @@ def widen_mujoco_asset_cache(capacity: int = MJ_ASSET_CACHE_BYTES) -> None:
     The cache holds processed meshes across compiles. A process that builds several families' models
     fills the default: a kitchen scene's meshes take 115 MB of it, the G1's 147 MB, the object
     catalogue's 262 MB, and an evicted mesh is reloaded and processed again at the next compile (the
-    kitchen task tests after the catalogue's, one process: 443 s with the default, 45 s widened).
+    kitchen task tests after the catalogue's, one process: 443 s with the default, 45 s widened). A
+    process without MuJoCo (an exported task's reward step) has no cache to widen.
     """
-    import mujoco
+    try:
+        import mujoco
+    except ImportError:
+        return
 
     cache = mujoco.mj_getCache()
     if mujoco.mj_getCacheCapacity(cache) < capacity:
